@@ -1,0 +1,79 @@
+#include "d2vdb/mesh/MeshIO.h"
+
+#include <cctype>
+
+#include "d2vdb/core/AtomicFile.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/mesh/MeshFileCommon.h"
+#include "d2vdb/mesh/ObjFormat.h"
+#include "d2vdb/mesh/PlyFormat.h"
+#include "d2vdb/mesh/StlFormat.h"
+
+namespace d2vdb {
+
+MeshFormat meshFormatFromPath(const std::filesystem::path& path) {
+  const std::string extension = path.extension().string();
+  std::string lower;
+  for (const char c : extension) {
+    lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  if (lower == ".obj") return MeshFormat::Obj;
+  if (lower == ".ply") return MeshFormat::Ply;
+  if (lower == ".stl") return MeshFormat::Stl;
+  const std::string named =
+      extension.empty() ? "has no extension" : "has the extension '" + extension + "'";
+  throw InputError("'" + path.string() + "' " + named +
+                   ", which is not a supported mesh format (supported: .obj, .ply, .stl)");
+}
+
+std::string meshFormatName(MeshFormat format) {
+  switch (format) {
+    case MeshFormat::Obj:
+      return "OBJ";
+    case MeshFormat::Ply:
+      return "PLY";
+    case MeshFormat::Stl:
+      return "STL";
+  }
+  return "unknown";
+}
+
+TriangleMesh readMesh(const std::filesystem::path& path) {
+  const MeshFormat format = meshFormatFromPath(path);
+  const std::string contents = mesh_detail::readFileContents(path);
+  const std::string name = path.string();
+  switch (format) {
+    case MeshFormat::Obj:
+      return parseObj(contents, name);
+    case MeshFormat::Ply:
+      return parsePly(contents, name);
+    case MeshFormat::Stl:
+      return parseStl(contents, name);
+  }
+  throw RuntimeFailure("readMesh: unhandled mesh format");
+}
+
+void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+               const MeshWriteOptions& options) {
+  const MeshFormat format = meshFormatFromPath(path);
+  // Check the mesh first so that a mesh that cannot be written never touches the file system.
+  mesh_detail::checkMeshIsWritable(mesh, meshFormatName(format).c_str());
+  writeStreamAtomically(path, [&](std::ostream& out) {
+    switch (format) {
+      case MeshFormat::Obj:
+        writeObj(out, mesh);
+        break;
+      case MeshFormat::Ply:
+        writePly(out, mesh,
+                 !options.binary     ? PlyEncoding::Ascii
+                 : options.bigEndian ? PlyEncoding::BinaryBigEndian
+                                     : PlyEncoding::BinaryLittleEndian);
+        break;
+      case MeshFormat::Stl:
+        writeStl(out, mesh, options.binary ? StlEncoding::Binary : StlEncoding::Ascii);
+        break;
+    }
+  });
+}
+
+}  // namespace d2vdb

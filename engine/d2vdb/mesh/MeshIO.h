@@ -1,0 +1,43 @@
+// Reading and writing triangle meshes as OBJ, PLY and STL files, chosen by file extension.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "d2vdb/mesh/TriangleMesh.h"
+
+namespace d2vdb {
+
+/// The mesh file formats d2vdb reads and writes.
+enum class MeshFormat { Obj, Ply, Stl };
+
+/// The format named by the extension of `path` (".obj", ".ply", ".stl", any letter case).
+/// Throws InputError naming the extension (or its absence) and the supported ones otherwise.
+MeshFormat meshFormatFromPath(const std::filesystem::path& path);
+
+/// The usual name of a format: "OBJ", "PLY" or "STL".
+std::string meshFormatName(MeshFormat format);
+
+/// Reads the mesh in `path`, choosing the reader by extension (see ObjFormat.h, PlyFormat.h and
+/// StlFormat.h for what each accepts; an STL file is recognised as ASCII or binary from its
+/// content). The result always has in-range indices and finite coordinates; normals are filled
+/// when the file gives one per vertex. Throws InputError naming the file for an unsupported
+/// extension, a missing or unreadable file, and malformed content (with the line or byte offset).
+TriangleMesh readMesh(const std::filesystem::path& path);
+
+/// How writeMesh encodes the formats that have both text and binary variants.
+struct MeshWriteOptions {
+  bool binary = true;      ///< PLY and STL: binary (default) or ASCII; OBJ is always text
+  bool bigEndian = false;  ///< binary PLY only: binary_big_endian instead of binary_little_endian
+};
+
+/// Writes `mesh` to `path` in the format of its extension, atomically (a failure leaves an existing
+/// file untouched). Coordinates are written so that they read back bit for bit; per-vertex normals
+/// are written to OBJ and PLY when the mesh has them, STL gets facet normals computed from the
+/// triangles. Throws InputError for an unsupported extension or a mesh that cannot be written
+/// (no vertices, an index out of range, a non-finite coordinate) and RuntimeFailure when the file
+/// cannot be written.
+void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+               const MeshWriteOptions& options = {});
+
+}  // namespace d2vdb
