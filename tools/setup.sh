@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# d2vdb set-up on Debian 12: installs whatever Debian packages are missing, builds, and then
+#   tools/setup.sh demo   runs the main job on the bundled default volume, results in out/
+#   tools/setup.sh test   runs the whole test suite with ctest
+#   tools/setup.sh build  only installs and builds
+# Both are idempotent: a second run installs nothing and rebuilds only what changed.
+# Environment: D2VDB_BUILD_DIR (default build), D2VDB_CMAKE_ARGS (extra configure flags),
+#              D2VDB_JOBS (parallel build jobs, default: number of cores).
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$here"
+mode=${1:-demo}
+case "$mode" in demo|test|build) ;; *)
+  echo "usage: tools/setup.sh [demo|test|build]" >&2; exit 1 ;;
+esac
+
+build_dir=${D2VDB_BUILD_DIR:-build}
+jobs=${D2VDB_JOBS:-$(nproc 2>/dev/null || echo 2)}
+packages=(g++ cmake ninja-build pkg-config
+          libopenvdb-dev libboost-iostreams-dev libtbb-dev libeigen3-dev libblosc-dev
+          libcli11-dev nlohmann-json3-dev
+          libgtest-dev libbenchmark-dev libopenvdb-tools)
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+    missing+=("$package")
+done
+if ((${#missing[@]})); then
+  echo "== installing missing Debian packages: ${missing[*]}"
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "error: not root and sudo is not available;" \
+      "install as root: apt-get install ${missing[*]}" >&2; exit 1; }
+    sudo_cmd=(sudo)
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -q
+  "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+echo "== configuring and building (Release) in $build_dir"
+# shellcheck disable=SC2086  # D2VDB_CMAKE_ARGS is a list of flags
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release ${D2VDB_CMAKE_ARGS:-} >/dev/null
+cmake --build "$build_dir" -j "$jobs"
+
+d2vdb="$build_dir/tools/d2vdb"
+case "$mode" in
+  build) ;;
+  test)
+    echo "== running the test suite"
+    ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
+    ;;
+  demo)
+    input=${D2VDB_DEMO_INPUT:-volumes/bunny.vdb}
+    mkdir -p out
+    echo "== main job on $input (results in out/)"
+    "$d2vdb" info "$input"
+    "$d2vdb" info --json "$input" > out/info.json
+    "$d2vdb" convert "$input" out/surface.vdb
+    "$d2vdb" info out/surface.vdb
+    echo "== wrote out/info.json and out/surface.vdb"
+    ;;
+esac
