@@ -1,0 +1,217 @@
+#include "d2vdb/field/AnalyticShapes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "d2vdb/core/Error.h"
+
+namespace d2vdb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  std::ostringstream out;
+  out.precision(9);
+  out << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
+  return out.str();
+}
+
+std::string formatNumber(double value) {
+  std::ostringstream out;
+  out.precision(9);
+  out << value;
+  return out.str();
+}
+
+void requireFinitePoint(const Eigen::Vector3d& p, const char* shape, const char* what) {
+  if (!p.allFinite()) {
+    throw InputError(std::string(shape) + ": the " + what + " " + formatPoint(p) +
+                     " is not finite; give finite coordinates");
+  }
+}
+
+void requirePositive(double value, const char* shape, const char* what) {
+  if (!std::isfinite(value) || !(value > 0.0)) {
+    throw InputError(std::string(shape) + ": the " + what +
+                     " must be a finite positive number, got " + formatNumber(value));
+  }
+}
+
+// A deterministic unit vector perpendicular to the unit vector `n`.
+Eigen::Vector3d perpendicularUnit(const Eigen::Vector3d& n) {
+  Eigen::Index leastAligned = 0;
+  n.cwiseAbs().minCoeff(&leastAligned);
+  const Eigen::Vector3d axis = Eigen::Vector3d::Unit(leastAligned);
+  return n.cross(axis).normalized();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------- Sphere
+
+Sphere::Sphere(const Eigen::Vector3d& centre, double radius) : centre_(centre), radius_(radius) {
+  requireFinitePoint(centre, "sphere", "centre");
+  requirePositive(radius, "sphere", "radius");
+}
+
+double Sphere::signedDistance(const Eigen::Vector3d& point) const {
+  return (point - centre_).norm() - radius_;
+}
+
+Eigen::AlignedBox3d Sphere::bounds() const {
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(radius_);
+  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+}
+
+double Sphere::surfaceArea() const {
+  return 4.0 * kPi * radius_ * radius_;
+}
+
+std::string Sphere::describe() const {
+  return "sphere(centre " + formatPoint(centre_) + ", radius " + formatNumber(radius_) + ")";
+}
+
+SurfacePoint Sphere::closestSurfacePoint(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d offset = point - centre_;
+  const double distanceToCentre = offset.norm();
+  SurfacePoint result;
+  result.normal = distanceToCentre > 0.0 ? Eigen::Vector3d(offset / distanceToCentre)
+                                         : Eigen::Vector3d::UnitZ();
+  result.point = centre_ + radius_ * result.normal;
+  result.e1 = perpendicularUnit(result.normal);
+  result.e2 = result.normal.cross(result.e1);
+  result.k1 = 1.0 / radius_;
+  result.k2 = 1.0 / radius_;
+  result.signedDistance = distanceToCentre - radius_;
+  return result;
+}
+
+// ------------------------------------------------------------------------------------------- Box
+
+Box::Box(const Eigen::Vector3d& min, const Eigen::Vector3d& max) : min_(min), max_(max) {
+  requireFinitePoint(min, "box", "minimum corner");
+  requireFinitePoint(max, "box", "maximum corner");
+  if (!(min.array() < max.array()).all()) {
+    throw InputError("box: the minimum corner " + formatPoint(min) +
+                     " must be below the maximum corner " + formatPoint(max) +
+                     " in every coordinate");
+  }
+}
+
+double Box::signedDistance(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d centre = 0.5 * (min_ + max_);
+  const Eigen::Vector3d halfExtent = 0.5 * (max_ - min_);
+  // Per-axis distance beyond the faces (negative inside the slab of that axis).
+  const Eigen::Vector3d beyond = (point - centre).cwiseAbs() - halfExtent;
+  const double outside = beyond.cwiseMax(0.0).norm();
+  const double inside = std::min(beyond.maxCoeff(), 0.0);
+  return outside + inside;
+}
+
+Eigen::AlignedBox3d Box::bounds() const {
+  return Eigen::AlignedBox3d(min_, max_);
+}
+
+double Box::surfaceArea() const {
+  const Eigen::Vector3d e = max_ - min_;
+  return 2.0 * (e.x() * e.y() + e.y() * e.z() + e.z() * e.x());
+}
+
+std::string Box::describe() const {
+  return "box(min " + formatPoint(min_) + ", max " + formatPoint(max_) + ")";
+}
+
+// ----------------------------------------------------------------------------------------- Torus
+
+Torus::Torus(const Eigen::Vector3d& centre, double majorRadius, double minorRadius)
+    : centre_(centre), majorRadius_(majorRadius), minorRadius_(minorRadius) {
+  requireFinitePoint(centre, "torus", "centre");
+  requirePositive(majorRadius, "torus", "major radius");
+  requirePositive(minorRadius, "torus", "minor radius");
+  if (!(minorRadius < majorRadius)) {
+    throw InputError("torus: the minor radius " + formatNumber(minorRadius) +
+                     " must be smaller than the major radius " + formatNumber(majorRadius) +
+                     " (only ring tori are supported)");
+  }
+}
+
+double Torus::signedDistance(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d offset = point - centre_;
+  const double radial = std::hypot(offset.x(), offset.y());
+  return std::hypot(radial - majorRadius_, offset.z()) - minorRadius_;
+}
+
+Eigen::AlignedBox3d Torus::bounds() const {
+  const double outer = majorRadius_ + minorRadius_;
+  const Eigen::Vector3d half(outer, outer, minorRadius_);
+  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+}
+
+double Torus::surfaceArea() const {
+  return 4.0 * kPi * kPi * majorRadius_ * minorRadius_;
+}
+
+std::string Torus::describe() const {
+  return "torus(centre " + formatPoint(centre_) + ", major radius " + formatNumber(majorRadius_) +
+         ", minor radius " + formatNumber(minorRadius_) + ", axis +z)";
+}
+
+SurfacePoint Torus::closestSurfacePoint(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d offset = point - centre_;
+  const double radial = std::hypot(offset.x(), offset.y());
+  // Unit vector from the axis towards the point, in the equatorial plane.
+  const Eigen::Vector3d outward =
+      radial > 0.0 ? Eigen::Vector3d(offset.x() / radial, offset.y() / radial, 0.0)
+                   : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d corePoint = centre_ + majorRadius_ * outward;
+  const Eigen::Vector3d fromCore = point - corePoint;
+  const double distanceToCore = fromCore.norm();
+
+  SurfacePoint result;
+  result.normal =
+      distanceToCore > 0.0 ? Eigen::Vector3d(fromCore / distanceToCore) : Eigen::Vector3d::UnitZ();
+  result.point = corePoint + minorRadius_ * result.normal;
+  const double cosPhi = result.normal.dot(outward);
+  result.e2 = Eigen::Vector3d::UnitZ().cross(outward);  // around the z axis
+  result.e1 = result.e2.cross(result.normal);           // around the tube; e1 x e2 = normal
+  result.k1 = 1.0 / minorRadius_;
+  result.k2 = cosPhi / (majorRadius_ + minorRadius_ * cosPhi);
+  result.signedDistance = distanceToCore - minorRadius_;
+  return result;
+}
+
+// -------------------------------------------------------------------------------- CappedCylinder
+
+CappedCylinder::CappedCylinder(const Eigen::Vector3d& centre, double radius, double height)
+    : centre_(centre), radius_(radius), height_(height) {
+  requireFinitePoint(centre, "capped cylinder", "centre");
+  requirePositive(radius, "capped cylinder", "radius");
+  requirePositive(height, "capped cylinder", "height");
+}
+
+double CappedCylinder::signedDistance(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d offset = point - centre_;
+  const double beyondSide = std::hypot(offset.x(), offset.y()) - radius_;
+  const double beyondCap = std::abs(offset.z()) - 0.5 * height_;
+  const double outside = std::hypot(std::max(beyondSide, 0.0), std::max(beyondCap, 0.0));
+  const double inside = std::min(std::max(beyondSide, beyondCap), 0.0);
+  return outside + inside;
+}
+
+Eigen::AlignedBox3d CappedCylinder::bounds() const {
+  const Eigen::Vector3d half(radius_, radius_, 0.5 * height_);
+  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+}
+
+double CappedCylinder::surfaceArea() const {
+  return 2.0 * kPi * radius_ * height_ + 2.0 * kPi * radius_ * radius_;
+}
+
+std::string CappedCylinder::describe() const {
+  return "capped cylinder(centre " + formatPoint(centre_) + ", radius " + formatNumber(radius_) +
+         ", height " + formatNumber(height_) + ", axis +z)";
+}
+
+}  // namespace d2vdb

@@ -1,0 +1,198 @@
+// Shared helpers of the field tests: test meshes with known geometry, thread-count control and a
+// voxel-for-voxel grid comparison.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
+#include <tbb/global_control.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <utility>
+
+#include "d2vdb/mesh/TriangleMesh.h"
+
+namespace d2vdb::test {
+
+/// Runs `work` with TBB limited to `threads` threads and returns its result.
+template <typename Work>
+auto withThreads(int threads, Work&& work) {
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(threads));
+  return work();
+}
+
+/// Icosahedron subdivided `levels` times (each level splits every triangle into four) with all
+/// vertices on the sphere; triangles wound counter-clockwise seen from outside. The vertices lie
+/// on the sphere, the triangles inside it (chords).
+inline TriangleMesh makeIcosphere(const Eigen::Vector3d& centre, double radius, int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                       {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                       {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  for (Eigen::Vector3d& p : unit) p.normalize();
+  std::vector<TriangleMesh::Triangle> triangles = {
+      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
+    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::minmax(a, b);
+      const auto found = midpoints.find(key);
+      if (found != midpoints.end()) return found->second;
+      unit.push_back((unit[a] + unit[b]).normalized());
+      const auto index = static_cast<std::uint32_t>(unit.size() - 1);
+      midpoints.emplace(key, index);
+      return index;
+    };
+    std::vector<TriangleMesh::Triangle> finer;
+    finer.reserve(triangles.size() * 4);
+    for (const TriangleMesh::Triangle& tri : triangles) {
+      const std::uint32_t ab = midpoint(tri[0], tri[1]);
+      const std::uint32_t bc = midpoint(tri[1], tri[2]);
+      const std::uint32_t ca = midpoint(tri[2], tri[0]);
+      finer.push_back({tri[0], ab, ca});
+      finer.push_back({tri[1], bc, ab});
+      finer.push_back({tri[2], ca, bc});
+      finer.push_back({ab, bc, ca});
+    }
+    triangles = std::move(finer);
+  }
+  // Make every triangle counter-clockwise seen from outside.
+  for (TriangleMesh::Triangle& tri : triangles) {
+    const Eigen::Vector3d normal = (unit[tri[1]] - unit[tri[0]]).cross(unit[tri[2]] - unit[tri[0]]);
+    if (normal.dot(unit[tri[0]] + unit[tri[1]] + unit[tri[2]]) < 0.0) std::swap(tri[1], tri[2]);
+  }
+  TriangleMesh mesh;
+  for (const Eigen::Vector3d& p : unit)
+    mesh.positions.push_back((centre + radius * p).cast<float>());
+  mesh.triangles = std::move(triangles);
+  return mesh;
+}
+
+/// Largest distance between the sphere and the mesh's triangles (the chord error): the vertices
+/// lie on the sphere, so it is radius minus the smallest centre-to-triangle distance, reached at
+/// the foot of the perpendicular from the centre (inside each near-equilateral triangle).
+inline double icosphereChordError(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+                                  double radius) {
+  double smallest = radius;
+  for (const TriangleMesh::Triangle& tri : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>() - centre;
+    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>() - centre;
+    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>() - centre;
+    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+    smallest = std::min(smallest, std::abs(normal.dot(a)));
+  }
+  return radius - smallest;
+}
+
+/// The unit cube [0, 1]^3 as 12 triangles, counter-clockwise seen from outside.
+inline TriangleMesh makeUnitCube() {
+  TriangleMesh cube;
+  for (int i = 0; i < 8; ++i) {
+    cube.positions.emplace_back(float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1));
+  }
+  cube.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return cube;
+}
+
+/// Closest point to `p` on the triangle (a, b, c), by the Voronoi regions of its vertices, edges
+/// and face (barycentric tests).
+inline Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                              const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a;
+  const Eigen::Vector3d ac = c - a;
+  const Eigen::Vector3d ap = p - a;
+  const double d1 = ab.dot(ap);
+  const double d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp);
+  const double d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + d1 / (d1 - d3) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp);
+  const double d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  }
+  const double denominator = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denominator) + ac * (vc * denominator);
+}
+
+/// Exact (unsigned) distance from `p` to the mesh by brute force over all triangles (skipping
+/// those that provably cannot beat the best distance so far).
+inline double bruteForceMeshDistance(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const TriangleMesh::Triangle& tri : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>();
+    // A triangle's points lie within its longest edge of vertex a.
+    const double reach = std::max({(b - a).norm(), (c - a).norm()});
+    if ((p - a).norm() - reach >= best) continue;
+    best = std::min(best, (p - closestPointOnTriangle(p, a, b, c)).norm());
+  }
+  return best;
+}
+
+/// A flat square sheet [-half, half]^2 in the plane z = 0, cells x cells quads split in two.
+inline TriangleMesh makeSquareSheet(double half, int cells) {
+  TriangleMesh mesh;
+  for (int j = 0; j <= cells; ++j) {
+    for (int i = 0; i <= cells; ++i) {
+      mesh.positions.emplace_back(static_cast<float>(-half + 2.0 * half * i / cells),
+                                  static_cast<float>(-half + 2.0 * half * j / cells), 0.0f);
+    }
+  }
+  const auto vertex = [cells](int i, int j) {
+    return static_cast<std::uint32_t>(j * (cells + 1) + i);
+  };
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      mesh.triangles.push_back({vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1)});
+      mesh.triangles.push_back({vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
+    }
+  }
+  return mesh;
+}
+
+/// Expects the two grids to be identical voxel for voxel and bit for bit: same transform, class,
+/// background, tree topology (leaves, tiles, active states) and every stored value's bits.
+inline void expectBitwiseIdentical(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b) {
+  EXPECT_EQ(a.transform(), b.transform());
+  EXPECT_EQ(a.getGridClass(), b.getGridClass());
+  EXPECT_EQ(std::memcmp(&a.background(), &b.background(), sizeof(float)), 0);
+  ASSERT_TRUE(a.tree().hasSameTopology(b.tree()));
+  ASSERT_EQ(a.tree().leafCount(), b.tree().leafCount());
+  ASSERT_EQ(a.tree().activeVoxelCount(), b.tree().activeVoxelCount());
+  std::size_t differing = 0;
+  auto valueA = a.tree().cbeginValueAll();
+  auto valueB = b.tree().cbeginValueAll();
+  for (; valueA && valueB; ++valueA, ++valueB) {
+    const float va = *valueA;
+    const float vb = *valueB;
+    if (valueA.getCoord() != valueB.getCoord() || valueA.isValueOn() != valueB.isValueOn() ||
+        valueA.getDepth() != valueB.getDepth() || std::memcmp(&va, &vb, sizeof(float)) != 0) {
+      ++differing;
+    }
+  }
+  EXPECT_FALSE(valueA) << "first grid has more values";
+  EXPECT_FALSE(valueB) << "second grid has more values";
+  EXPECT_EQ(differing, 0u);
+}
+
+}  // namespace d2vdb::test
