@@ -60,6 +60,7 @@ case "$mode" in
     "$d2vdb" info --json "$input" > out/info.json
     "$d2vdb" convert "$input" out/surface.vdb
     "$d2vdb" info out/surface.vdb
-    echo "== wrote out/info.json and out/surface.vdb"
+    "$d2vdb" mesh out/surface.vdb out/surface.obj --check
+    echo "== wrote out/info.json, out/surface.vdb and out/surface.obj"
     ;;
 esac

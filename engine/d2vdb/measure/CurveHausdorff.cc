@@ -1,0 +1,536 @@
+#include "d2vdb/measure/CurveHausdorff.h"
+
+#include <Eigen/LU>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/measure/PointProjection.h"
+#include "d2vdb/measure/SquaredDistanceTensor.h"
+
+namespace d2vdb {
+namespace {
+
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+using CandidateList = std::shared_ptr<const std::vector<int>>;
+
+// An exact value of d(u)^2 = min_v |from(u) - to(v)|^2 at one u.
+struct Sample {
+  double squaredDistance = -kInfinity;
+  int fromSegment = -1;
+  double fromLocal = 0.0;  // u as the parameter of the `from` segment, [0, 1]
+  NearestPoint nearest;    // on `to`
+};
+
+// A sub-interval [start, end] of one knot span of `from` (in the segment's parameter [0, 1]).
+struct WorkItem {
+  int segment = 0;
+  double start = 0.0;
+  double end = 1.0;
+  int depth = 0;
+  double parentBound = kInfinity;  // the parent's upper bound of max d^2 (a bound for this one)
+  SegmentPoint hint;               // nearest point of the parent's centre
+  SegmentPoint startFoot;          // nearest point on `to` of from(start)
+  SegmentPoint endFoot;            // nearest point on `to` of from(end)
+  CandidateList candidates;        // `to` segments that can hold a nearest point
+};
+
+// What processing one item found.
+struct ItemOutcome {
+  Sample centre;
+  Sample orthogonal;  // Newton solution of case 3, if it converged inside the item
+  Sample bisector;    // Newton solution of case 4, if it converged inside the item
+  double upperBound = kInfinity;
+};
+
+// Shared, read-only state of one one-sided computation.
+struct Problem {
+  const CurveProjector& from;
+  const CurveProjector& to;
+  double tolerance;  // absolute, in distance units
+};
+
+BezierCurve pieceOf(const CurveProjector::Segment& segment, double start, double end) {
+  if (start == 0.0 && end == 1.0) return segment.curve;
+  return segment.curve.restricted(start, end);
+}
+
+// The largest Bernstein coefficient of |a(s) - b(s)|^2 (an upper bound of it on [0, 1]) plus a
+// rounding margin; a and b are written with a common degree first.
+double maxSquaredDifference(const BezierCurve& a, const BezierCurve& b) {
+  const int degree = std::max(a.degree(), b.degree());
+  const BezierCurve::ControlPoints difference = a.elevated(degree - a.degree()).controlPoints() -
+                                                b.elevated(degree - b.degree()).controlPoints();
+  const BezierCurve differenceCurve(difference);
+  const BernsteinPolynomial squared = dot(differenceCurve, differenceCurve);
+  const double largest = difference.colwise().squaredNorm().maxCoeff();
+  return squared.maxCoefficient() + 16.0 * (2 * degree + 2) * kEpsilon * largest;
+}
+
+// Newton's method for the mutually orthogonal case 3 on piece x to-segment:
+// (P(a) - Q(b)) . P'(a) = 0 and (P(a) - Q(b)) . Q'(b) = 0, from (0.5, b0). Returns (a, b) when it
+// converges inside [0, 1]^2.
+std::optional<std::pair<double, double>> solveOrthogonal(const BezierCurve& piece,
+                                                         const CurveProjector::Segment& target,
+                                                         double b0) {
+  const BezierCurve velocityP = piece.derivative();
+  const BezierCurve accelerationP = velocityP.derivative();
+  double a = 0.5;
+  double b = b0;
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    const Eigen::Vector3d offset = piece.evaluate(a) - target.curve.evaluate(b);
+    const Eigen::Vector3d dp = velocityP.evaluate(a);
+    const Eigen::Vector3d dq = target.hodograph.evaluate(b);
+    Eigen::Matrix2d jacobian;
+    jacobian << dp.squaredNorm() + offset.dot(accelerationP.evaluate(a)), -dp.dot(dq), dp.dot(dq),
+        -dq.squaredNorm() + offset.dot(target.secondHodograph.evaluate(b));
+    const Eigen::Vector2d residual(offset.dot(dp), offset.dot(dq));
+    const double determinant = jacobian.determinant();
+    const double scale = jacobian.cwiseAbs().maxCoeff();
+    if (!(std::abs(determinant) > 1e-14 * scale * scale)) return std::nullopt;
+    const Eigen::Vector2d step = -jacobian.inverse() * residual;
+    if (!step.allFinite()) return std::nullopt;
+    a += step.x();
+    b += step.y();
+    if (a < 0.0 || a > 1.0 || b < 0.0 || b > 1.0) return std::nullopt;
+    if (std::abs(step.x()) <= 1e-15 && std::abs(step.y()) <= 1e-15) return std::make_pair(a, b);
+  }
+  return std::nullopt;
+}
+
+Sample sampleAt(const Problem& problem, int segment, double local,
+                const std::vector<int>& candidates, const std::optional<SegmentPoint>& hint) {
+  const CurveProjector::Segment& fromSegment =
+      problem.from.segments()[static_cast<std::size_t>(segment)];
+  Sample sample;
+  sample.fromSegment = segment;
+  sample.fromLocal = local;
+  sample.nearest = problem.to.nearest(fromSegment.curve.evaluate(local), candidates, hint);
+  sample.squaredDistance = sample.nearest.squaredDistance;
+  return sample;
+}
+
+// Upper bound of max_{u in item} d(u)^2: the smallest of the largest Bernstein coefficients of
+// S(u, phi(u)) = |P(u) - Q(phi(u))|^2 (each a valid bound, as d(u)^2 <= S(u, v) for any v) with
+// phi (a) constant at the centre's nearest point (segment j, parameter s), (b) the first-order
+// model of the nearest-point map v(u) at the centre (implicit differentiation of
+// (P - Q(v)) . Q'(v) = 0), clamped to segment j, and (c) when both end feet lie on one segment,
+// the linear interpolation between them, exact at the item's ends (so a maximum at an end of the
+// item is bounded tightly). centreBound() computes (a) and (b), interpolationBound() (c).
+double centreBound(const Problem& problem, const BezierCurve& piece, const NearestPoint& nearest) {
+  const CurveProjector::Segment& target =
+      problem.to.segments()[static_cast<std::size_t>(nearest.location.segment)];
+  const double s = nearest.location.segmentParameter;
+  const Eigen::Vector3d targetPoint = target.curve.evaluate(s);
+  const BezierCurve constant(std::vector<Eigen::Vector3d>{targetPoint});
+  double bound = maxSquaredDifference(piece, constant);
+
+  const Eigen::Vector3d offset = piece.evaluate(0.5) - targetPoint;
+  const Eigen::Vector3d dq = target.hodograph.evaluate(s);
+  const double curvatureTerm = dq.squaredNorm() - offset.dot(target.secondHodograph.evaluate(s));
+  const double slope = piece.derivative().evaluate(0.5).dot(dq) / curvatureTerm;
+  if (curvatureTerm > 0.0 && std::isfinite(slope) && slope != 0.0) {
+    const double room = std::min(s, 1.0 - s);
+    const double half = std::min(0.5 * std::abs(slope), room);
+    const double phiStart = s - std::copysign(half, slope);
+    const double phiEnd = s + std::copysign(half, slope);
+    if (phiStart != phiEnd) {
+      bound =
+          std::min(bound, maxSquaredDifference(piece, target.curve.restricted(phiStart, phiEnd)));
+    }
+  }
+  return bound;
+}
+
+// Bound (c) of the comment above: phi interpolates the feet of the item's ends when both lie on
+// one `to` segment (infinity otherwise). Needs no projection, so it is tried first.
+double interpolationBound(const Problem& problem, const WorkItem& item, const BezierCurve& piece) {
+  if (item.startFoot.segment < 0 || item.startFoot.segment != item.endFoot.segment) {
+    return kInfinity;
+  }
+  const CurveProjector::Segment& feet =
+      problem.to.segments()[static_cast<std::size_t>(item.startFoot.segment)];
+  const double from = item.startFoot.segmentParameter;
+  const double to = item.endFoot.segmentParameter;
+  const BezierCurve interpolated =
+      from != to ? feet.curve.restricted(from, to)
+                 : BezierCurve(std::vector<Eigen::Vector3d>{feet.curve.evaluate(from)});
+  return maxSquaredDifference(piece, interpolated);
+}
+
+// Newton's method for the bisector case 4 on one `from` segment: the point X = from(u) is
+// equidistant from A = to_j1(a) and B = to_j2(b), and both are orthogonal feet:
+// (X - A) . A' = 0, (X - B) . B' = 0, |X - A|^2 - |X - B|^2 = 0. Returns (u, a, b) when it
+// converges with u in [uLow, uHigh] and a, b in [0, 1].
+std::optional<Eigen::Vector3d> solveBisector(const CurveProjector::Segment& from,
+                                             const CurveProjector::Segment& first,
+                                             const CurveProjector::Segment& second, double u0,
+                                             double a0, double b0, double uLow, double uHigh) {
+  Eigen::Vector3d unknowns(u0, a0, b0);
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    const double u = unknowns.x();
+    const double a = unknowns.y();
+    const double b = unknowns.z();
+    const Eigen::Vector3d x = from.curve.evaluate(u);
+    const Eigen::Vector3d dx = from.hodograph.evaluate(u);
+    const Eigen::Vector3d pointA = first.curve.evaluate(a);
+    const Eigen::Vector3d da = first.hodograph.evaluate(a);
+    const Eigen::Vector3d pointB = second.curve.evaluate(b);
+    const Eigen::Vector3d db = second.hodograph.evaluate(b);
+    const Eigen::Vector3d toA = x - pointA;
+    const Eigen::Vector3d toB = x - pointB;
+    const Eigen::Vector3d residual(toA.dot(da), toB.dot(db), toA.squaredNorm() - toB.squaredNorm());
+    Eigen::Matrix3d jacobian;
+    jacobian << dx.dot(da), -da.squaredNorm() + toA.dot(first.secondHodograph.evaluate(a)), 0.0,
+        dx.dot(db), 0.0, -db.squaredNorm() + toB.dot(second.secondHodograph.evaluate(b)),
+        2.0 * (pointB - pointA).dot(dx), -2.0 * toA.dot(da), 2.0 * toB.dot(db);
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(jacobian);
+    if (!lu.isInvertible()) return std::nullopt;
+    const Eigen::Vector3d step = -lu.solve(residual);
+    if (!step.allFinite()) return std::nullopt;
+    unknowns += step;
+    if (unknowns.x() < uLow || unknowns.x() > uHigh || unknowns.y() < 0.0 || unknowns.y() > 1.0 ||
+        unknowns.z() < 0.0 || unknowns.z() > 1.0) {
+      return std::nullopt;
+    }
+    if (step.cwiseAbs().maxCoeff() <= 1e-15) return unknowns;
+  }
+  return std::nullopt;
+}
+
+// One item: its upper bound and, unless the bound from its end feet already settles it given
+// `lowerBound` (the best squared value known before this level), the exact value at its centre,
+// and, unless the bound shows the item cannot beat `lowerBound`, the Newton solutions of cases 3
+// and 4 inside it.
+ItemOutcome processItem(const Problem& problem, const WorkItem& item, double lowerBound) {
+  const CurveProjector::Segment& fromSegment =
+      problem.from.segments()[static_cast<std::size_t>(item.segment)];
+  const BezierCurve piece = pieceOf(fromSegment, item.start, item.end);
+  ItemOutcome outcome;
+  outcome.upperBound = std::min(item.parentBound, interpolationBound(problem, item, piece));
+  const double lower = std::sqrt(std::max(0.0, lowerBound));
+  if (outcome.upperBound <= (lower + problem.tolerance) * (lower + problem.tolerance)) {
+    return outcome;  // eliminated or settled without a projection
+  }
+  outcome.centre =
+      sampleAt(problem, item.segment, 0.5 * (item.start + item.end), *item.candidates, item.hint);
+  const NearestPoint& nearest = outcome.centre.nearest;
+  outcome.upperBound = std::min(outcome.upperBound, centreBound(problem, piece, nearest));
+  if (outcome.upperBound <= lowerBound) return outcome;
+
+  const CurveProjector::Segment& target =
+      problem.to.segments()[static_cast<std::size_t>(nearest.location.segment)];
+  if (const auto solution = solveOrthogonal(piece, target, nearest.location.segmentParameter)) {
+    const double local = item.start + solution->first * (item.end - item.start);
+    outcome.orthogonal = sampleAt(problem, item.segment, local, *item.candidates,
+                                  SegmentPoint{nearest.location.segment, solution->second});
+  }
+
+  // Case 4: when the feet of the item's ends lie apart (the nearest-point map jumps inside the
+  // item), the maximum may be a bisector point: Newton's method from the two feet.
+  const NearestPoint startFoot =
+      problem.to.pointAt(item.startFoot, fromSegment.curve.evaluate(item.start));
+  const NearestPoint endFoot =
+      problem.to.pointAt(item.endFoot, fromSegment.curve.evaluate(item.end));
+  const double chord = (piece.evaluate(1.0) - piece.evaluate(0.0)).norm();
+  if ((startFoot.point - endFoot.point).norm() > 4.0 * chord + problem.tolerance) {
+    const auto& targets = problem.to.segments();
+    const auto solution = solveBisector(
+        fromSegment, targets[static_cast<std::size_t>(item.startFoot.segment)],
+        targets[static_cast<std::size_t>(item.endFoot.segment)], 0.5 * (item.start + item.end),
+        item.startFoot.segmentParameter, item.endFoot.segmentParameter, item.start, item.end);
+    if (solution) {
+      outcome.bisector =
+          sampleAt(problem, item.segment, solution->x(), *item.candidates, item.startFoot);
+    }
+  }
+  return outcome;
+}
+
+// The `to` segments that can hold a nearest point for some u in the item, given the item's
+// upper bound of max d^2: box distance, then the tensor-product Bernstein bound of S.
+CandidateList filterCandidates(const Problem& problem, const WorkItem& item, double bound) {
+  // Filtering pays only for longer lists; a short one is pruned cheaply inside nearest().
+  if (item.candidates->size() <= 2) return item.candidates;
+  const CurveProjector::Segment& fromSegment =
+      problem.from.segments()[static_cast<std::size_t>(item.segment)];
+  const BezierCurve piece = pieceOf(fromSegment, item.start, item.end);
+  const Eigen::AlignedBox3d pieceBounds = piece.controlPointBounds();
+  auto kept = std::make_shared<std::vector<int>>();
+  for (const int index : *item.candidates) {
+    const CurveProjector::Segment& target = problem.to.segments()[static_cast<std::size_t>(index)];
+    const double boxDistance = pieceBounds.squaredExteriorDistance(target.bounds);
+    if (boxDistance > bound * (1.0 + 1e-12)) continue;
+    // S at a corner of the square is attained: below the bound, the segment must stay.
+    const double cornerMinimum = std::min(
+        {(piece.controlPoint(0) - target.curve.controlPoint(0)).squaredNorm(),
+         (piece.controlPoint(0) - target.curve.controlPoint(target.curve.degree())).squaredNorm(),
+         (piece.controlPoint(piece.degree()) - target.curve.controlPoint(0)).squaredNorm(),
+         (piece.controlPoint(piece.degree()) - target.curve.controlPoint(target.curve.degree()))
+             .squaredNorm()});
+    if (cornerMinimum <= bound) {
+      kept->push_back(index);
+      continue;
+    }
+    const SquaredDistanceTensor tensor(piece, target.curve);
+    if (tensor.minCoefficient() - tensor.roundingBound() > bound) continue;
+    kept->push_back(index);
+  }
+  return kept;
+}
+
+// True when the point at `local` on `segment` is an "end point" in the sense of HausdorffCase:
+// an end of an open curve, or a knot where the tangent direction jumps.
+bool isCorner(const CurveProjector& curve, int segment, double local) {
+  const auto& segments = curve.segments();
+  const int count = static_cast<int>(segments.size());
+  int before = -1;
+  int after = -1;
+  if (local <= 0.0) {
+    after = segment;
+    before = segment > 0 ? segment - 1 : (curve.isClosed() ? count - 1 : -1);
+  } else if (local >= 1.0) {
+    before = segment;
+    after = segment + 1 < count ? segment + 1 : (curve.isClosed() ? 0 : -1);
+  } else {
+    return false;
+  }
+  if (before < 0 || after < 0) return true;  // an end of an open curve
+  const Eigen::Vector3d incoming =
+      segments[static_cast<std::size_t>(before)].hodograph.evaluate(1.0);
+  const Eigen::Vector3d outgoing =
+      segments[static_cast<std::size_t>(after)].hodograph.evaluate(0.0);
+  if (incoming.norm() == 0.0 || outgoing.norm() == 0.0) return true;
+  return (incoming.normalized() - outgoing.normalized()).norm() > 1e-9;
+}
+
+std::string formatBracket(double low, double high) {
+  std::ostringstream text;
+  text.precision(17);
+  text << '[' << low << ", " << high << ']';
+  return text.str();
+}
+
+OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProjector& to,
+                                  const HausdorffOptions& options) {
+  Eigen::AlignedBox3d both = from.bounds();
+  both.extend(to.bounds());
+  const double size = both.diagonal().norm();
+  const Problem problem{from, to, options.relativeTolerance * size};
+
+  const int segmentCount = static_cast<int>(from.segments().size());
+  auto allTargets = std::make_shared<std::vector<int>>(to.segments().size());
+  for (std::size_t i = 0; i < allTargets->size(); ++i) (*allTargets)[i] = static_cast<int>(i);
+
+  // End-point cases: d at every knot of `from` (segment starts, plus the end of the last).
+  std::vector<Sample> knotSamples(static_cast<std::size_t>(segmentCount) + 1);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, segmentCount + 1), [&](const tbb::blocked_range<int>& range) {
+        for (int k = range.begin(); k != range.end(); ++k) {
+          const int segment = std::min(k, segmentCount - 1);
+          knotSamples[static_cast<std::size_t>(k)] =
+              sampleAt(problem, segment, k < segmentCount ? 0.0 : 1.0, *allTargets, std::nullopt);
+        }
+      });
+  Sample best;
+  const auto consider = [&best](const Sample& sample) {
+    if (sample.squaredDistance > best.squaredDistance) best = sample;
+  };
+  for (const Sample& sample : knotSamples) consider(sample);
+
+  std::vector<WorkItem> items;
+  for (int segment = 0; segment < segmentCount; ++segment) {
+    WorkItem item;
+    item.segment = segment;
+    item.hint = knotSamples[static_cast<std::size_t>(segment)].nearest.location;
+    item.startFoot = item.hint;
+    item.endFoot = knotSamples[static_cast<std::size_t>(segment) + 1].nearest.location;
+    item.candidates = allTargets;
+    items.push_back(std::move(item));
+  }
+
+  OneSidedHausdorff result;
+  double settledBound = -kInfinity;  // largest upper bound of the items settled so far
+  bool stoppedByDepth = false;
+  bool stoppedByBudget = false;
+  while (!items.empty()) {
+    std::vector<ItemOutcome> outcomes(items.size());
+    const double lowerBefore = best.squaredDistance;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, items.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          outcomes[i] = processItem(problem, items[i], lowerBefore);
+                        }
+                      });
+    result.intervalsExamined += items.size();
+    // Fixed-order reduction: the best lower bound of this level.
+    for (const ItemOutcome& outcome : outcomes) {
+      consider(outcome.centre);
+      consider(outcome.orthogonal);
+      consider(outcome.bisector);
+    }
+    for (const WorkItem& item : items)
+      result.deepestLevel = std::max(result.deepestLevel, item.depth);
+    const double lower = std::sqrt(std::max(0.0, best.squaredDistance));
+    const double settleBelow = (lower + problem.tolerance) * (lower + problem.tolerance);
+
+    // Where to halve each item: at a bisector point found inside it (each side then follows one
+    // branch of the nearest-point map, so its bound converges quadratically), else the middle.
+    std::vector<Sample> splitPoints(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const WorkItem& item = items[i];
+      const double width = item.end - item.start;
+      splitPoints[i] = outcomes[i].centre;
+      const Sample& bisector = outcomes[i].bisector;
+      if (bisector.fromSegment == item.segment && bisector.fromLocal > item.start + 0.01 * width &&
+          bisector.fromLocal < item.end - 0.01 * width) {
+        splitPoints[i] = bisector;
+      }
+    }
+
+    std::vector<std::size_t> toSplit;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const double bound = outcomes[i].upperBound;
+      if (bound <= best.squaredDistance) continue;  // eliminated: cannot beat the best
+      if (bound <= settleBelow) {                   // settled within the tolerance
+        settledBound = std::max(settledBound, bound);
+        continue;
+      }
+      const WorkItem& item = items[i];
+      const double middle = splitPoints[i].fromLocal;
+      if (item.depth >= options.maxDepth || !(middle > item.start && middle < item.end)) {
+        settledBound = std::max(settledBound, bound);
+        stoppedByDepth = true;
+        continue;
+      }
+      toSplit.push_back(i);
+    }
+    if (result.intervalsExamined + 2 * toSplit.size() > options.maxIntervals) {
+      for (const std::size_t i : toSplit)
+        settledBound = std::max(settledBound, outcomes[i].upperBound);
+      stoppedByBudget = !toSplit.empty();
+      break;
+    }
+    std::vector<WorkItem> next(2 * toSplit.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, toSplit.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                          const WorkItem& parent = items[toSplit[k]];
+                          const ItemOutcome& outcome = outcomes[toSplit[k]];
+                          const CandidateList candidates =
+                              filterCandidates(problem, parent, outcome.upperBound);
+                          const Sample& split = splitPoints[toSplit[k]];
+                          const double middle = split.fromLocal;
+                          for (int side = 0; side < 2; ++side) {
+                            WorkItem child;
+                            child.segment = parent.segment;
+                            child.start = side == 0 ? parent.start : middle;
+                            child.end = side == 0 ? middle : parent.end;
+                            child.depth = parent.depth + 1;
+                            child.parentBound = outcome.upperBound;
+                            child.hint = outcome.centre.nearest.location;
+                            child.startFoot = side == 0 ? parent.startFoot : split.nearest.location;
+                            child.endFoot = side == 0 ? split.nearest.location : parent.endFoot;
+                            child.candidates = candidates;
+                            next[2 * k + static_cast<std::size_t>(side)] = std::move(child);
+                          }
+                        }
+                      });
+    items = std::move(next);
+  }
+
+  const CurveProjector::Segment& fromSegment =
+      from.segments()[static_cast<std::size_t>(best.fromSegment)];
+  result.fromParameter = fromSegment.interval.at(best.fromLocal);
+  result.fromPoint = fromSegment.curve.evaluate(best.fromLocal);
+  result.toParameter = best.nearest.parameter;
+  result.toPoint = best.nearest.point;
+  result.distance = (result.fromPoint - result.toPoint).norm();
+  result.lowerBound = result.distance;
+  result.upperBound = std::max(result.distance, std::sqrt(std::max(0.0, settledBound)));
+  result.converged = !stoppedByDepth && !stoppedByBudget;
+  if (stoppedByDepth) {
+    result.warnings.push_back("Hausdorff subdivision reached the depth bound " +
+                              std::to_string(options.maxDepth) +
+                              " before the tolerance; certified bracket " +
+                              formatBracket(result.lowerBound, result.upperBound));
+  }
+  if (stoppedByBudget) {
+    result.warnings.push_back("Hausdorff subdivision reached the bound of " +
+                              std::to_string(options.maxIntervals) +
+                              " intervals before the tolerance; certified bracket " +
+                              formatBracket(result.lowerBound, result.upperBound));
+  }
+
+  // Which of the seed's four cases the pair is.
+  const bool fromEnd = isCorner(from, best.fromSegment, best.fromLocal);
+  const bool toEnd =
+      isCorner(to, best.nearest.location.segment, best.nearest.location.segmentParameter);
+  if (fromEnd && toEnd) {
+    result.pairCase = HausdorffCase::EndPoints;
+  } else if (fromEnd || toEnd) {
+    result.pairCase = HausdorffCase::EndPointAndInterior;
+  } else {
+    const double tie = 1e3 * problem.tolerance + 1e-9 * result.distance;
+    const PointProjection projection = to.project(result.fromPoint, result.distance + tie);
+    const auto nearestCount = std::count_if(projection.extrema.begin(), projection.extrema.end(),
+                                            [&](const CurveExtremum& extremum) {
+                                              return extremum.kind != ExtremumKind::Maximum &&
+                                                     extremum.distance <= projection.distance + tie;
+                                            });
+    result.pairCase =
+        nearestCount >= 2 ? HausdorffCase::Bisector : HausdorffCase::MutuallyOrthogonal;
+  }
+  return result;
+}
+
+void validate(const HausdorffOptions& options) {
+  if (!(options.relativeTolerance > 0.0) || !std::isfinite(options.relativeTolerance)) {
+    throw InputError("Hausdorff distance: the relative tolerance must be a positive finite number");
+  }
+  if (options.maxDepth < 1 || options.maxDepth > 200) {
+    throw InputError("Hausdorff distance: maxDepth must be 1..200 (got " +
+                     std::to_string(options.maxDepth) + ")");
+  }
+  if (options.maxIntervals < 1) {
+    throw InputError("Hausdorff distance: maxIntervals must be at least 1");
+  }
+}
+
+}  // namespace
+
+OneSidedHausdorff oneSidedHausdorff(const BSplineCurve& from, const BSplineCurve& to,
+                                    const HausdorffOptions& options) {
+  validate(options);
+  const CurveProjector fromProjector(from);
+  const CurveProjector toProjector(to);
+  return computeOneSided(fromProjector, toProjector, options);
+}
+
+HausdorffDistance hausdorffDistance(const BSplineCurve& a, const BSplineCurve& b,
+                                    const HausdorffOptions& options) {
+  validate(options);
+  const CurveProjector projectorA(a);
+  const CurveProjector projectorB(b);
+  HausdorffDistance result;
+  tbb::parallel_invoke([&] { result.aToB = computeOneSided(projectorA, projectorB, options); },
+                       [&] { result.bToA = computeOneSided(projectorB, projectorA, options); });
+  result.aToBIsLarger = result.aToB.distance >= result.bToA.distance;
+  result.distance = std::max(result.aToB.distance, result.bToA.distance);
+  result.lowerBound = std::max(result.aToB.lowerBound, result.bToA.lowerBound);
+  result.upperBound = std::max(result.aToB.upperBound, result.bToA.upperBound);
+  return result;
+}
+
+}  // namespace d2vdb

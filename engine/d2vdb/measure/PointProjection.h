@@ -1,0 +1,133 @@
+// Point–curve projection: every local extremum of the distance from a point to a B-spline curve,
+// and the nearest point, by Bézier root isolation (seed 001, DESIGN.md section 1.3).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <vector>
+
+#include "d2vdb/spline/BSplineCurve.h"
+
+namespace d2vdb {
+
+/// Kind of a local extremum of the distance t -> |C(t) - p|.
+enum class ExtremumKind {
+  Minimum,    ///< locally closest
+  Maximum,    ///< locally farthest
+  Degenerate  ///< stationary to second order (e.g. p at a centre of curvature, a constant piece)
+};
+
+/// One local extremum of the distance along the curve.
+struct CurveExtremum {
+  double parameter = 0.0;                           ///< t in the curve's domain
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< C(t)
+  double distance = 0.0;                            ///< |C(t) - p|, world units
+  ExtremumKind kind = ExtremumKind::Minimum;
+  bool atEndPoint = false;  ///< t is an end of an open curve's domain
+};
+
+/// Result of projecting one point p onto a curve.
+struct PointProjection {
+  double parameter = 0.0;                           ///< t of the nearest point (global minimum)
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< C(t), the nearest point
+  double distance = 0.0;                            ///< min_t |C(t) - p|
+  /// Every local extremum of |C(t) - p| (interior solutions of (C(t) - p) . C'(t) = 0, knots
+  /// where the distance has a corner extremum, and the ends of open curves), ascending in t.
+  std::vector<CurveExtremum> extrema;
+};
+
+/// A point on one Bézier segment of the curve a CurveProjector holds.
+struct SegmentPoint {
+  int segment = -1;               ///< index into CurveProjector::segments()
+  double segmentParameter = 0.0;  ///< s in [0, 1] on that segment
+};
+
+/// The nearest point as CurveProjector::nearest() reports it.
+struct NearestPoint {
+  SegmentPoint location;                            ///< where it lies
+  double parameter = 0.0;                           ///< t in the curve's domain
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< C(t)
+  double squaredDistance = 0.0;                     ///< |C(t) - p|^2, world units squared
+};
+
+/// A B-spline curve prepared for repeated projections: its Bézier segments (one per non-empty
+/// knot span), their first and second hodographs and control-point bounding boxes.
+///
+/// Method (seed 001): on every segment the projection condition f(s) = (B(s) - p) . B'(s) is
+/// written in Bernstein form (degree 2n - 1) and its roots are isolated by findBernsteinRoots()
+/// (convex-hull pruning, subdivision, Newton polish). Knots and the ends of open curves are
+/// examined as well, so corner extrema are found. Immutable after construction; all members are
+/// thread-safe.
+class CurveProjector {
+ public:
+  /// One polynomial piece: B(s) = C(interval.at(s)), s in [0, 1]; derivatives are in s.
+  struct Segment {
+    BezierCurve curve;
+    BezierCurve hodograph;        ///< B'(s)
+    BezierCurve secondHodograph;  ///< B''(s)
+    ParameterInterval interval;   ///< the knot span in the curve's parameter
+    Eigen::AlignedBox3d bounds;   ///< bounding box of the control points (contains the piece)
+  };
+
+  /// Extracts the segments of `curve` (its own copy; the curve may be discarded afterwards).
+  explicit CurveProjector(const BSplineCurve& curve);
+
+  /// The Bézier segments in parameter order.
+  const std::vector<Segment>& segments() const { return segments_; }
+  /// True when the curve is closed (periodic): no end points.
+  bool isClosed() const { return closed_; }
+  /// The curve's parameter domain.
+  ParameterInterval domain() const { return domain_; }
+  /// Bounding box of all control points (contains the curve).
+  const Eigen::AlignedBox3d& bounds() const { return bounds_; }
+
+  /// The nearest point of the curve and every local extremum of the distance to `point`.
+  /// Throws InputError when `point` is not finite.
+  PointProjection project(const Eigen::Vector3d& point) const;
+
+  /// project() restricted to the curve within `searchRadius` of `point`: interior extrema are
+  /// sought only on segments whose bounding box is that near (knots and ends are always
+  /// examined), so the nearest point is still exact when it lies within the radius. Throws
+  /// InputError when `point` is not finite or the radius is negative or NaN.
+  PointProjection project(const Eigen::Vector3d& point, double searchRadius) const;
+
+  /// project() for every point, in parallel (TBB); result i belongs to points[i], identical for
+  /// any thread count. Throws InputError when a point is not finite.
+  std::vector<PointProjection> project(const std::vector<Eigen::Vector3d>& points) const;
+
+  /// Only the nearest point (no extrema list): the segment with the nearest bounding box first,
+  /// then the others in order, each skipped when its box, or the smallest Bernstein coefficient
+  /// of |B(s) - p|^2, is farther than the best point so far. Ties go to the segment visited first.
+  /// Throws InputError when `point` is not finite.
+  NearestPoint nearest(const Eigen::Vector3d& point) const;
+
+  /// The nearest point among the segments listed in `candidateSegments` (indices into
+  /// segments()), starting from `hint`, a known point of the curve whose distance serves as the
+  /// initial bound (it is returned if nothing listed is closer; its segment, when listed, is
+  /// visited first). The Hausdorff computation uses it
+  /// with candidate lists it has proved sufficient. Same method and failure behaviour as
+  /// nearest(point); an empty list without a hint throws InputError.
+  NearestPoint nearest(const Eigen::Vector3d& point, const std::vector<int>& candidateSegments,
+                       const std::optional<SegmentPoint>& hint) const;
+
+  /// The curve point at `location` (no bounds check on the segment index), with its parameter
+  /// and its squared distance to `from`.
+  NearestPoint pointAt(const SegmentPoint& location, const Eigen::Vector3d& from) const;
+
+ private:
+  std::vector<Segment> segments_;
+  bool closed_;
+  ParameterInterval domain_;
+  Eigen::AlignedBox3d bounds_;
+};
+
+/// CurveProjector(curve).project(point): the nearest point and all local distance extrema.
+PointProjection projectPoint(const BSplineCurve& curve, const Eigen::Vector3d& point);
+
+/// CurveProjector(curve).project(points): the batch version, in parallel, deterministic.
+std::vector<PointProjection> projectPoints(const BSplineCurve& curve,
+                                           const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace d2vdb

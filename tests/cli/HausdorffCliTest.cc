@@ -1,0 +1,161 @@
+// End-to-end tests of 'd2vdb project' and 'd2vdb hausdorff': the seed's examples through the
+// command line, JSON keys, the SVG drawing, exit codes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/CliRunner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using d2vdb::test::CliResult;
+using d2vdb::test::readWholeFile;
+using d2vdb::test::runCli;
+
+class HausdorffCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() /
+               (std::string("d2vdb-hausdorff-cli-") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
+                std::to_string(::getpid()));
+    fs::remove_all(scratch_);
+    fs::create_directories(scratch_);
+    write("a.json", curveJson(3, "[0, 0, 0, 0, 1, 1, 1, 1]",
+                              "[[193, 226], [227, 230], [297, 134], [421, 135]]"));
+    write("b.json", curveJson(3, "[0, 0, 0, 0, 1, 1, 1, 1]",
+                              "[[258, 481], [294, 438], [302, 268], [435, 213]]"));
+    write("quadratic.json", curveJson(2, "[0, 0, 0, 1, 1, 1]", "[[-1, 0], [0, 2], [1, 0]]"));
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+
+  static std::string curveJson(int degree, const std::string& knots, const std::string& points) {
+    return R"({"type": "bspline_curve", "version": 1, "dimension": 2, "degree": )" +
+           std::to_string(degree) + R"(, "knots": )" + knots + R"(, "control_points": )" + points +
+           "}\n";
+  }
+  void write(const std::string& name, const std::string& contents) const {
+    std::ofstream(scratch_ / name, std::ios::binary) << contents;
+  }
+  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
+  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
+
+  fs::path scratch_;
+};
+
+TEST_F(HausdorffCliTest, HelpHasExamples) {
+  for (const char* subcommand : {"project", "hausdorff"}) {
+    const CliResult help = run(std::string(subcommand) + " --help");
+    EXPECT_EQ(help.exitCode, 0) << subcommand << help.err;
+    EXPECT_NE(help.out.find("Example: d2vdb " + std::string(subcommand)), std::string::npos)
+        << help.out;
+  }
+}
+
+TEST_F(HausdorffCliTest, ProjectSeedQuadraticAsJson) {
+  const CliResult result = run("project " + path("quadratic.json") + " 0 0 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_NEAR(report.at("distance").get<double>(), std::sqrt(3.0) / 2.0, 1e-15);
+  EXPECT_NEAR(std::abs(report.at("parameter").get<double>() - 0.5), std::sqrt(2.0) / 4.0, 1e-15);
+  ASSERT_EQ(report.at("point").size(), 2u);  // a 2D curve reports 2D points
+  EXPECT_NEAR(report.at("point").at(1).get<double>(), 0.5, 1e-15);
+  const nlohmann::json& extrema = report.at("extrema");
+  ASSERT_EQ(extrema.size(), 5u);
+  EXPECT_EQ(extrema.at(1).at("kind"), "minimum");
+  EXPECT_EQ(extrema.at(2).at("kind"), "maximum");
+  EXPECT_NEAR(extrema.at(2).at("parameter").get<double>(), 0.5, 1e-15);
+  EXPECT_TRUE(extrema.at(0).at("end_point").get<bool>());
+  for (const char* key : {"curve", "query"}) EXPECT_TRUE(report.contains(key)) << key;
+}
+
+TEST_F(HausdorffCliTest, ProjectAcceptsNegativeCoordinatesAndReportsText) {
+  const CliResult result = run("project " + path("quadratic.json") + " -2 -1");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("nearest point (-1, 0) at t = 0"), std::string::npos) << result.out;
+}
+
+TEST_F(HausdorffCliTest, HausdorffSeedCubicsWithSvg) {
+  const CliResult result = run("hausdorff " + path("a.json") + " " + path("b.json") + " --svg " +
+                               path("pair.svg") + " --json --quiet");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_NEAR(report.at("distance").get<double>(), 261.912153140809, 1e-9);
+  EXPECT_EQ(report.at("larger_direction"), "b_to_a");
+  const nlohmann::json& backward = report.at("b_to_a");
+  EXPECT_EQ(backward.at("from_parameter").get<double>(), 0.0);
+  EXPECT_NEAR(backward.at("to_parameter").get<double>(), 0.0685, 5e-5);
+  EXPECT_EQ(backward.at("case").get<int>(), 2);
+  EXPECT_NEAR(report.at("a_to_b").at("distance").get<double>(), 160.990456269458, 1e-9);
+  EXPECT_TRUE(report.at("converged").get<bool>());
+  EXPECT_LE(report.at("lower_bound").get<double>(), report.at("distance").get<double>());
+  EXPECT_GE(report.at("upper_bound").get<double>(), report.at("distance").get<double>());
+  for (const char* key : {"a", "b", "one_sided", "relative_tolerance", "seconds", "warnings"}) {
+    EXPECT_TRUE(report.contains(key)) << key;
+  }
+  for (const char* key : {"lower_bound", "upper_bound", "from_point", "to_point", "case_name",
+                          "converged", "intervals", "depth"}) {
+    EXPECT_TRUE(backward.contains(key)) << key;
+  }
+  const std::string svg = readWholeFile(scratch_ / "pair.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_NE(svg.find("<line"), std::string::npos);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+}
+
+TEST_F(HausdorffCliTest, OneSidedAndText) {
+  const CliResult oneSided =
+      run("hausdorff " + path("a.json") + " " + path("b.json") + " --one-sided --json");
+  ASSERT_EQ(oneSided.exitCode, 0) << oneSided.err;
+  const nlohmann::json report = nlohmann::json::parse(oneSided.out);
+  EXPECT_NEAR(report.at("distance").get<double>(), 160.990456269458, 1e-9);
+  EXPECT_FALSE(report.contains("b_to_a"));
+  EXPECT_TRUE(report.at("one_sided").get<bool>());
+
+  const CliResult text = run("hausdorff " + path("a.json") + " " + path("b.json"));
+  ASSERT_EQ(text.exitCode, 0) << text.err;
+  EXPECT_NE(text.out.find("Hausdorff distance H(A, B) = 261.912153140809"), std::string::npos)
+      << text.out;
+}
+
+TEST_F(HausdorffCliTest, DepthBoundWarnsAndStillReportsTheBracket) {
+  write("wavy.json", curveJson(3, "[0, 0, 0, 0, 0.25, 0.5, 0.75, 1, 1, 1, 1]",
+                               "[[0, 0], [1, 2], [2, -1], [3, 2.5], [4, -0.5], [5, 1.5], [6, 0]]"));
+  write("other.json", curveJson(2, "[0, 0, 0, 0.3, 0.6, 1, 1, 1]",
+                                "[[-0.5, 1], [1, 0.5], [2.5, 2], [4, 0], [6.5, 0.8]]"));
+  const CliResult result =
+      run("hausdorff " + path("wavy.json") + " " + path("other.json") + " --max-depth 1 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_FALSE(report.at("converged").get<bool>());
+  EXPECT_FALSE(report.at("warnings").empty());
+  EXPECT_NE(result.err.find("warning:"), std::string::npos);
+  EXPECT_LT(report.at("lower_bound").get<double>(), report.at("upper_bound").get<double>());
+}
+
+TEST_F(HausdorffCliTest, BadInputsExitWithTwoAndUsageErrorsWithOne) {
+  EXPECT_EQ(run("hausdorff " + path("a.json") + " " + path("missing.json")).exitCode, 2);
+  write("broken.json", "{\"type\": \"bspline_curve\"");
+  EXPECT_EQ(run("hausdorff " + path("a.json") + " " + path("broken.json")).exitCode, 2);
+  EXPECT_EQ(run("project " + path("missing.json") + " 0 0").exitCode, 2);
+  EXPECT_EQ(run("project " + path("quadratic.json") + " nan 0").exitCode, 2);
+  EXPECT_EQ(run("project " + path("quadratic.json") + " 0").exitCode, 1);
+  EXPECT_EQ(run("hausdorff " + path("a.json")).exitCode, 1);
+  EXPECT_EQ(run("hausdorff " + path("a.json") + " " + path("b.json") + " --tolerance -1").exitCode,
+            1);
+  // A failed run leaves no SVG behind.
+  EXPECT_EQ(run("hausdorff " + path("a.json") + " " + path("missing.json") + " --svg " +
+                path("never.svg"))
+                .exitCode,
+            2);
+  EXPECT_FALSE(fs::exists(scratch_ / "never.svg"));
+}
+
+}  // namespace

@@ -1,0 +1,193 @@
+// d2vdb info: reports on a .vdb file (grids, types, class, voxel size, active voxels, bounding
+// boxes, memory, metadata) or a mesh file (counts and a closed/manifold report).
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "Command.h"
+#include "JsonReports.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/io/SplineJson.h"
+#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/mesh/MeshIO.h"
+
+namespace d2vdb::cli {
+namespace {
+
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+nlohmann::json gridInfoJson(const VdbGridInfo& grid) {
+  nlohmann::json metadata = nlohmann::json::object();
+  for (const auto& [key, value] : grid.metadata) metadata[key] = value;
+  return {
+      {"name", grid.name},
+      {"value_type", grid.valueType},
+      {"class", grid.gridClass},
+      {"voxel_size", {grid.voxelSize[0], grid.voxelSize[1], grid.voxelSize[2]}},
+      {"active_voxels", grid.activeVoxelCount},
+      {"index_bbox",
+       {{"min",
+         {grid.indexBoundingBox.min().x(), grid.indexBoundingBox.min().y(),
+          grid.indexBoundingBox.min().z()}},
+        {"max",
+         {grid.indexBoundingBox.max().x(), grid.indexBoundingBox.max().y(),
+          grid.indexBoundingBox.max().z()}}}},
+      {"world_bbox",
+       {{"min",
+         {grid.worldBoundingBox.min().x(), grid.worldBoundingBox.min().y(),
+          grid.worldBoundingBox.min().z()}},
+        {"max",
+         {grid.worldBoundingBox.max().x(), grid.worldBoundingBox.max().y(),
+          grid.worldBoundingBox.max().z()}}}},
+      {"memory_bytes", grid.memoryBytes},
+      {"metadata", metadata},
+  };
+}
+
+std::string vector3Text(const nlohmann::json& values) {
+  std::ostringstream text;
+  text << '(' << values.at(0).get<double>() << ", " << values.at(1).get<double>() << ", "
+       << values.at(2).get<double>() << ')';
+  return text.str();
+}
+
+void printVdbText(const nlohmann::json& report) {
+  std::cout << report.at("file").get<std::string>() << ": " << report.at("grids").size()
+            << " grid(s)\n";
+  for (const nlohmann::json& grid : report.at("grids")) {
+    std::cout << "  grid '" << grid.at("name").get<std::string>() << "'\n"
+              << "    type            " << grid.at("value_type").get<std::string>() << '\n'
+              << "    class           " << grid.at("class").get<std::string>() << '\n'
+              << "    voxel size      " << vector3Text(grid.at("voxel_size")) << '\n'
+              << "    active voxels   " << grid.at("active_voxels").get<std::uint64_t>() << '\n'
+              << "    index bbox      " << vector3Text(grid.at("index_bbox").at("min")) << " - "
+              << vector3Text(grid.at("index_bbox").at("max")) << '\n'
+              << "    world bbox      " << vector3Text(grid.at("world_bbox").at("min")) << " - "
+              << vector3Text(grid.at("world_bbox").at("max")) << '\n'
+              << "    memory          " << grid.at("memory_bytes").get<std::uint64_t>()
+              << " bytes\n";
+    for (const auto& [key, value] : grid.at("metadata").items()) {
+      std::cout << "    meta " << key << " = " << value.get<std::string>() << '\n';
+    }
+  }
+}
+
+void printMeshText(const nlohmann::json& report, const MeshReport& meshReport) {
+  std::cout << report.at("file").get<std::string>() << ": "
+            << report.at("format").get<std::string>() << " mesh, "
+            << report.at("vertices").get<std::size_t>() << " vertices, "
+            << report.at("triangles").get<std::size_t>() << " triangles\n"
+            << "  closed " << (meshReport.closed ? "yes" : "no") << ", manifold "
+            << (meshReport.manifold ? "yes" : "no") << ", consistently oriented "
+            << (meshReport.oriented ? "yes" : "no") << ", components "
+            << meshReport.connectedComponentCount << ", Euler characteristic "
+            << meshReport.eulerCharacteristic << '\n'
+            << "  bounding box " << vector3Text(report.at("bbox").at("min")) << " - "
+            << vector3Text(report.at("bbox").at("max")) << ", surface area "
+            << report.at("surface_area").get<double>() << '\n';
+  const std::string problems = meshReport.problems();
+  if (!problems.empty()) {
+    std::istringstream lines(problems);
+    for (std::string line; std::getline(lines, line);) std::cout << "  problem: " << line << '\n';
+  }
+}
+
+nlohmann::json splineJson(const Spline& spline) {
+  if (const auto* curve = std::get_if<BSplineCurve>(&spline)) {
+    const std::vector<Eigen::Vector3d> points = curve->sample(1025);
+    double polylineLength = 0;
+    for (std::size_t i = 1; i < points.size(); ++i)
+      polylineLength += (points[i] - points[i - 1]).norm();
+    return {{"kind", "bspline_curve"},
+            {"dimension", curve->dimension()},
+            {"degree", curve->degree()},
+            {"closed", curve->isClosed()},
+            {"control_points", curve->controlPointCount()},
+            {"knots", curve->knots().size()},
+            {"domain", {curve->domain().start, curve->domain().end}},
+            {"length_estimate", polylineLength}};
+  }
+  const auto& surface = std::get<BSplineSurface>(spline);
+  return {{"kind", "bspline_surface"},
+          {"degree", {surface.degreeU(), surface.degreeV()}},
+          {"closed", {surface.isClosedU(), surface.isClosedV()}},
+          {"control_points", {surface.countU(), surface.countV()}},
+          {"knots", {surface.knotsU().size(), surface.knotsV().size()}},
+          {"domain_u", {surface.domainU().start, surface.domainU().end}},
+          {"domain_v", {surface.domainV().start, surface.domainV().end}}};
+}
+
+int runInfo(const std::string& file, const GlobalOptions& options) {
+  const std::filesystem::path path(file);
+  const std::string extension = lowerExtension(path);
+  if (extension == ".vdb") {
+    nlohmann::json report = {{"file", file}, {"kind", "vdb"}, {"grids", nlohmann::json::array()}};
+    for (const VdbGridInfo& grid : describeVdbFile(path)) {
+      report["grids"].push_back(gridInfoJson(grid));
+    }
+    if (options.json) {
+      printJson(report);
+    } else {
+      printVdbText(report);
+    }
+    return kSuccess;
+  }
+  if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
+    const TriangleMesh mesh = readMesh(path);
+    const MeshReport meshReport = validateMesh(mesh);
+    nlohmann::json report = meshReportJson(meshReport);
+    report["file"] = file;
+    report["kind"] = "mesh";
+    report["format"] = meshFormatName(meshFormatFromPath(path));
+    report["has_normals"] = mesh.hasNormals();
+    report["bbox"] = boundingBoxJson(boundingBox(mesh));
+    report["surface_area"] = surfaceArea(mesh);
+    if (options.json) {
+      printJson(report);
+    } else {
+      printMeshText(report, meshReport);
+    }
+    return kSuccess;
+  }
+  if (extension == ".json") {
+    nlohmann::json report = splineJson(readSplineJson(path));
+    report["file"] = file;
+    if (options.json) {
+      printJson(report);
+    } else {
+      std::cout << file << ":\n";
+      for (const auto& [key, value] : report.items()) {
+        if (key != "file") std::cout << "  " << key << " " << value.dump() << '\n';
+      }
+    }
+    return kSuccess;
+  }
+  throw InputError("cannot tell what '" + file + "' is from its extension '" + extension +
+                   "'; 'd2vdb info' reads .vdb, .obj, .ply, .stl and curve/surface .json files");
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
+  auto file = std::make_shared<std::string>();
+  CLI::App* command = app.add_subcommand(
+      "info",
+      "Report on a file: for .vdb the grids (type, class, voxel size, active voxels, bounding "
+      "boxes, memory, metadata); for meshes (.obj, .ply, .stl) the counts and whether the mesh "
+      "is closed, manifold and consistently oriented; for B-spline curve/surface .json files "
+      "their degree, control points, knots and domain.\n"
+      "Example: d2vdb info volumes/bunny.vdb --json");
+  command->add_option("file", *file, "File to describe")->required();
+  command->add_flag("--json", options.json, "Print one JSON document on stdout");
+  registry.add(command, [file, &options]() { return runInfo(*file, options); });
+}
+
+}  // namespace d2vdb::cli

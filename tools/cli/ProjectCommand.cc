@@ -1,0 +1,102 @@
+// d2vdb project: the nearest point of a B-spline curve to a given point, and every local extremum
+// of the distance along the curve (point–curve projection by Bézier root isolation).
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "Command.h"
+#include "d2vdb/io/SplineJson.h"
+#include "d2vdb/measure/PointProjection.h"
+
+namespace d2vdb::cli {
+namespace {
+
+// A point as a JSON array with the curve's number of coordinates.
+nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension) {
+  if (dimension == 2) return {point.x(), point.y()};
+  return {point.x(), point.y(), point.z()};
+}
+
+std::string pointText(const Eigen::Vector3d& point, int dimension) {
+  std::ostringstream text;
+  text.precision(15);
+  text << '(' << point.x() << ", " << point.y();
+  if (dimension == 3) text << ", " << point.z();
+  text << ')';
+  return text.str();
+}
+
+const char* kindName(ExtremumKind kind) {
+  switch (kind) {
+    case ExtremumKind::Minimum:
+      return "minimum";
+    case ExtremumKind::Maximum:
+      return "maximum";
+    case ExtremumKind::Degenerate:
+      return "degenerate";
+  }
+  return "degenerate";
+}
+
+}  // namespace
+
+void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
+  struct Arguments {
+    std::string curve;
+    double x = 0.0, y = 0.0, z = 0.0;
+  };
+  auto args = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "project",
+      "Project a point onto a B-spline curve (.json): the nearest point with its parameter and "
+      "distance, and every local minimum and maximum of the distance along the curve (interior "
+      "solutions of (C(t) - p) . C'(t) = 0, corners at knots, the ends of open curves). Z defaults "
+      "to 0 (the plane of 2D curves).\n"
+      "Example: d2vdb project curve.json 0 0 --json");
+  command->add_option("curve", args->curve, "B-spline curve file (.json)")->required();
+  command->add_option("x", args->x, "X coordinate of the point")->required();
+  command->add_option("y", args->y, "Y coordinate of the point")->required();
+  command->add_option("z", args->z, "Z coordinate of the point (default 0)");
+  command->add_flag("--json", options.json, "Print one JSON document on stdout");
+
+  registry.add(command, [args, &options]() {
+    const BSplineCurve curve = readCurveJson(args->curve);
+    const Eigen::Vector3d point(args->x, args->y, args->z);
+    const PointProjection projection = projectPoint(curve, point);
+    const int dimension = curve.dimension();
+
+    nlohmann::json extrema = nlohmann::json::array();
+    for (const CurveExtremum& extremum : projection.extrema) {
+      extrema.push_back({{"parameter", extremum.parameter},
+                         {"point", pointJson(extremum.point, dimension)},
+                         {"distance", extremum.distance},
+                         {"kind", kindName(extremum.kind)},
+                         {"end_point", extremum.atEndPoint}});
+    }
+    const nlohmann::json report = {
+        {"curve", args->curve},
+        {"query", {point.x(), point.y(), point.z()}},
+        {"parameter", projection.parameter},
+        {"point", pointJson(projection.point, dimension)},
+        {"distance", projection.distance},
+        {"extrema", extrema},
+    };
+    if (options.json) {
+      printJson(report);
+      return kSuccess;
+    }
+    std::cout.precision(15);
+    std::cout << "nearest point " << pointText(projection.point, dimension)
+              << " at t = " << projection.parameter << ", distance " << projection.distance << '\n'
+              << "local extrema of the distance (" << projection.extrema.size() << "):\n";
+    for (const CurveExtremum& extremum : projection.extrema) {
+      std::cout << "  t = " << extremum.parameter << "  " << kindName(extremum.kind)
+                << "  distance " << extremum.distance << "  at "
+                << pointText(extremum.point, dimension)
+                << (extremum.atEndPoint ? "  (end point)" : "") << '\n';
+    }
+    return kSuccess;
+  });
+}
+
+}  // namespace d2vdb::cli
