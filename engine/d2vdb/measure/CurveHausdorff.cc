@@ -23,6 +23,7 @@ namespace {
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// The `to` segments an item must search; null means all of them (searched through the box tree).
 using CandidateList = std::shared_ptr<const std::vector<int>>;
 
 // An exact value of d(u)^2 = min_v |from(u) - to(v)|^2 at one u.
@@ -109,14 +110,16 @@ std::optional<std::pair<double, double>> solveOrthogonal(const BezierCurve& piec
   return std::nullopt;
 }
 
-Sample sampleAt(const Problem& problem, int segment, double local,
-                const std::vector<int>& candidates, const std::optional<SegmentPoint>& hint) {
+Sample sampleAt(const Problem& problem, int segment, double local, const CandidateList& candidates,
+                const std::optional<SegmentPoint>& hint) {
   const CurveProjector::Segment& fromSegment =
       problem.from.segments()[static_cast<std::size_t>(segment)];
   Sample sample;
   sample.fromSegment = segment;
   sample.fromLocal = local;
-  sample.nearest = problem.to.nearest(fromSegment.curve.evaluate(local), candidates, hint);
+  const Eigen::Vector3d point = fromSegment.curve.evaluate(local);
+  sample.nearest =
+      candidates ? problem.to.nearest(point, *candidates, hint) : problem.to.nearest(point, hint);
   sample.squaredDistance = sample.nearest.squaredDistance;
   return sample;
 }
@@ -224,7 +227,7 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
     return outcome;  // eliminated or settled without a projection
   }
   outcome.centre =
-      sampleAt(problem, item.segment, 0.5 * (item.start + item.end), *item.candidates, item.hint);
+      sampleAt(problem, item.segment, 0.5 * (item.start + item.end), item.candidates, item.hint);
   const NearestPoint& nearest = outcome.centre.nearest;
   outcome.upperBound = std::min(outcome.upperBound, centreBound(problem, piece, nearest));
   if (outcome.upperBound <= lowerBound) return outcome;
@@ -233,7 +236,7 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
       problem.to.segments()[static_cast<std::size_t>(nearest.location.segment)];
   if (const auto solution = solveOrthogonal(piece, target, nearest.location.segmentParameter)) {
     const double local = item.start + solution->first * (item.end - item.start);
-    outcome.orthogonal = sampleAt(problem, item.segment, local, *item.candidates,
+    outcome.orthogonal = sampleAt(problem, item.segment, local, item.candidates,
                                   SegmentPoint{nearest.location.segment, solution->second});
   }
 
@@ -252,7 +255,7 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
         item.startFoot.segmentParameter, item.endFoot.segmentParameter, item.start, item.end);
     if (solution) {
       outcome.bisector =
-          sampleAt(problem, item.segment, solution->x(), *item.candidates, item.startFoot);
+          sampleAt(problem, item.segment, solution->x(), item.candidates, item.startFoot);
     }
   }
   return outcome;
@@ -262,15 +265,18 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
 // upper bound of max d^2: box distance, then the tensor-product Bernstein bound of S.
 CandidateList filterCandidates(const Problem& problem, const WorkItem& item, double bound) {
   // Filtering pays only for longer lists; a short one is pruned cheaply inside nearest().
-  if (item.candidates->size() <= 2) return item.candidates;
+  if (item.candidates && item.candidates->size() <= 2) return item.candidates;
   const CurveProjector::Segment& fromSegment =
       problem.from.segments()[static_cast<std::size_t>(item.segment)];
   const BezierCurve piece = pieceOf(fromSegment, item.start, item.end);
   const Eigen::AlignedBox3d pieceBounds = piece.controlPointBounds();
   auto kept = std::make_shared<std::vector<int>>();
-  for (const int index : *item.candidates) {
+  const int count = item.candidates ? static_cast<int>(item.candidates->size())
+                                    : static_cast<int>(problem.to.segments().size());
+  for (int k = 0; k < count; ++k) {
+    const int index = item.candidates ? (*item.candidates)[static_cast<std::size_t>(k)] : k;
     const CurveProjector::Segment& target = problem.to.segments()[static_cast<std::size_t>(index)];
-    const double boxDistance = pieceBounds.squaredExteriorDistance(target.bounds);
+    const double boxDistance = pieceBounds.squaredExteriorDistance(problem.to.segmentBounds(index));
     if (boxDistance > bound * (1.0 + 1e-12)) continue;
     // S at a corner of the square is attained: below the bound, the segment must stay.
     const double cornerMinimum = std::min(
@@ -330,8 +336,7 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
   const Problem problem{from, to, options.relativeTolerance * size};
 
   const int segmentCount = static_cast<int>(from.segments().size());
-  auto allTargets = std::make_shared<std::vector<int>>(to.segments().size());
-  for (std::size_t i = 0; i < allTargets->size(); ++i) (*allTargets)[i] = static_cast<int>(i);
+  const CandidateList allTargets;  // null: every segment of `to`
 
   // End-point cases: d at every knot of `from` (segment starts, plus the end of the last).
   std::vector<Sample> knotSamples(static_cast<std::size_t>(segmentCount) + 1);
@@ -340,7 +345,7 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
         for (int k = range.begin(); k != range.end(); ++k) {
           const int segment = std::min(k, segmentCount - 1);
           knotSamples[static_cast<std::size_t>(k)] =
-              sampleAt(problem, segment, k < segmentCount ? 0.0 : 1.0, *allTargets, std::nullopt);
+              sampleAt(problem, segment, k < segmentCount ? 0.0 : 1.0, allTargets, std::nullopt);
         }
       });
   Sample best;

@@ -4,9 +4,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <string>
 
 #include "d2vdb/core/Error.h"
@@ -75,12 +75,19 @@ CurveProjector::CurveProjector(const BSplineCurve& curve)
     : closed_(curve.isClosed()), domain_(curve.domain()) {
   const std::vector<BezierSegment> pieces = curve.toBezierSegments();
   segments_.reserve(pieces.size());
+  while (leafCount_ < static_cast<int>(pieces.size())) leafCount_ *= 2;
+  boxTree_.resize(2 * static_cast<std::size_t>(leafCount_));
   for (const BezierSegment& piece : pieces) {
     const BezierCurve hodograph = piece.curve.derivative();
-    segments_.push_back(Segment{piece.curve, hodograph, hodograph.derivative(), piece.interval,
-                                piece.curve.controlPointBounds()});
-    bounds_.extend(segments_.back().bounds);
+    boxTree_[static_cast<std::size_t>(leafCount_) + segments_.size()] =
+        piece.curve.controlPointBounds();
+    segments_.push_back(Segment{piece.curve, hodograph, hodograph.derivative(), piece.interval});
   }
+  for (int node = leafCount_ - 1; node >= 1; --node) {
+    boxTree_[static_cast<std::size_t>(node)] = boxTree_[2 * static_cast<std::size_t>(node)].merged(
+        boxTree_[2 * static_cast<std::size_t>(node) + 1]);
+  }
+  bounds_ = boxTree_[1];
 }
 
 NearestPoint CurveProjector::pointAt(const SegmentPoint& location,
@@ -94,10 +101,58 @@ NearestPoint CurveProjector::pointAt(const SegmentPoint& location,
   return result;
 }
 
-NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point) const {
-  std::vector<int> all(segments_.size());
-  std::iota(all.begin(), all.end(), 0);
-  return nearest(point, all, std::nullopt);
+void CurveProjector::visitSegment(const Eigen::Vector3d& point, int index, bool pruneByCoefficients,
+                                  NearestPoint& best) const {
+  if (segmentBounds(index).squaredExteriorDistance(point) > best.squaredDistance) return;
+  const Segment& segment = segments_[static_cast<std::size_t>(index)];
+  const BezierCurve shifted = segment.curve.translated(-point);
+  if (pruneByCoefficients) {
+    const BernsteinPolynomial squared = dot(shifted, shifted);
+    const double rounding = 64.0 * (squared.degree() + 1) * kEpsilon * squared.maxCoefficient();
+    if (squared.minCoefficient() - rounding > best.squaredDistance) return;
+  }
+  const auto consider = [&](double s) {
+    const double distance = (segment.curve.evaluate(s) - point).squaredNorm();
+    if (distance < best.squaredDistance) best = pointAt({index, s}, point);
+  };
+  consider(0.0);
+  consider(1.0);
+  for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph)).roots) {
+    consider(root);
+  }
+}
+
+NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
+                                     const std::optional<SegmentPoint>& hint) const {
+  requireFinite(point);
+  NearestPoint best;
+  best.squaredDistance = std::numeric_limits<double>::infinity();
+  if (hint) {
+    best = pointAt(*hint, point);
+    visitSegment(point, hint->segment, false, best);  // it attains the bound: no pruning
+  }
+  // Depth-first through the box tree, the nearer child first.
+  std::array<int, 2 * 64> stack{};
+  std::size_t size = 0;
+  stack[size++] = 1;
+  while (size > 0) {
+    const int node = stack[--size];
+    const Eigen::AlignedBox3d& box = boxTree_[static_cast<std::size_t>(node)];
+    if (box.isEmpty() || box.squaredExteriorDistance(point) > best.squaredDistance) continue;
+    if (node >= leafCount_) {
+      const int index = node - leafCount_;
+      if (!hint || index != hint->segment) visitSegment(point, index, true, best);
+      continue;
+    }
+    const int left = 2 * node;
+    const int right = left + 1;
+    const bool leftNearer =
+        boxTree_[static_cast<std::size_t>(left)].squaredExteriorDistance(point) <=
+        boxTree_[static_cast<std::size_t>(right)].squaredExteriorDistance(point);
+    stack[size++] = leftNearer ? right : left;
+    stack[size++] = leftNearer ? left : right;
+  }
+  return best;
 }
 
 NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
@@ -113,9 +168,6 @@ NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
 
   // The hint's segment, or else the candidate whose box is nearest, goes first, then the others
   // in list order: deterministic, and the early bound prunes most of them.
-  const auto boxDistance = [&](int index) {
-    return segments_[static_cast<std::size_t>(index)].bounds.squaredExteriorDistance(point);
-  };
   std::optional<std::size_t> first;
   if (hint) {
     const auto found = std::find(candidateSegments.begin(), candidateSegments.end(), hint->segment);
@@ -125,35 +177,16 @@ NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
   } else {
     double nearestBox = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < candidateSegments.size(); ++k) {
-      const double distance = boxDistance(candidateSegments[k]);
+      const double distance = segmentBounds(candidateSegments[k]).squaredExteriorDistance(point);
       if (distance < nearestBox) {
         nearestBox = distance;
         first = k;
       }
     }
   }
-  const auto visit = [&](int index) {
-    if (boxDistance(index) > best.squaredDistance) return;
-    const Segment& segment = segments_[static_cast<std::size_t>(index)];
-    const BezierCurve shifted = segment.curve.translated(-point);
-    if (!hint || index != hint->segment) {  // the hint's segment attains the bound: no pruning
-      const BernsteinPolynomial squared = dot(shifted, shifted);
-      const double rounding = 64.0 * (squared.degree() + 1) * kEpsilon * squared.maxCoefficient();
-      if (squared.minCoefficient() - rounding > best.squaredDistance) return;
-    }
-    const auto consider = [&](double s) {
-      const double distance = (segment.curve.evaluate(s) - point).squaredNorm();
-      if (distance < best.squaredDistance) best = pointAt({index, s}, point);
-    };
-    consider(0.0);
-    consider(1.0);
-    for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph)).roots) {
-      consider(root);
-    }
-  };
-  if (first) visit(candidateSegments[*first]);
+  if (first) visitSegment(point, candidateSegments[*first], !hint, best);
   for (std::size_t k = 0; k < candidateSegments.size(); ++k) {
-    if (!first || k != *first) visit(candidateSegments[k]);
+    if (!first || k != *first) visitSegment(point, candidateSegments[k], true, best);
   }
   return best;
 }
@@ -206,7 +239,7 @@ PointProjection CurveProjector::project(const Eigen::Vector3d& point, double sea
     }
 
     // Interior solutions of (B(s) - p) . B'(s) = 0, classified by the second derivative.
-    if (segment.bounds.exteriorDistance(point) > searchRadius) continue;
+    if (segmentBounds(static_cast<int>(i)).exteriorDistance(point) > searchRadius) continue;
     const BezierCurve shifted = segment.curve.translated(-point);
     for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph)).roots) {
       if (root <= 0.0 || root >= 1.0) continue;  // knots are handled above

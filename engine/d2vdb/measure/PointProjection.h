@@ -68,7 +68,6 @@ class CurveProjector {
     BezierCurve hodograph;        ///< B'(s)
     BezierCurve secondHodograph;  ///< B''(s)
     ParameterInterval interval;   ///< the knot span in the curve's parameter
-    Eigen::AlignedBox3d bounds;   ///< bounding box of the control points (contains the piece)
   };
 
   /// Extracts the segments of `curve` (its own copy; the curve may be discarded afterwards).
@@ -76,6 +75,11 @@ class CurveProjector {
 
   /// The Bézier segments in parameter order.
   const std::vector<Segment>& segments() const { return segments_; }
+  /// Bounding box of the control points of segment `index` (contains that piece); no bounds
+  /// check.
+  const Eigen::AlignedBox3d& segmentBounds(int index) const {
+    return boxTree_[static_cast<std::size_t>(leafCount_ + index)];
+  }
   /// True when the curve is closed (periodic): no end points.
   bool isClosed() const { return closed_; }
   /// The curve's parameter domain.
@@ -97,18 +101,21 @@ class CurveProjector {
   /// any thread count. Throws InputError when a point is not finite.
   std::vector<PointProjection> project(const std::vector<Eigen::Vector3d>& points) const;
 
-  /// Only the nearest point (no extrema list): the segment with the nearest bounding box first,
-  /// then the others in order, each skipped when its box, or the smallest Bernstein coefficient
-  /// of |B(s) - p|^2, is farther than the best point so far. Ties go to the segment visited first.
-  /// Throws InputError when `point` is not finite.
-  NearestPoint nearest(const Eigen::Vector3d& point) const;
+  /// Only the nearest point (no extrema list), optionally starting from `hint`, a known point of
+  /// the curve whose distance serves as the initial bound. Segments are visited through a binary
+  /// tree of their bounding boxes, nearer boxes first; a subtree is skipped when its box, and a
+  /// segment when the smallest Bernstein coefficient of |B(s) - p|^2, is farther than the best
+  /// point so far, so a query costs about O(log n) segments. Ties go to the segment visited
+  /// first (deterministic). Throws InputError when `point` is not finite.
+  NearestPoint nearest(const Eigen::Vector3d& point,
+                       const std::optional<SegmentPoint>& hint = std::nullopt) const;
 
   /// The nearest point among the segments listed in `candidateSegments` (indices into
-  /// segments()), starting from `hint`, a known point of the curve whose distance serves as the
-  /// initial bound (it is returned if nothing listed is closer; its segment, when listed, is
-  /// visited first). The Hausdorff computation uses it
-  /// with candidate lists it has proved sufficient. Same method and failure behaviour as
-  /// nearest(point); an empty list without a hint throws InputError.
+  /// segments()), starting from `hint` (returned if nothing listed is closer). The list is
+  /// scanned: the hint's segment (or else the one with the nearest box) first, then the others
+  /// in list order. The Hausdorff computation uses it with candidate lists it has proved
+  /// sufficient. Same pruning and failure behaviour as nearest(point); an empty list without a
+  /// hint throws InputError.
   NearestPoint nearest(const Eigen::Vector3d& point, const std::vector<int>& candidateSegments,
                        const std::optional<SegmentPoint>& hint) const;
 
@@ -117,10 +124,18 @@ class CurveProjector {
   NearestPoint pointAt(const SegmentPoint& location, const Eigen::Vector3d& from) const;
 
  private:
+  // Updates `best` with the nearest point of segment `index` when it can beat it.
+  void visitSegment(const Eigen::Vector3d& point, int index, bool pruneByCoefficients,
+                    NearestPoint& best) const;
+
   std::vector<Segment> segments_;
   bool closed_;
   ParameterInterval domain_;
   Eigen::AlignedBox3d bounds_;
+  // Implicit complete binary tree of bounding boxes: node 1 is the root, node k has children 2k
+  // and 2k + 1, leaves leafCount_ + i hold segment i (empty boxes pad to a power of two).
+  int leafCount_ = 1;
+  std::vector<Eigen::AlignedBox3d> boxTree_;
 };
 
 /// CurveProjector(curve).project(point): the nearest point and all local distance extrema.
