@@ -139,6 +139,18 @@ TEST(CurveHausdorff, BisectorCaseUnderAnArch) {
   EXPECT_EQ(result.aToB.pairCase, HausdorffCase::Bisector);
 }
 
+TEST(CurveHausdorff, BisectorBetweenTwoEndPoints) {
+  // Below the seed's arch, the segment's middle (0, -3) is equidistant from the arch's two end
+  // points, which are its nearest points: h = sqrt(10) at u = 1/2, case 4 with fixed feet.
+  const BSplineCurve segment = BSplineCurve::clamped(1, {xy(-0.5, -3), xy(0.5, -3)}, 2);
+  const HausdorffDistance result =
+      expectMatchesBruteForce(segment, d2vdb::test::seedQuadratic(), "bisector of end points");
+  EXPECT_NEAR(result.aToB.distance, std::sqrt(10.0), 1e-14);
+  EXPECT_NEAR(result.aToB.fromParameter, 0.5, 1e-14);
+  EXPECT_EQ(result.aToB.pairCase, HausdorffCase::Bisector);
+  EXPECT_LT(result.aToB.upperBound - result.aToB.lowerBound, 1e-12);
+}
+
 TEST(CurveHausdorff, InteriorMutuallyOrthogonalPair) {
   // A gentle arc over a line: the farthest point is the arc's apex, above the line's interior.
   const BSplineCurve arc = BSplineCurve::clamped(2, {xy(0, 0.2), xy(1, 1.8), xy(2, 0.2)}, 2);

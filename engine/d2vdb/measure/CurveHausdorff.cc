@@ -7,6 +7,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -87,15 +88,17 @@ std::optional<std::pair<double, double>> solveOrthogonal(const BezierCurve& piec
                                                          double b0) {
   const BezierCurve velocityP = piece.derivative();
   const BezierCurve accelerationP = velocityP.derivative();
+  const BezierCurve velocityQ = target.hodograph();
+  const BezierCurve accelerationQ = velocityQ.derivative();
   double a = 0.5;
   double b = b0;
   for (int iteration = 0; iteration < 20; ++iteration) {
     const Eigen::Vector3d offset = piece.evaluate(a) - target.curve.evaluate(b);
     const Eigen::Vector3d dp = velocityP.evaluate(a);
-    const Eigen::Vector3d dq = target.hodograph.evaluate(b);
+    const Eigen::Vector3d dq = velocityQ.evaluate(b);
     Eigen::Matrix2d jacobian;
     jacobian << dp.squaredNorm() + offset.dot(accelerationP.evaluate(a)), -dp.dot(dq), dp.dot(dq),
-        -dq.squaredNorm() + offset.dot(target.secondHodograph.evaluate(b));
+        -dq.squaredNorm() + offset.dot(accelerationQ.evaluate(b));
     const Eigen::Vector2d residual(offset.dot(dp), offset.dot(dq));
     const double determinant = jacobian.determinant();
     const double scale = jacobian.cwiseAbs().maxCoeff();
@@ -140,8 +143,9 @@ double centreBound(const Problem& problem, const BezierCurve& piece, const Neare
   double bound = maxSquaredDifference(piece, constant);
 
   const Eigen::Vector3d offset = piece.evaluate(0.5) - targetPoint;
-  const Eigen::Vector3d dq = target.hodograph.evaluate(s);
-  const double curvatureTerm = dq.squaredNorm() - offset.dot(target.secondHodograph.evaluate(s));
+  const BezierCurve velocityQ = target.hodograph();
+  const Eigen::Vector3d dq = velocityQ.evaluate(s);
+  const double curvatureTerm = dq.squaredNorm() - offset.dot(velocityQ.derivative().evaluate(s));
   const double slope = piece.derivative().evaluate(0.5).dot(dq) / curvatureTerm;
   if (curvatureTerm > 0.0 && std::isfinite(slope) && slope != 0.0) {
     const double room = std::min(s, 1.0 - s);
@@ -173,35 +177,74 @@ double interpolationBound(const Problem& problem, const WorkItem& item, const Be
 }
 
 // Newton's method for the bisector case 4 on one `from` segment: the point X = from(u) is
-// equidistant from A = to_j1(a) and B = to_j2(b), and both are orthogonal feet:
-// (X - A) . A' = 0, (X - B) . B' = 0, |X - A|^2 - |X - B|^2 = 0. Returns (u, a, b) when it
-// converges with u in [uLow, uHigh] and a, b in [0, 1].
+// equidistant from A = to_j1(a) and B = to_j2(b): |X - A|^2 - |X - B|^2 = 0, and each foot is an
+// orthogonal foot, (X - A) . A' = 0, unless it starts at an end of its segment (an end point or a
+// corner of `to`, where the nearest point stays put): such a foot is held fixed and its equation
+// dropped, so the system stays square (1 to 3 unknowns). Returns (u, a, b) when it converges
+// with u in [uLow, uHigh] and a, b in [0, 1].
 std::optional<Eigen::Vector3d> solveBisector(const CurveProjector::Segment& from,
                                              const CurveProjector::Segment& first,
                                              const CurveProjector::Segment& second, double u0,
                                              double a0, double b0, double uLow, double uHigh) {
+  const BezierCurve velocityX = from.hodograph();
+  const BezierCurve velocityA = first.hodograph();
+  const BezierCurve accelerationA = velocityA.derivative();
+  const BezierCurve velocityB = second.hodograph();
+  const BezierCurve accelerationB = velocityB.derivative();
+  // The unknowns (0: u, 1: a, 2: b) and equations (0: orthogonal at A, 1: orthogonal at B,
+  // 2: equidistant) in use.
+  std::array<int, 3> unknownIndex{};
+  std::array<int, 3> equationIndex{};
+  std::size_t size = 0;
+  unknownIndex[size] = 0;
+  equationIndex[size++] = 2;
+  if (a0 > 0.0 && a0 < 1.0) {
+    unknownIndex[size] = 1;
+    equationIndex[size++] = 0;
+  }
+  if (b0 > 0.0 && b0 < 1.0) {
+    unknownIndex[size] = 2;
+    equationIndex[size++] = 1;
+  }
+  using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+  const auto count = static_cast<Eigen::Index>(size);
   Eigen::Vector3d unknowns(u0, a0, b0);
   for (int iteration = 0; iteration < 20; ++iteration) {
     const double u = unknowns.x();
     const double a = unknowns.y();
     const double b = unknowns.z();
     const Eigen::Vector3d x = from.curve.evaluate(u);
-    const Eigen::Vector3d dx = from.hodograph.evaluate(u);
+    const Eigen::Vector3d dx = velocityX.evaluate(u);
     const Eigen::Vector3d pointA = first.curve.evaluate(a);
-    const Eigen::Vector3d da = first.hodograph.evaluate(a);
+    const Eigen::Vector3d da = velocityA.evaluate(a);
     const Eigen::Vector3d pointB = second.curve.evaluate(b);
-    const Eigen::Vector3d db = second.hodograph.evaluate(b);
+    const Eigen::Vector3d db = velocityB.evaluate(b);
     const Eigen::Vector3d toA = x - pointA;
     const Eigen::Vector3d toB = x - pointB;
     const Eigen::Vector3d residual(toA.dot(da), toB.dot(db), toA.squaredNorm() - toB.squaredNorm());
     Eigen::Matrix3d jacobian;
-    jacobian << dx.dot(da), -da.squaredNorm() + toA.dot(first.secondHodograph.evaluate(a)), 0.0,
-        dx.dot(db), 0.0, -db.squaredNorm() + toB.dot(second.secondHodograph.evaluate(b)),
+    jacobian << dx.dot(da), -da.squaredNorm() + toA.dot(accelerationA.evaluate(a)), 0.0, dx.dot(db),
+        0.0, -db.squaredNorm() + toB.dot(accelerationB.evaluate(b)),
         2.0 * (pointB - pointA).dot(dx), -2.0 * toA.dot(da), 2.0 * toB.dot(db);
-    const Eigen::FullPivLU<Eigen::Matrix3d> lu(jacobian);
+    SmallMatrix reduced(count, count);
+    SmallVector reducedResidual(count);
+    for (std::size_t row = 0; row < size; ++row) {
+      const auto r = static_cast<Eigen::Index>(row);
+      reducedResidual[r] = residual[equationIndex[row]];
+      for (std::size_t column = 0; column < size; ++column) {
+        reduced(r, static_cast<Eigen::Index>(column)) =
+            jacobian(equationIndex[row], unknownIndex[column]);
+      }
+    }
+    const Eigen::FullPivLU<SmallMatrix> lu(reduced);
     if (!lu.isInvertible()) return std::nullopt;
-    const Eigen::Vector3d step = -lu.solve(residual);
-    if (!step.allFinite()) return std::nullopt;
+    const SmallVector reducedStep = -lu.solve(reducedResidual);
+    if (!reducedStep.allFinite()) return std::nullopt;
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < size; ++k) {
+      step[unknownIndex[k]] = reducedStep[static_cast<Eigen::Index>(k)];
+    }
     unknowns += step;
     if (unknowns.x() < uLow || unknowns.x() > uHigh || unknowns.y() < 0.0 || unknowns.y() > 1.0 ||
         unknowns.z() < 0.0 || unknowns.z() > 1.0) {
@@ -314,9 +357,9 @@ bool isCorner(const CurveProjector& curve, int segment, double local) {
   }
   if (before < 0 || after < 0) return true;  // an end of an open curve
   const Eigen::Vector3d incoming =
-      segments[static_cast<std::size_t>(before)].hodograph.evaluate(1.0);
+      segments[static_cast<std::size_t>(before)].hodograph().evaluate(1.0);
   const Eigen::Vector3d outgoing =
-      segments[static_cast<std::size_t>(after)].hodograph.evaluate(0.0);
+      segments[static_cast<std::size_t>(after)].hodograph().evaluate(0.0);
   if (incoming.norm() == 0.0 || outgoing.norm() == 0.0) return true;
   return (incoming.normalized() - outgoing.normalized()).norm() > 1e-9;
 }
@@ -482,20 +525,26 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
   const bool fromEnd = isCorner(from, best.fromSegment, best.fromLocal);
   const bool toEnd =
       isCorner(to, best.nearest.location.segment, best.nearest.location.segmentParameter);
+  // An interior point of `from` with two or more nearest points is a bisector point (case 4),
+  // whether those points are interior points or ends of `to`.
+  std::ptrdiff_t nearestCount = 1;
+  if (!fromEnd) {
+    const double tie = 1e3 * problem.tolerance + 1e-9 * result.distance;
+    const PointProjection projection = to.project(result.fromPoint, result.distance + tie);
+    nearestCount = std::count_if(projection.extrema.begin(), projection.extrema.end(),
+                                 [&](const CurveExtremum& extremum) {
+                                   return extremum.kind != ExtremumKind::Maximum &&
+                                          extremum.distance <= projection.distance + tie;
+                                 });
+  }
   if (fromEnd && toEnd) {
     result.pairCase = HausdorffCase::EndPoints;
+  } else if (nearestCount >= 2) {
+    result.pairCase = HausdorffCase::Bisector;
   } else if (fromEnd || toEnd) {
     result.pairCase = HausdorffCase::EndPointAndInterior;
   } else {
-    const double tie = 1e3 * problem.tolerance + 1e-9 * result.distance;
-    const PointProjection projection = to.project(result.fromPoint, result.distance + tie);
-    const auto nearestCount = std::count_if(projection.extrema.begin(), projection.extrema.end(),
-                                            [&](const CurveExtremum& extremum) {
-                                              return extremum.kind != ExtremumKind::Maximum &&
-                                                     extremum.distance <= projection.distance + tie;
-                                            });
-    result.pairCase =
-        nearestCount >= 2 ? HausdorffCase::Bisector : HausdorffCase::MutuallyOrthogonal;
+    result.pairCase = HausdorffCase::MutuallyOrthogonal;
   }
   return result;
 }

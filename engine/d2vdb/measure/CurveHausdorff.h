@@ -31,7 +31,8 @@ enum class HausdorffCase {
   EndPoints = 1,            ///< case 1: an end point of each curve
   EndPointAndInterior = 2,  ///< case 2: an end point of one curve, an interior point of the other
   MutuallyOrthogonal = 3,   ///< case 3: interior points, C1 - C2 orthogonal to both tangents
-  Bisector = 4              ///< case 4: the `from` point has two or more nearest points
+  Bisector = 4  ///< case 4: an interior `from` point with two or more nearest points (which may
+                ///< be end points of `to`)
 };
 
 /// The one-sided Hausdorff distance h(from -> to) = max_u min_v |from(u) - to(v)|.

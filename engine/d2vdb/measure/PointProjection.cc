@@ -38,9 +38,10 @@ struct DerivativeNoise {
 
 DerivativeNoise derivativeNoise(const CurveProjector::Segment& segment,
                                 const BezierCurve& shifted) {
+  const BezierCurve velocity = segment.hodograph();
   const double offset = largestNorm(shifted);
-  const double speed = largestNorm(segment.hodograph);
-  const double acceleration = largestNorm(segment.secondHodograph);
+  const double speed = largestNorm(velocity);
+  const double acceleration = largestNorm(velocity.derivative());
   const double factor = 256.0 * (2 * segment.curve.degree() + 1) * kEpsilon;
   return {factor * offset * speed, factor * (speed * speed + offset * acceleration)};
 }
@@ -49,11 +50,12 @@ DerivativeNoise derivativeNoise(const CurveProjector::Segment& segment,
 // forward, -1 backward), -1 when it shrinks, 0 when it is stationary to second order.
 int trend(const CurveProjector::Segment& segment, const Eigen::Vector3d& point, double s,
           int direction, const DerivativeNoise& noise) {
+  const BezierCurve hodograph = segment.hodograph();
   const Eigen::Vector3d offset = segment.curve.evaluate(s) - point;
-  const Eigen::Vector3d velocity = segment.hodograph.evaluate(s);
+  const Eigen::Vector3d velocity = hodograph.evaluate(s);
   const double slope = offset.dot(velocity);
   if (std::abs(slope) > noise.slope) return slope * direction > 0.0 ? 1 : -1;
-  const double curvature = velocity.squaredNorm() + offset.dot(segment.secondHodograph.evaluate(s));
+  const double curvature = velocity.squaredNorm() + offset.dot(hodograph.derivative().evaluate(s));
   if (std::abs(curvature) > noise.curvature) return curvature > 0.0 ? 1 : -1;
   return 0;
 }
@@ -78,10 +80,9 @@ CurveProjector::CurveProjector(const BSplineCurve& curve)
   while (leafCount_ < static_cast<int>(pieces.size())) leafCount_ *= 2;
   boxTree_.resize(2 * static_cast<std::size_t>(leafCount_));
   for (const BezierSegment& piece : pieces) {
-    const BezierCurve hodograph = piece.curve.derivative();
     boxTree_[static_cast<std::size_t>(leafCount_) + segments_.size()] =
         piece.curve.controlPointBounds();
-    segments_.push_back(Segment{piece.curve, hodograph, hodograph.derivative(), piece.interval});
+    segments_.push_back(Segment{piece.curve, piece.interval});
   }
   for (int node = leafCount_ - 1; node >= 1; --node) {
     boxTree_[static_cast<std::size_t>(node)] = boxTree_[2 * static_cast<std::size_t>(node)].merged(
@@ -117,7 +118,7 @@ void CurveProjector::visitSegment(const Eigen::Vector3d& point, int index, bool 
   };
   consider(0.0);
   consider(1.0);
-  for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph)).roots) {
+  for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph())).roots) {
     consider(root);
   }
 }
@@ -241,12 +242,14 @@ PointProjection CurveProjector::project(const Eigen::Vector3d& point, double sea
     // Interior solutions of (B(s) - p) . B'(s) = 0, classified by the second derivative.
     if (segmentBounds(static_cast<int>(i)).exteriorDistance(point) > searchRadius) continue;
     const BezierCurve shifted = segment.curve.translated(-point);
-    for (const double root : findBernsteinRoots(dot(shifted, segment.hodograph)).roots) {
+    const BezierCurve hodograph = segment.hodograph();
+    const BezierCurve secondHodograph = hodograph.derivative();
+    for (const double root : findBernsteinRoots(dot(shifted, hodograph)).roots) {
       if (root <= 0.0 || root >= 1.0) continue;  // knots are handled above
       const Eigen::Vector3d curvePoint = segment.curve.evaluate(root);
-      const Eigen::Vector3d velocity = segment.hodograph.evaluate(root);
+      const Eigen::Vector3d velocity = hodograph.evaluate(root);
       const double curvature =
-          velocity.squaredNorm() + (curvePoint - point).dot(segment.secondHodograph.evaluate(root));
+          velocity.squaredNorm() + (curvePoint - point).dot(secondHodograph.evaluate(root));
       const ExtremumKind kind = curvature > noise[i].curvature    ? ExtremumKind::Minimum
                                 : curvature < -noise[i].curvature ? ExtremumKind::Maximum
                                                                   : ExtremumKind::Degenerate;

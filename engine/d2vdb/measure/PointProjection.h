@@ -62,12 +62,15 @@ struct NearestPoint {
 /// thread-safe.
 class CurveProjector {
  public:
-  /// One polynomial piece: B(s) = C(interval.at(s)), s in [0, 1]; derivatives are in s.
+  /// One polynomial piece: B(s) = C(interval.at(s)), s in [0, 1]; derivatives are in s. Only
+  /// the curve is stored (a Bézier curve has fixed, degree-independent storage), so that many
+  /// segments stay compact; hodographs are formed on demand.
   struct Segment {
     BezierCurve curve;
-    BezierCurve hodograph;        ///< B'(s)
-    BezierCurve secondHodograph;  ///< B''(s)
-    ParameterInterval interval;   ///< the knot span in the curve's parameter
+    ParameterInterval interval;  ///< the knot span in the curve's parameter
+
+    /// B'(s), O(degree).
+    BezierCurve hodograph() const { return curve.derivative(); }
   };
 
   /// Extracts the segments of `curve` (its own copy; the curve may be discarded afterwards).
