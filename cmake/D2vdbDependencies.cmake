@@ -42,6 +42,11 @@ if(NOT TARGET nlohmann_json::nlohmann_json)
   d2vdb_missing("nlohmann-json" nlohmann-json3-dev)
 endif()
 
+find_package(nanoflann QUIET)
+if(NOT TARGET nanoflann::nanoflann)
+  d2vdb_missing("nanoflann (k-d trees of the approximant field)" libnanoflann-dev)
+endif()
+
 find_package(CLI11 QUIET)
 if(NOT TARGET CLI11::CLI11)
   d2vdb_missing("CLI11" libcli11-dev)

@@ -1,0 +1,184 @@
+// The squared-distance approximant field (DESIGN.md section 2.1; seed 000: "an adaptive data
+// structure whose cells carry local quadratic approximants of the squared distance function").
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "d2vdb/core/Progress.h"
+#include "d2vdb/field/SquaredDistanceTarget.h"
+
+namespace d2vdb {
+
+class CurveTarget;
+struct FieldStorage;
+
+/// Metadata keys of a field's grids on disk (see FieldFile.h).
+inline constexpr const char* kFieldKindMetadata = "d2vdb_field_kind";  ///< surface/curve/points
+inline constexpr const char* kFieldEstimatorMetadata = "d2vdb_field_estimator";
+inline constexpr const char* kFieldVersionMetadata = "d2vdb_field_version";  ///< int, 1
+inline constexpr const char* kFieldDomainMinMetadata = "d2vdb_domain_min";   ///< vec3d, world
+inline constexpr const char* kFieldDomainMaxMetadata = "d2vdb_domain_max";   ///< vec3d, world
+
+/// Options shared by every way of building a field.
+struct ApproximantFieldOptions {
+  /// Working domain: the target's bounding box padded on every side by this fraction of its
+  /// largest side (the issue's default: half its size). Queries outside the domain are refused.
+  double domainPadding = 0.5;
+  /// An explicit working domain (world units); overrides domainPadding when set. Must contain
+  /// the target's bounding box.
+  std::optional<Eigen::AlignedBox3d> domain;
+  /// Half-width, in voxels of their own size, of the coarse levels beyond the narrow band.
+  int coarseHalfWidth = 4;
+  /// Refuse fields whose estimated active voxel count (all levels) exceeds this.
+  std::uint64_t maxActiveVoxels = 150'000'000;
+};
+
+/// Per-level and total sizes, for `d2vdb info` and the benchmarks.
+struct FieldLevelInfo {
+  int level = 0;           ///< 0 = the narrow band
+  double voxelSize = 0.0;  ///< world units
+  double halfWidth = 0.0;  ///< voxels of this level
+  std::uint64_t activeVoxels = 0;
+  std::uint64_t memoryBytes = 0;  ///< in-memory size of this level's index and records
+};
+
+struct FieldStatistics {
+  TargetKind kind = TargetKind::Surface;
+  std::string estimator;  ///< how the band data was obtained (one line)
+  std::vector<FieldLevelInfo> levels;
+  std::uint64_t samples = 0;  ///< footpoint samples the coarse levels refer to
+  std::uint64_t flaggedCutLocus = 0, flaggedCurvatureClamped = 0, flaggedDegraded = 0;
+  std::uint64_t distanceGridBytes = 0;  ///< the FloatGrid of level 0
+  std::uint64_t totalBytes = 0;         ///< everything the field holds
+  /// What a dense grid over the working domain at the band's voxel size would take with the same
+  /// 16 bytes per voxel for distance + approximant.
+  double denseBytes = 0.0;
+};
+
+/// A narrow-band distance field whose active voxels carry the data of a local quadratic
+/// approximant of d^2 (Approximant.h), plus coarser levels that answer beyond the band.
+///
+/// Level 0 (the band): the target's distance grid (a FloatGrid level set for surfaces, an
+/// unsigned distance grid for curves and points: voxel (i,j,k) centred at (i,j,k) * voxelSize)
+/// and for every active voxel one 16-byte record: normal (octahedral, 2 x 16 bit), first
+/// principal direction or tangent (angle about the normal, 16 bit), flags, curvatures (2 x
+/// 16-bit floats, in units of 1/voxel) and the distance (32-bit float). Records are stored
+/// leaf by leaf, addressed through a hash of leaf origins and the leaf's active-voxel mask, so a
+/// query costs one hash probe and one record read.
+///
+/// Levels 1..L (beyond the band): voxel size voxelSize * 2^level, half-width coarseHalfWidth;
+/// each active voxel holds the index of the band sample (a level-0 voxel near the target) whose
+/// footpoint is nearest to the voxel centre, found exactly with a k-d tree over the samples. The
+/// top level covers the whole working domain. A query at x uses the finest level whose stored
+/// voxel nearest to x is active and returns that voxel's approximant (Taylor expansion of d^2
+/// about the voxel centre). Error bound beyond the band: see coarseDistanceErrorBound().
+///
+/// Queries are thread-safe; Accessor caches the last leaf per thread. Building is parallel (TBB)
+/// and the result is bitwise identical for any thread count.
+class ApproximantField final : public SquaredDistanceTarget {
+ public:
+  /// Builds the field of a signed level set (any FloatGrid of class level set, from d2vdb or any
+  /// OpenVDB tool: d < 0 inside, world units, uniform voxels, band half-width >= 2 voxels).
+  /// Estimator: see kSurfaceEstimator in the .cc; documented in the README. The grid is shared,
+  /// not copied, and must not be modified afterwards. Throws InputError for a grid that is not a
+  /// level set, has non-uniform or non-linear voxels, an empty band, a band narrower than 2
+  /// voxels, non-finite values, or an estimated size above options.maxActiveVoxels.
+  static ApproximantField fromLevelSet(openvdb::FloatGrid::ConstPtr levelSet,
+                                       const ApproximantFieldOptions& options = {},
+                                       const ProgressCallback& progress = {});
+
+  /// Builds the field of a curve: every voxel within halfWidth voxels of the curve gets the
+  /// exact approximant of CurveTarget at its centre. Throws InputError for a non-positive voxel
+  /// size, halfWidth < 1, or a size above the budget.
+  static ApproximantField fromCurve(const CurveTarget& curve, double voxelSize, double halfWidth,
+                                    const ApproximantFieldOptions& options = {},
+                                    const ProgressCallback& progress = {});
+
+  /// Builds the field of a point set: every voxel within halfWidth voxels of a point gets the
+  /// nearest point (ties: the lowest index). Throws InputError for an empty set, non-finite
+  /// coordinates, a non-positive voxel size, halfWidth < 1, or a size above the budget.
+  static ApproximantField fromPoints(const std::vector<Eigen::Vector3d>& points, double voxelSize,
+                                     double halfWidth, const ApproximantFieldOptions& options = {},
+                                     const ProgressCallback& progress = {});
+
+  ApproximantField(ApproximantField&&) noexcept;
+  ApproximantField& operator=(ApproximantField&&) noexcept;
+  ~ApproximantField() override;
+
+  TargetKind kind() const override;
+  Eigen::AlignedBox3d domain() const override;
+  Approximant approximantAt(const Eigen::Vector3d& point) const override;
+  std::vector<Approximant> approximantsAt(
+      const std::vector<Eigen::Vector3d>& points) const override;
+  std::string describe() const override;
+
+  /// A per-thread query handle: caches the last leaf it visited, so spatially coherent queries
+  /// skip the hash probe. Cheap to create; must not outlive the field; not shareable between
+  /// threads.
+  class Accessor {
+   public:
+    explicit Accessor(const ApproximantField& field);
+    /// As ApproximantField::approximantAt().
+    Approximant approximantAt(const Eigen::Vector3d& point);
+    /// The level that answered the last successful query (0 = the band).
+    int lastLevel() const { return lastLevel_; }
+
+   private:
+    const ApproximantField& field_;
+    std::vector<std::int64_t> cachedLeaf_;  // per level: index of the cached leaf entry or -1
+    std::vector<openvdb::Coord> cachedOrigin_;
+    int lastLevel_ = 0;
+  };
+
+  /// The distance grid of the band (level set for surfaces, unsigned distance otherwise).
+  openvdb::FloatGrid::ConstPtr distanceGrid() const;
+  /// Voxel size of the band (world units).
+  double voxelSize() const;
+  /// Half-width of the band in voxels.
+  double halfWidth() const;
+  /// Number of levels (1 + coarse levels).
+  int levelCount() const;
+  /// Upper bound (world units) on how much the distance implied by a coarse-level answer at a
+  /// point x, |x - footpoint|, can exceed the true distance d(x) (it is never below
+  /// d(x) - sampleError()): sqrt(3) * (that level's voxel size) + sampleError(). Coarse answers
+  /// are used only where d(x) exceeds about (coarseHalfWidth - 1) times that voxel size, so the
+  /// relative error stays below about sqrt(3) / (coarseHalfWidth - 1).
+  double coarseDistanceErrorBound(int level) const;
+  /// How far a target point can be from the nearest band sample footpoint (world): the sampling
+  /// error of the coarse levels, measured during construction as an upper bound
+  /// (see the .cc for how).
+  double sampleError() const;
+  /// Sizes and counts.
+  FieldStatistics statistics() const;
+
+  /// The band's data as standard OpenVDB grids sharing the distance grid's topology, for
+  /// writing: the distance grid itself, then surfaces: "normal" (Vec3s), "k1", "k2" (float),
+  /// "e1" (Vec3s); curves: "direction" (Vec3s, footpoint toward voxel), "tangent" (Vec3s),
+  /// "curvature" (float), "principal_normal" (Vec3s); points: "direction" (Vec3s); and "flags"
+  /// (Int32, only voxels with flags set are active). Metadata on the distance grid: kind,
+  /// estimator, version, domain. Coarse levels are not stored (they are rebuilt on load).
+  openvdb::GridPtrVec toGrids() const;
+
+  /// Rebuilds a field from grids written by toGrids() (any order, extra grids ignored), or from a
+  /// level set alone (approximants computed now, as fromLevelSet does). `source` names the file in
+  /// messages. Throws InputError for a missing or mismatched companion grid (different topology or
+  /// transform), non-finite values, a wrong grid type, or an unknown field kind/version.
+  static ApproximantField fromGrids(const openvdb::GridPtrVec& grids, const std::string& source,
+                                    const ApproximantFieldOptions& options = {},
+                                    const ProgressCallback& progress = {});
+
+ private:
+  explicit ApproximantField(std::unique_ptr<FieldStorage> storage);
+  std::unique_ptr<FieldStorage> storage_;
+};
+
+}  // namespace d2vdb

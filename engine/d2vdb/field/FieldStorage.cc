@@ -1,0 +1,459 @@
+// Compact records, leaf tables, decoding and the coarse levels of ApproximantField
+// (FieldStorage.h).
+#include "d2vdb/field/FieldStorage.h"
+
+#include <openvdb/math/Half.h>
+#include <openvdb/tools/Morphology.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "d2vdb/core/Error.h"
+
+namespace d2vdb {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+/// nanoflann adaptor over the sample footpoints.
+struct SampleCloud {
+  const std::vector<Eigen::Vector3f>* points;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  float kdtree_get_pt(std::size_t index, std::size_t dim) const { return (*points)[index][dim]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using SampleTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SampleCloud>,
+                                        SampleCloud, 3, std::uint32_t>;
+
+/// Nearest sample to `query` (index space): its index and distance.
+std::pair<std::uint32_t, double> nearestSample(const SampleTree& tree,
+                                               const std::vector<Eigen::Vector3f>& samples,
+                                               const Eigen::Vector3d& query) {
+  const float point[3] = {static_cast<float>(query.x()), static_cast<float>(query.y()),
+                          static_cast<float>(query.z())};
+  std::uint32_t index = 0;
+  float squared = 0.0f;
+  nanoflann::KNNResultSet<float, std::uint32_t> result(1);
+  result.init(&index, &squared);
+  tree.findNeighbors(result, point, nanoflann::SearchParams());
+  return {index, (samples[index].cast<double>() - query).norm()};
+}
+
+}  // namespace
+
+// ---- LeafTable ---------------------------------------------------------------------------------
+
+std::size_t LeafTable::hash(const openvdb::Coord& c) const {
+  const auto u = [](int v) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)); };
+  const std::uint64_t h = (u(c.x()) * 0x9E3779B97F4A7C15ull) ^ (u(c.y()) * 0xC2B2AE3D27D4EB4Full) ^
+                          (u(c.z()) * 0x165667B19E3779F9ull);
+  return static_cast<std::size_t>(h ^ (h >> 29)) & slotMask_;
+}
+
+std::uint64_t LeafTable::build(std::vector<LeafEntry> entries) {
+  entries_ = std::move(entries);
+  std::uint64_t total = 0;
+  for (LeafEntry& entry : entries_) {
+    entry.base = static_cast<std::uint32_t>(total);
+    std::uint32_t running = 0;
+    for (int w = 0; w < 8; ++w) {
+      entry.prefix[w] = static_cast<std::uint16_t>(running);
+      running += static_cast<std::uint32_t>(__builtin_popcountll(entry.mask[w]));
+    }
+    total += running;
+  }
+  if (total > std::numeric_limits<std::uint32_t>::max()) {
+    throw InputError("the field has " + std::to_string(total) +
+                     " active voxels, more than 2^32 records can address");
+  }
+  std::size_t capacity = 16;
+  while (capacity < 2 * entries_.size()) capacity *= 2;
+  slots_.assign(capacity, -1);
+  slotMask_ = capacity - 1;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    std::size_t slot = hash(entries_[i].origin);
+    while (slots_[slot] != -1) slot = (slot + 1) & slotMask_;
+    slots_[slot] = static_cast<std::int32_t>(i);
+  }
+  return total;
+}
+
+std::int64_t LeafTable::findLeaf(const openvdb::Coord& ijk) const {
+  if (slots_.empty()) return -1;
+  const openvdb::Coord origin = blockOrigin(ijk);
+  for (std::size_t slot = hash(origin);; slot = (slot + 1) & slotMask_) {
+    const std::int32_t index = slots_[slot];
+    if (index == -1) return -1;
+    if (entries_[static_cast<std::size_t>(index)].origin == origin) return index;
+  }
+}
+
+// ---- codecs ------------------------------------------------------------------------------------
+
+std::array<std::int16_t, 2> encodeOctahedral(const Eigen::Vector3d& unit) {
+  const double l1 = std::abs(unit.x()) + std::abs(unit.y()) + std::abs(unit.z());
+  double px = l1 > 0.0 ? unit.x() / l1 : 0.0;
+  double py = l1 > 0.0 ? unit.y() / l1 : 0.0;
+  if (l1 > 0.0 && unit.z() < 0.0) {
+    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    px = fx;
+    py = fy;
+  }
+  const auto quantise = [](double v) {
+    return static_cast<std::int16_t>(std::lround(std::clamp(v, -1.0, 1.0) * 32767.0));
+  };
+  return {quantise(px), quantise(py)};
+}
+
+Eigen::Vector3d decodeOctahedral(const std::array<std::int16_t, 2>& code) {
+  double px = code[0] / 32767.0, py = code[1] / 32767.0;
+  const double z = 1.0 - std::abs(px) - std::abs(py);
+  if (z < 0.0) {
+    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    px = fx;
+    py = fy;
+  }
+  return Eigen::Vector3d(px, py, z).normalized();
+}
+
+std::array<Eigen::Vector3d, 2> tangentBasis(const Eigen::Vector3d& unit) {
+  const Eigen::Vector3d axis =
+      std::abs(unit.x()) < 0.6 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d b1 = axis.cross(unit).normalized();
+  return {b1, unit.cross(b1)};
+}
+
+std::uint16_t encodeAngle(const Eigen::Vector3d& axis, const Eigen::Vector3d& direction) {
+  const auto basis = tangentBasis(axis);
+  double angle = std::atan2(direction.dot(basis[1]), direction.dot(basis[0]));
+  if (angle < 0.0) angle += kTwoPi;
+  return static_cast<std::uint16_t>(std::lround(angle / kTwoPi * 65536.0) & 0xFFFF);
+}
+
+Eigen::Vector3d decodeAngle(const Eigen::Vector3d& axis, std::uint16_t code) {
+  const auto basis = tangentBasis(axis);
+  const double angle = code * (kTwoPi / 65536.0);
+  return std::cos(angle) * basis[0] + std::sin(angle) * basis[1];
+}
+
+std::uint16_t encodeHalf(double value) {
+  return openvdb::math::half(static_cast<float>(value)).bits();
+}
+
+double decodeHalf(std::uint16_t bits) {
+  openvdb::math::half value;
+  value.setBits(bits);
+  return static_cast<double>(static_cast<float>(value));
+}
+
+// ---- records -----------------------------------------------------------------------------------
+
+BandRecord FieldStorage::encode(const Approximant& a) const {
+  BandRecord record;
+  record.distance = static_cast<float>(a.distance);
+  record.flags = a.flags;
+  record.normal = encodeOctahedral(a.normal);
+  const Eigen::Vector3d normal = decodeOctahedral(record.normal);
+  if (kind == TargetKind::Points) return record;
+  Eigen::Vector3d tangent = a.tangent - a.tangent.dot(normal) * normal;
+  if (tangent.norm() < 1e-9) tangent = tangentBasis(normal)[0];
+  record.angle = encodeAngle(normal, tangent.normalized());
+  if (kind == TargetKind::Surface) {
+    record.c0 = encodeHalf(a.k1 * voxelSize);
+    record.c1 = encodeHalf(a.k2 * voxelSize);
+  } else {
+    record.c0 = encodeHalf(a.k1 * voxelSize);
+    const Eigen::Vector3d decodedTangent = decodeAngle(normal, record.angle);
+    Eigen::Vector3d principal =
+        a.principalNormal - a.principalNormal.dot(decodedTangent) * decodedTangent;
+    if (principal.norm() < 1e-9) principal = tangentBasis(decodedTangent)[0];
+    record.c1 = encodeAngle(decodedTangent, principal.normalized());
+  }
+  return record;
+}
+
+Approximant FieldStorage::decodeBand(std::uint32_t recordIndex, const openvdb::Coord& ijk) const {
+  const BandRecord& record = records[recordIndex];
+  Approximant a;
+  a.kind = kind;
+  a.flags = record.flags;
+  a.distance = record.distance;
+  const Eigen::Vector3d centre(ijk.x(), ijk.y(), ijk.z());
+  const Eigen::Vector3d normal = decodeOctahedral(record.normal);
+  a.origin = indexToWorld(centre);
+  a.footpoint = indexToWorld(centre - (a.distance / voxelSize) * normal);
+  a.normal = toWorldDirection(normal);
+  if (kind == TargetKind::Points) {
+    a.tangent = toWorldDirection(tangentBasis(normal)[0]);
+    return a;
+  }
+  const Eigen::Vector3d tangent = decodeAngle(normal, record.angle);
+  a.tangent = toWorldDirection(tangent);
+  if (kind == TargetKind::Surface) {
+    a.k1 = decodeHalf(record.c0) / voxelSize;
+    a.k2 = decodeHalf(record.c1) / voxelSize;
+  } else {
+    a.k1 = decodeHalf(record.c0) / voxelSize;
+    if (a.k1 > 0.0) a.principalNormal = toWorldDirection(decodeAngle(tangent, record.c1));
+  }
+  return a;
+}
+
+Approximant FieldStorage::decodeCoarse(std::uint32_t sample, const Eigen::Vector3d& centre) const {
+  const BandRecord& record = records[sampleRecords[sample]];
+  const Eigen::Vector3d footpoint = sampleFootpoints[sample].cast<double>();
+  const Eigen::Vector3d sampleNormal = decodeOctahedral(record.normal);
+  Approximant a;
+  a.kind = kind;
+  a.flags = static_cast<std::uint16_t>((record.flags & ~kFlagFarField) | kFlagFarField);
+  a.origin = indexToWorld(centre);
+  a.footpoint = indexToWorld(footpoint);
+  const Eigen::Vector3d offset = centre - footpoint;
+  const double length = offset.norm();
+  double sign = 1.0;
+  if (kind == TargetKind::Surface && offset.dot(sampleNormal) < 0.0) sign = -1.0;
+  const Eigen::Vector3d normal =
+      length > 1e-9 ? Eigen::Vector3d(sign * offset / length) : sampleNormal;
+  a.distance = sign * length * voxelSize;
+  a.normal = toWorldDirection(normal);
+  const Eigen::Vector3d sampleTangent = kind == TargetKind::Points
+                                            ? tangentBasis(normal)[0]
+                                            : decodeAngle(sampleNormal, record.angle);
+  Eigen::Vector3d tangent = sampleTangent - sampleTangent.dot(normal) * normal;
+  tangent = tangent.norm() > 1e-9 ? Eigen::Vector3d(tangent.normalized()) : tangentBasis(normal)[0];
+  a.tangent = toWorldDirection(tangent);
+  if (kind == TargetKind::Surface) {
+    a.k1 = decodeHalf(record.c0) / voxelSize;
+    a.k2 = decodeHalf(record.c1) / voxelSize;
+  } else if (kind == TargetKind::Curve) {
+    a.k1 = decodeHalf(record.c0) / voxelSize;
+    if (a.k1 > 0.0) {
+      a.principalNormal = toWorldDirection(decodeAngle(sampleTangent, record.c1));
+    }
+  }
+  return a;
+}
+
+// ---- transform, tables, domain -----------------------------------------------------------------
+
+void FieldStorage::setTransform(const openvdb::math::Transform& transform,
+                                const std::string& source) {
+  if (!transform.isLinear() || !transform.hasUniformScale()) {
+    throw InputError(source +
+                     ": the grid's transform is not a linear map with cubic voxels; "
+                     "the approximant field needs uniform voxels (resample it first)");
+  }
+  const openvdb::Mat4d matrix = transform.baseMap()->getAffineMap()->getMat4();
+  for (int row = 0; row < 3; ++row) {
+    for (int column = 0; column < 3; ++column) {
+      indexToWorldLinear(column, row) = matrix[row][column];
+    }
+    indexToWorldOffset[row] = matrix[3][row];
+  }
+  voxelSize = transform.voxelSize()[0];
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
+    throw InputError(source + ": the grid's voxel size is not a positive finite number");
+  }
+  rotation = indexToWorldLinear / voxelSize;
+  if ((rotation * rotation.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+      rotation.determinant() < 0.0) {
+    throw InputError(source +
+                     ": the grid's transform shears or mirrors its voxels; the "
+                     "approximant field needs a rotation and uniform scale");
+  }
+  axisAligned = (rotation - Eigen::Matrix3d::Identity()).norm() < 1e-12;
+  if (axisAligned) rotation = Eigen::Matrix3d::Identity();
+  worldToIndexLinear = rotation.transpose() / voxelSize;
+}
+
+std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> FieldStorage::buildBandTable() {
+  std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> leaves;
+  leaves.reserve(grid->tree().leafCount());
+  for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    if (!leaf->getValueMask().isOff()) leaves.push_back(leaf.getLeaf());
+  }
+  std::vector<LeafEntry> entries(leaves.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    entries[i].origin = leaves[i]->origin();
+    for (int w = 0; w < 8; ++w) {
+      entries[i].mask[w] = leaves[i]->getValueMask().getWord<std::uint64_t>(w);
+    }
+  }
+  const std::uint64_t total = band.build(std::move(entries));
+  records.assign(total, BandRecord{});
+  return leaves;
+}
+
+void FieldStorage::setDomain(const Eigen::AlignedBox3d& targetBounds, double padding,
+                             const std::optional<Eigen::AlignedBox3d>& explicitDomain) {
+  if (explicitDomain) {
+    if (explicitDomain->isEmpty() || !explicitDomain->min().allFinite() ||
+        !explicitDomain->max().allFinite()) {
+      throw InputError("the working domain must be a non-empty finite box");
+    }
+    if (!explicitDomain->contains(targetBounds)) {
+      throw InputError("the working domain must contain the target's bounding box");
+    }
+    domain = *explicitDomain;
+    return;
+  }
+  if (!(padding >= 0.0) || !std::isfinite(padding)) {
+    throw InputError("the domain padding must be a finite number >= 0");
+  }
+  const double pad = std::max(padding * targetBounds.sizes().maxCoeff(), voxelSize);
+  domain = targetBounds;
+  domain.min().array() -= pad;
+  domain.max().array() += pad;
+}
+
+void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
+  // Samples: band voxels within sqrt(3)/2 voxel of the target. Every target point has a voxel
+  // centre within sqrt(3)/2 voxel, which is then a sample whose footpoint is within sqrt(3)
+  // voxels of that point: the bound sampleError.
+  const auto& entries = band.entries();
+  std::vector<std::vector<std::uint32_t>> perLeaf(entries.size());
+  const double limit = 0.5 * std::sqrt(3.0) * voxelSize;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+                        const LeafEntry& entry = entries[leaf];
+                        std::uint32_t record = entry.base;
+                        for (int w = 0; w < 8; ++w) {
+                          const int count = __builtin_popcountll(entry.mask[w]);
+                          for (int k = 0; k < count; ++k, ++record) {
+                            if (std::abs(records[record].distance) <= limit) {
+                              perLeaf[leaf].push_back(record);
+                            }
+                          }
+                        }
+                      }
+                    });
+  sampleRecords.clear();
+  sampleFootpoints.clear();
+  for (const auto& list : perLeaf) {
+    sampleRecords.insert(sampleRecords.end(), list.begin(), list.end());
+  }
+  if (sampleRecords.empty()) {
+    throw InputError("the field's band holds no voxel within " +
+                     std::to_string(0.5 * std::sqrt(3.0)) +
+                     " voxel of the target, so the target is not resolved at this voxel size");
+  }
+  // Footpoints of the samples (index space): need each record's voxel.
+  sampleFootpoints.resize(sampleRecords.size());
+  std::vector<std::size_t> leafStart(perLeaf.size() + 1, 0);
+  for (std::size_t leaf = 0; leaf < perLeaf.size(); ++leaf) {
+    leafStart[leaf + 1] = leafStart[leaf] + perLeaf[leaf].size();
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, entries.size(), 64),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+          const LeafEntry& entry = entries[leaf];
+          std::size_t next = leafStart[leaf];
+          std::uint32_t record = entry.base;
+          for (int offset = 0; offset < 512 && next < leafStart[leaf + 1]; ++offset) {
+            if ((entry.mask[offset >> 6] >> (offset & 63) & 1u) == 0) continue;
+            if (record == sampleRecords[next]) {
+              const Eigen::Vector3d centre(entry.origin.x() + (offset >> 6),
+                                           entry.origin.y() + ((offset >> 3) & 7),
+                                           entry.origin.z() + (offset & 7));
+              const Eigen::Vector3d normal = decodeOctahedral(records[record].normal);
+              sampleFootpoints[next] =
+                  (centre - (records[record].distance / voxelSize) * normal).cast<float>();
+              ++next;
+            }
+            ++record;
+          }
+        }
+      });
+  sampleError = std::sqrt(3.0) * voxelSize;
+  perLeaf.clear();
+
+  SampleCloud cloud{&sampleFootpoints};
+  SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+
+  // Levels until one band covers the whole domain.
+  const Eigen::Vector3d domainMin = worldToIndex(domain.min());
+  Eigen::AlignedBox3d indexDomain(domainMin);
+  for (int corner = 0; corner < 8; ++corner) {
+    indexDomain.extend(
+        worldToIndex(domain.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))));
+  }
+  const double diagonal = indexDomain.sizes().norm();
+  coarse.clear();
+  for (int level = 1; level <= 30; ++level) {
+    const double scale = std::ldexp(1.0, level);
+    const double reach = coarseHalfWidth * scale;
+    const bool top = reach >= diagonal + scale;
+    openvdb::MaskGrid mask(false);
+    if (top) {
+      const Eigen::Vector3d lo = indexDomain.min() / scale, hi = indexDomain.max() / scale;
+      const openvdb::Coord a(static_cast<int>(std::floor(lo.x())),
+                             static_cast<int>(std::floor(lo.y())),
+                             static_cast<int>(std::floor(lo.z())));
+      const openvdb::Coord b(static_cast<int>(std::ceil(hi.x())),
+                             static_cast<int>(std::ceil(hi.y())),
+                             static_cast<int>(std::ceil(hi.z())));
+      mask.tree().denseFill(openvdb::CoordBBox(a, b), true, true);
+    } else {
+      auto accessor = mask.getAccessor();
+      for (const Eigen::Vector3f& footpoint : sampleFootpoints) {
+        const Eigen::Vector3d c = footpoint.cast<double>() / scale;
+        accessor.setValueOn(openvdb::Coord(static_cast<int>(std::lround(c.x())),
+                                           static_cast<int>(std::lround(c.y())),
+                                           static_cast<int>(std::lround(c.z()))));
+      }
+      openvdb::tools::dilateActiveValues(mask.tree(), coarseHalfWidth + 1,
+                                         openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                         openvdb::tools::IGNORE_TILES);
+    }
+    std::vector<const openvdb::MaskGrid::TreeType::LeafNodeType*> leaves;
+    for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
+    std::vector<LeafEntry> levelEntries(leaves.size());
+    std::vector<std::vector<std::uint32_t>> levelSamples(leaves.size());
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            LeafEntry& entry = levelEntries[i];
+            entry.origin = leaves[i]->origin();
+            for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
+              const openvdb::Coord ijk = voxel.getCoord();
+              const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale;
+              const auto [sample, distance] = nearestSample(tree, sampleFootpoints, centre);
+              if (!top && distance > reach) continue;
+              const int offset = static_cast<int>(voxel.pos());
+              entry.mask[offset >> 6] |= std::uint64_t{1} << (offset & 63);
+              levelSamples[i].push_back(sample);
+            }
+          }
+        });
+    CoarseLevel coarseLevel;
+    coarseLevel.level = level;
+    std::vector<LeafEntry> kept;
+    for (std::size_t i = 0; i < levelEntries.size(); ++i) {
+      if (levelSamples[i].empty()) continue;
+      kept.push_back(levelEntries[i]);
+      coarseLevel.sampleOf.insert(coarseLevel.sampleOf.end(), levelSamples[i].begin(),
+                                  levelSamples[i].end());
+    }
+    coarseLevel.table.build(std::move(kept));
+    coarse.push_back(std::move(coarseLevel));
+    if (progress) progress("field: coarse levels", top ? 1.0 : std::min(0.99, reach / diagonal));
+    if (top) break;
+  }
+}
+
+}  // namespace d2vdb
