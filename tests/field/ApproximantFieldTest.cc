@@ -194,3 +194,326 @@ TEST(ApproximantField, SdmFormMatchesTheSquaredDistanceToThirdOrder) {
 
 }  // namespace
 }  // namespace d2vdb
+
+namespace d2vdb {
+namespace {
+
+/// A closed polyline of `count` vertices on the circle of `radius` about `centre` in z = 0.
+Polyline circlePolyline(const Eigen::Vector3d& centre, double radius, int count) {
+  Polyline polyline;
+  polyline.closed = true;
+  polyline.dimension = 2;
+  for (int i = 0; i < count; ++i) {
+    const double angle = 2.0 * kPi * i / count;
+    polyline.points.push_back(centre +
+                              radius * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
+  }
+  return polyline;
+}
+
+TEST(ApproximantField, CircleCurveField) {
+  const double h = 0.025, radius = 40 * h;
+  const Eigen::Vector3d centre(0.3, -0.1, 0.0);
+  const CurveTarget target(circlePolyline(centre, radius, 4000));
+  const ApproximantField field = ApproximantField::fromCurve(target, h, 3.0);
+  EXPECT_EQ(field.kind(), TargetKind::Curve);
+  double curvatureError = 0.0, footpointError = 0.0;
+  std::size_t voxels = 0;
+  for (const Eigen::Vector3d& p : bandCentres(field)) {
+    const Eigen::Vector3d planar(p.x() - centre.x(), p.y() - centre.y(), 0.0);
+    if (planar.norm() < 1e-9) continue;
+    const Eigen::Vector3d exactFoot = centre + radius * planar.normalized();
+    const Approximant a = field.approximantAt(p);
+    ++voxels;
+    curvatureError = std::max(curvatureError, std::abs(a.k1 * radius - 1.0));
+    footpointError = std::max(footpointError, (a.footpoint - exactFoot).norm() / h);
+    EXPECT_NEAR(a.distance, (p - exactFoot).norm(), 0.05 * h);
+    EXPECT_LT(lineAngleDegrees(a.principalNormal, -planar), 0.5);
+  }
+  std::printf("circle R = 40 voxels: %zu voxels, curvature error %.3g%%, footpoint %.3g voxel\n",
+              voxels, 100 * curvatureError, footpointError);
+  EXPECT_GT(voxels, 1000u);
+  EXPECT_LE(curvatureError, 0.02);
+  EXPECT_LE(footpointError, 0.05);
+}
+
+TEST(ApproximantField, HelixCurveField) {
+  // Helix (a cos t, a sin t, b t), a = 30 voxels, two turns; curvature a / (a^2 + b^2).
+  const double h = 0.02, a = 30 * h, b = 8 * h;
+  Polyline polyline;
+  const int count = 6000;
+  for (int i = 0; i <= count; ++i) {
+    const double t = 4.0 * kPi * i / count;
+    polyline.points.emplace_back(a * std::cos(t), a * std::sin(t), b * t);
+  }
+  const CurveTarget target(polyline);
+  const ApproximantField field = ApproximantField::fromCurve(target, h, 3.0);
+  const double kappa = a / (a * a + b * b);
+  double curvatureError = 0.0, footpointError = 0.0;
+  std::size_t voxels = 0;
+  for (const Eigen::Vector3d& p : bandCentres(field)) {
+    const Approximant approx = field.approximantAt(p);
+    if (approx.flags & kFlagEndPoint) continue;  // beyond the two ends
+    // Exact closest point: Newton on (H(t) - p) . H'(t) = 0 from the field's own footpoint.
+    double t = std::atan2(approx.footpoint.y(), approx.footpoint.x());
+    t += 2.0 * kPi * std::round((approx.footpoint.z() / b - t) / (2.0 * kPi));
+    for (int iteration = 0; iteration < 30; ++iteration) {
+      const Eigen::Vector3d point(a * std::cos(t), a * std::sin(t), b * t);
+      const Eigen::Vector3d first(-a * std::sin(t), a * std::cos(t), b);
+      const Eigen::Vector3d second(-a * std::cos(t), -a * std::sin(t), 0.0);
+      const double f = (point - p).dot(first);
+      const double df = first.squaredNorm() + (point - p).dot(second);
+      t -= f / df;
+    }
+    if (t < 0.0 || t > 4.0 * kPi) continue;
+    const Eigen::Vector3d exact(a * std::cos(t), a * std::sin(t), b * t);
+    ++voxels;
+    curvatureError = std::max(curvatureError, std::abs(approx.k1 / kappa - 1.0));
+    footpointError = std::max(footpointError, (approx.footpoint - exact).norm() / h);
+  }
+  std::printf("helix a = 30 voxels: %zu voxels, curvature error %.3g%%, footpoint %.3g voxel\n",
+              voxels, 100 * curvatureError, footpointError);
+  EXPECT_GT(voxels, 1000u);
+  EXPECT_LE(curvatureError, 0.02);
+  EXPECT_LE(footpointError, 0.05);
+}
+
+TEST(ApproximantField, SplineCurveTargetMatchesTheParabola) {
+  // The quadratic Bezier (-1, 1), (0, -1), (1, 1) is the parabola y = x^2, x in [-1, 1], with
+  // curvature 2 / (1 + 4 x^2)^1.5.
+  const BSplineCurve parabola = BSplineCurve::clamped(2, {{-1, 1, 0}, {0, -1, 0}, {1, 1, 0}}, 2);
+  const CurveTarget target(parabola);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> coordinate(-0.8, 0.8);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d p(coordinate(random), coordinate(random) + 0.3, 0.0);
+    // Brute force: dense sampling of the parabola, then a few Newton steps.
+    double bestX = 0.0, best = 1e300;
+    for (int i = 0; i <= 20000; ++i) {
+      const double x = -1.0 + 2.0 * i / 20000;
+      const double squared = std::pow(x - p.x(), 2) + std::pow(x * x - p.y(), 2);
+      if (squared < best) best = squared, bestX = x;
+    }
+    for (int iteration = 0; iteration < 20; ++iteration) {
+      const double f = (bestX - p.x()) + (bestX * bestX - p.y()) * 2.0 * bestX;
+      const double df = 1.0 + 4.0 * bestX * bestX + 2.0 * (bestX * bestX - p.y());
+      bestX = std::clamp(bestX - f / df, -1.0, 1.0);
+    }
+    const Approximant a = target.approximantAt(p);
+    EXPECT_NEAR(a.footpoint.x(), bestX, 1e-7);
+    EXPECT_NEAR(a.footpoint.y(), bestX * bestX, 1e-7);
+    if ((a.flags & kFlagEndPoint) == 0) {
+      EXPECT_NEAR(a.k1, 2.0 / std::pow(1.0 + 4.0 * bestX * bestX, 1.5), 1e-6);
+      EXPECT_NEAR(std::abs(a.tangent.dot(a.normal)), 0.0, 1e-6);
+    }
+  }
+  EXPECT_THROW(CurveTarget(BSplineCurve::clamped(2, {{1, 1, 0}, {1, 1, 0}, {1, 1, 0}}, 2)),
+               InputError);
+}
+
+TEST(ApproximantField, PointFieldFootpointsAreTheNearestPoints) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
+  std::vector<Eigen::Vector3d> points(500);
+  for (auto& p : points)
+    p = Eigen::Vector3d(coordinate(random), coordinate(random), coordinate(random));
+  const double h = 0.05;
+  const ApproximantField field = ApproximantField::fromPoints(points, h, 2.0);
+  std::size_t checked = 0;
+  for (const Eigen::Vector3d& centre : bandCentres(field)) {
+    double best = 1e300;
+    for (const auto& p : points) best = std::min(best, (p - centre).norm());
+    const Approximant a = field.approximantAt(centre);
+    ASSERT_NEAR(a.distance, best, 1e-5 * h);
+    ASSERT_NEAR((a.footpoint - centre).norm(), best, 1e-3 * h);
+    // The SDM and TDM forms of a point are the PDM form |x - q|^2.
+    const Eigen::Vector3d y = centre + Eigen::Vector3d(0.01, -0.02, 0.015);
+    EXPECT_NEAR(a.form(ErrorTerm::SDM)(y), (y - a.footpoint).squaredNorm(), 1e-12);
+    ++checked;
+  }
+  EXPECT_GT(checked, 10000u);
+  EXPECT_THROW(ApproximantField::fromPoints({}, h, 2.0), InputError);
+  EXPECT_THROW(ApproximantField::fromPoints({Eigen::Vector3d(0, std::nan(""), 0)}, h, 2.0),
+               InputError);
+}
+
+TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget) {
+  const double h = 0.02;
+  const Sphere sphere(Eigen::Vector3d(0.05, 0.0, -0.03), 0.5);
+  const ApproximantField field =
+      ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}));
+  const Eigen::AlignedBox3d domain = field.domain();
+  // Default domain: the target's box padded by half its size.
+  EXPECT_NEAR(domain.sizes().x(), 2.0 * (1.0 + 2 * 3 * h) * 1.0, 0.1);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worstRelative = 0.0;
+  int farQueries = 0;
+  ApproximantField::Accessor accessor(field);
+  for (int trial = 0; trial < 20000; ++trial) {
+    const Eigen::Vector3d x =
+        domain.min() +
+        (domain.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random)))
+            .matrix();
+    const Approximant a = accessor.approximantAt(x);
+    const double exact = sphere.signedDistance(x);
+    ASSERT_TRUE(a.footpoint.allFinite() && a.normal.allFinite() && std::isfinite(a.distance));
+    const QuadraticForm form = a.form(ErrorTerm::SDM);
+    ASSERT_GE(form(x), 0.0);
+    const int level = accessor.lastLevel();
+    if (level == 0) continue;
+    ++farQueries;
+    EXPECT_TRUE(a.flags & kFlagFarField);
+    // The implied distance respects the documented bound.
+    const double implied = (x - a.footpoint).norm();
+    EXPECT_GE(implied, std::abs(exact) - field.sampleError());
+    EXPECT_LE(implied, std::abs(exact) + field.coarseDistanceErrorBound(level));
+    EXPECT_EQ(a.distance < 0.0, exact < 0.0);
+    // One Newton step on the form moves the point toward the sphere.
+    const Eigen::Vector3d gradient = form.gradient(x);
+    const Eigen::Vector3d outward = (x - sphere.centre()).normalized();
+    // Off the cut locus (the centre) the pull is along the radial direction.
+    if ((x - sphere.centre()).norm() < 0.2) continue;
+    EXPECT_GT(gradient.dot(outward) * (exact > 0 ? 1.0 : -1.0), 0.0);
+    worstRelative =
+        std::max(worstRelative, std::abs(std::sqrt(form(x)) - std::abs(exact)) / std::abs(exact));
+  }
+  const FieldStatistics stats = field.statistics();
+  std::printf(
+      "beyond the band: %d far queries, worst relative error of sqrt(F(x)) %.3g; %d levels;"
+      " %llu bytes vs dense %.3g\n",
+      farQueries, worstRelative, field.levelCount(),
+      static_cast<unsigned long long>(stats.totalBytes), stats.denseBytes);
+  EXPECT_GT(farQueries, 10000);
+  EXPECT_LE(worstRelative, 0.2);
+  EXPECT_LT(static_cast<double>(stats.totalBytes), 0.2 * stats.denseBytes);
+  // Outside the domain: refused, saying by how much.
+  try {
+    accessor.approximantAt(domain.max() + Eigen::Vector3d(0.5, 0.0, 0.0));
+    ADD_FAILURE() << "no error outside the domain";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("0.5 outside"), std::string::npos) << error.what();
+  }
+}
+
+/// Every approximant at the band's voxel centres and at `extra` points, compared field by field.
+void expectSameAnswers(const ApproximantField& a, const ApproximantField& b,
+                       const std::vector<Eigen::Vector3d>& extra) {
+  auto points = bandCentres(a);
+  points.insert(points.end(), extra.begin(), extra.end());
+  const auto answersA = a.approximantsAt(points);
+  const auto answersB = b.approximantsAt(points);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Approximant &x = answersA[i], &y = answersB[i];
+    ASSERT_TRUE(x.flags == y.flags && x.distance == y.distance && x.footpoint == y.footpoint &&
+                x.normal == y.normal && x.tangent == y.tangent && x.k1 == y.k1 && x.k2 == y.k2 &&
+                x.principalNormal == y.principalNormal)
+        << "different answers at point " << i << ": flags " << x.flags << "/" << y.flags << " d "
+        << x.distance << "/" << y.distance << " foot " << x.footpoint.transpose() << " / "
+        << y.footpoint.transpose() << " n " << x.normal.transpose() << " / " << y.normal.transpose()
+        << " t " << x.tangent.transpose() << " / " << y.tangent.transpose() << " k " << x.k1 << ","
+        << x.k2 << " / " << y.k1 << "," << y.k2;
+  }
+}
+
+std::vector<Eigen::Vector3d> randomPoints(const Eigen::AlignedBox3d& box, int count) {
+  std::mt19937 random(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    points.push_back(
+        box.min() +
+        (box.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random))).matrix());
+  }
+  return points;
+}
+
+TEST(ApproximantField, SameFieldForOneAndTwoThreadsAndExactRoundTrip) {
+  const double h = 0.03;
+  const Torus torus(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 0.35);
+  const auto grid = primitiveLevelSet(torus, {h, 3.0});
+  const ApproximantField one = withThreads(1, [&] { return ApproximantField::fromLevelSet(grid); });
+  const ApproximantField two = withThreads(2, [&] { return ApproximantField::fromLevelSet(grid); });
+  const auto extra = randomPoints(one.domain(), 5000);
+  expectSameAnswers(one, two, extra);
+  // Batch queries with 1 and 2 threads.
+  const auto batchOne = withThreads(1, [&] { return one.approximantsAt(extra); });
+  const auto batchTwo = withThreads(2, [&] { return one.approximantsAt(extra); });
+  for (std::size_t i = 0; i < extra.size(); ++i) {
+    ASSERT_EQ(batchOne[i].footpoint, batchTwo[i].footpoint);
+    ASSERT_EQ(batchOne[i].distance, batchTwo[i].distance);
+  }
+  // Round trip through standard grids (what a .vdb file holds).
+  const openvdb::GridPtrVec grids = one.toGrids();
+  const ApproximantField loaded = ApproximantField::fromGrids(grids, "test grids");
+  expectSameAnswers(one, loaded, extra);
+
+  // Curve and point fields too.
+  const CurveTarget circle(circlePolyline(Eigen::Vector3d::Zero(), 0.6, 500));
+  const ApproximantField curve = ApproximantField::fromCurve(circle, 0.03, 3.0);
+  expectSameAnswers(curve, ApproximantField::fromGrids(curve.toGrids(), "curve grids"),
+                    randomPoints(curve.domain(), 2000));
+  const ApproximantField points = ApproximantField::fromPoints(
+      randomPoints(Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)), 200),
+      0.05, 2.0);
+  expectSameAnswers(points, ApproximantField::fromGrids(points.toGrids(), "point grids"),
+                    randomPoints(points.domain(), 2000));
+}
+
+TEST(ApproximantField, RejectsBadGridsWithClearErrors) {
+  const double h = 0.05;
+  const Sphere sphere(Eigen::Vector3d::Zero(), 0.6);
+  const ApproximantField field =
+      ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}));
+  const openvdb::GridPtrVec grids = field.toGrids();
+  const auto expectError = [](const openvdb::GridPtrVec& input, const std::string& fragment) {
+    try {
+      ApproximantField::fromGrids(input, "bad.vdb");
+      ADD_FAILURE() << "accepted grids that should fail with '" << fragment << "'";
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
+    }
+  };
+  // A missing companion grid.
+  openvdb::GridPtrVec missing;
+  for (const auto& grid : grids) {
+    if (grid->getName() != "k1") missing.push_back(grid);
+  }
+  expectError(missing, "'k1' is missing");
+  // A companion grid with another topology.
+  openvdb::GridPtrVec mismatched;
+  for (const auto& grid : grids) {
+    if (grid->getName() == "k2") {
+      auto copy = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->deepCopy();
+      copy->tree().setValueOn(openvdb::Coord(1000, 0, 0), 0.0f);
+      mismatched.push_back(copy);
+    } else {
+      mismatched.push_back(grid);
+    }
+  }
+  expectError(mismatched, "does not share");
+  // NaN in a companion grid.
+  openvdb::GridPtrVec poisoned;
+  for (const auto& grid : grids) {
+    if (grid->getName() == "k1") {
+      auto copy = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->deepCopy();
+      copy->tree().setValueOnly(copy->cbeginValueOn().getCoord(), std::nanf(""));
+      poisoned.push_back(copy);
+    } else {
+      poisoned.push_back(grid);
+    }
+  }
+  expectError(poisoned, "non-finite");
+  // An empty band, a band too narrow for the estimator.
+  auto empty = openvdb::FloatGrid::create(0.15f);
+  empty->setGridClass(openvdb::GRID_LEVEL_SET);
+  empty->setTransform(openvdb::math::Transform::createLinearTransform(h));
+  EXPECT_THROW(ApproximantField::fromLevelSet(empty), InputError);
+  EXPECT_THROW(ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 1.0})), InputError);
+  EXPECT_THROW(ApproximantField::fromCurve(
+                   CurveTarget(circlePolyline(Eigen::Vector3d::Zero(), 1, 50)), -1.0, 3.0),
+               InputError);
+}
+
+}  // namespace
+}  // namespace d2vdb

@@ -275,6 +275,28 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
   const auto leaves = storage->buildBandTable();
   if (progress) progress("field: approximants", 0.0);
   estimateSurfaceRecords(*storage, leaves, progress);
+  {
+    // The distance grid holds the distances the footpoints imply (the input's values corrected by
+    // the projection onto the zero level), so grid, records and files agree.
+    auto refined = levelSet->deepCopy();
+    std::vector<openvdb::FloatTree::LeafNodeType*> refinedLeaves;
+    refinedLeaves.reserve(leaves.size());
+    for (auto leaf = refined->tree().beginLeaf(); leaf; ++leaf) {
+      if (!leaf->getValueMask().isOff()) refinedLeaves.push_back(leaf.getLeaf());
+    }
+    const auto& entries = storage->band.entries();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refinedLeaves.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          std::uint32_t record = entries[i].base;
+                          for (auto voxel = refinedLeaves[i]->beginValueOn(); voxel;
+                               ++voxel, ++record) {
+                            voxel.setValue(storage->records[record].distance);
+                          }
+                        }
+                      });
+    storage->grid = refined;
+  }
   // The target's bounds: the active band's box (contains the surface).
   const openvdb::CoordBBox box = levelSet->evalActiveVoxelBoundingBox();
   Eigen::AlignedBox3d bounds;

@@ -89,7 +89,7 @@ class ApproximantField final : public SquaredDistanceTarget {
   /// Builds the field of a signed level set (any FloatGrid of class level set, from d2vdb or any
   /// OpenVDB tool: d < 0 inside, world units, uniform voxels, band half-width >= 2 voxels).
   /// Estimator: see kSurfaceEstimator in the .cc; documented in the README. The grid is shared,
-  /// not copied, and must not be modified afterwards. Throws InputError for a grid that is not a
+  /// not modified. Throws InputError for a grid that is not a
   /// level set, has non-uniform or non-linear voxels, an empty band, a band narrower than 2
   /// voxels, non-finite values, or an estimated size above options.maxActiveVoxels.
   static ApproximantField fromLevelSet(openvdb::FloatGrid::ConstPtr levelSet,
@@ -139,7 +139,10 @@ class ApproximantField final : public SquaredDistanceTarget {
     int lastLevel_ = 0;
   };
 
-  /// The distance grid of the band (level set for surfaces, unsigned distance otherwise).
+  /// The distance grid of the band (level set for surfaces, unsigned distance otherwise). For
+  /// surfaces it is a copy of the input level set whose band values are the distances the
+  /// estimated footpoints imply (the input corrected by the projection onto the zero level: on the
+  /// exact sphere and torus of the tests by under 0.05 voxel).
   openvdb::FloatGrid::ConstPtr distanceGrid() const;
   /// Voxel size of the band (world units).
   double voxelSize() const;

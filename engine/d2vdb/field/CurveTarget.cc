@@ -133,6 +133,13 @@ CurveTarget::CurveTarget(Polyline polyline, double domainPadding) : dimension_(p
     vertexCurvature_[i] = centre / centre.squaredNorm();  // kappa N = (c - v) / |c - v|^2
   }
 
+  // Open ends: the curvature of the nearest interior vertex (a polyline sampled from a smooth
+  // curve keeps bending up to its end; zero there would fade the curvature along the end segment).
+  if (!polyline_.closed && n >= 3) {
+    vertexCurvature_.front() = vertexCurvature_[1];
+    vertexCurvature_.back() = vertexCurvature_[n - 2];
+  }
+
   // Implicit binary tree of segment bounding boxes.
   segmentLeafCount_ = 1;
   while (segmentLeafCount_ < static_cast<int>(segmentCount)) segmentLeafCount_ *= 2;

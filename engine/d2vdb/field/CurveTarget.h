@@ -32,7 +32,8 @@ struct Polyline {
 /// Polylines: the footpoint is the exact nearest point of the polyline; the tangent is the
 /// segment's direction (at a vertex footpoint, the mean of the adjacent directions made orthogonal
 /// to the direction toward the query point); the curvature vector kappa N is the one of the
-/// circle through each vertex and its two neighbours (zero at the ends of an open polyline),
+/// circle through each vertex and its two neighbours (an open polyline's ends take their
+/// neighbour's),
 /// interpolated linearly along each segment and made orthogonal to the tangent. So a polyline
 /// sampled from a smooth curve answers like that curve, up to the sampling's chord error.
 /// End points of open curves give kFlagEndPoint approximants (PDM form).
