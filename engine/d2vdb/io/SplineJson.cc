@@ -11,63 +11,29 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/detail/JsonReader.h"
+#include "d2vdb/io/detail/TextFile.h"
 
 namespace d2vdb {
 namespace {
 
-using Json = nlohmann::json;
+using Json = io_detail::Json;
 
 constexpr int kFormatVersion = 1;
 constexpr const char* kCurveType = "bspline_curve";
 constexpr const char* kSurfaceType = "bspline_surface";
 
-std::string describeType(const Json& value) {
-  switch (value.type()) {
-    case Json::value_t::null:
-      return "null";
-    case Json::value_t::boolean:
-      return "a boolean";
-    case Json::value_t::string:
-      return "a string";
-    case Json::value_t::array:
-      return "an array";
-    case Json::value_t::object:
-      return "an object";
-    case Json::value_t::number_integer:
-    case Json::value_t::number_unsigned:
-    case Json::value_t::number_float:
-      return "a number";
-    default:
-      return "an unsupported value";
-  }
-}
-
 // Validates one parsed JSON document against the format, reporting errors with the source name
 // and the JSON path of the offending field.
-class Reader {
+class Reader : public io_detail::JsonFieldReader {
  public:
-  explicit Reader(std::string sourceName) : source_(std::move(sourceName)) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
-    if (path.empty()) throw InputError("spline file '" + source_ + "': " + problem);
-    throw InputError("spline file '" + source_ + "', field '" + path + "': " + problem);
-  }
-
-  Json parse(const std::string& text) const {
-    try {
-      return Json::parse(text);
-    } catch (const Json::parse_error& error) {
-      fail("", "invalid JSON at byte " + std::to_string(error.byte) + ": " + error.what());
-    } catch (const Json::exception& error) {
-      // e.g. out_of_range 406 for a number such as 1e999 that overflows a double.
-      fail("", std::string("invalid JSON: ") + error.what());
-    }
-  }
+  explicit Reader(std::string sourceName) : JsonFieldReader("spline file", std::move(sourceName)) {}
 
   // The root object with a known "type" and "version"; rejects fields outside `allowed`.
   void checkHeader(const Json& root, const std::string& expectedType,
                    std::initializer_list<const char*> allowed) const {
-    if (!root.is_object()) fail("", "expected a JSON object, got " + describeType(root));
+    if (!root.is_object())
+      fail("", "expected a JSON object, got " + io_detail::describeJsonType(root));
     const std::string type = string(root, "type");
     if (type != expectedType) {
       fail("type", "is \"" + type + "\", expected \"" + expectedType + "\"");
@@ -78,36 +44,7 @@ class Reader {
                           " is not supported (this reader reads version " +
                           std::to_string(kFormatVersion) + ")");
     }
-    for (const auto& item : root.items()) {
-      bool known = false;
-      for (const char* name : allowed) known = known || item.key() == name;
-      if (!known) {
-        std::string list;
-        for (const char* name : allowed) list += (list.empty() ? "" : ", ") + std::string(name);
-        fail(item.key(), "is not a field of a " + expectedType + " (expected " + list + ")");
-      }
-    }
-  }
-
-  const Json& field(const Json& object, const char* key, const char* expected) const {
-    const auto found = object.find(key);
-    if (found == object.end()) fail(key, std::string("is missing (expected ") + expected + ")");
-    return *found;
-  }
-
-  std::string string(const Json& object, const char* key) const {
-    const Json& value = field(object, key, "a string");
-    if (!value.is_string()) fail(key, "expected a string, got " + describeType(value));
-    return value.get<std::string>();
-  }
-
-  int integer(const Json& object, const char* key) const {
-    const Json& value = field(object, key, "an integer");
-    if (!value.is_number_integer()) fail(key, "expected an integer, got " + describeType(value));
-    const auto number = value.get<long long>();
-    if (number < -1000000 || number > 1000000)
-      fail(key, "value " + value.dump() + " is out of range");
-    return static_cast<int>(number);
+    rejectUnknownFields(root, allowed, expectedType);
   }
 
   int degree(const Json& object, const char* key) const {
@@ -116,25 +53,6 @@ class Reader {
       fail(key, "degree " + std::to_string(value) + " is not supported (expected 1 to " +
                     std::to_string(kMaxSplineDegree) + ")");
     }
-    return value;
-  }
-
-  bool optionalBoolean(const Json& object, const char* key) const {
-    const auto found = object.find(key);
-    if (found == object.end()) return false;
-    if (!found->is_boolean()) fail(key, "expected true or false, got " + describeType(*found));
-    return found->get<bool>();
-  }
-
-  double number(const Json& value, const std::string& path) const {
-    if (!value.is_number()) fail(path, "expected a number, got " + describeType(value));
-    const double number = value.get<double>();
-    if (!std::isfinite(number)) fail(path, "value " + value.dump() + " is not a finite number");
-    return number;
-  }
-
-  const Json& array(const Json& value, const std::string& path) const {
-    if (!value.is_array()) fail(path, "expected an array, got " + describeType(value));
     return value;
   }
 
@@ -149,20 +67,6 @@ class Reader {
     } catch (const InputError& error) {
       fail(key, error.what());
     }
-  }
-
-  Eigen::Vector3d point(const Json& value, const std::string& path, int dimension) const {
-    const Json& coordinates = array(value, path);
-    if (coordinates.size() != static_cast<std::size_t>(dimension)) {
-      fail(path, "has " + std::to_string(coordinates.size()) + " coordinates, expected " +
-                     std::to_string(dimension));
-    }
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();
-    for (int axis = 0; axis < dimension; ++axis) {
-      point[axis] = number(coordinates[static_cast<std::size_t>(axis)],
-                           path + "[" + std::to_string(axis) + "]");
-    }
-    return point;
   }
 
   // For a closed direction: the unique count implied by the knots must be at least degree + 1
@@ -265,36 +169,22 @@ class Reader {
   }
 
   Spline spline(const Json& root) const {
-    if (!root.is_object()) fail("", "expected a JSON object, got " + describeType(root));
+    if (!root.is_object())
+      fail("", "expected a JSON object, got " + io_detail::describeJsonType(root));
     const std::string type = string(root, "type");
     if (type == kCurveType) return curve(root);
     if (type == kSurfaceType) return surface(root);
     fail("type",
          "is \"" + type + "\", expected \"" + kCurveType + "\" or \"" + kSurfaceType + "\"");
   }
-
- private:
-  std::string source_;
 };
 
 std::string readText(const std::filesystem::path& file) {
-  std::error_code error;
-  if (!std::filesystem::exists(file, error)) {
-    throw InputError("spline file '" + file.string() + "' does not exist");
-  }
-  if (std::filesystem::is_directory(file, error)) {
-    throw InputError("spline file '" + file.string() + "' is a directory, not a file");
-  }
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in || in.bad()) throw InputError("spline file '" + file.string() + "' cannot be read");
-  return text.str();
+  return io_detail::readTextFile(file, "spline file");
 }
 
-// Shortest round-trip text of a double (nlohmann's number formatting).
 std::string number(double value) {
-  return Json(value).dump();
+  return io_detail::jsonNumberText(value);
 }
 
 std::string pointText(const Eigen::Vector3d& point, int dimension) {
