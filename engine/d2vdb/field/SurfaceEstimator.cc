@@ -283,7 +283,7 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
             Eigen::Vector3d footpoint = p - d * normal;
             double distance = d;
             Interpolator::Result at;
-            bool degraded = false;
+            bool degraded = false, converged = false;
             for (int round = 0; round < 3 && ok; ++round) {
               at = interpolator.at(footpoint);
               const double length = at.gradient.norm();
@@ -296,9 +296,15 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
               // Project onto the zero level along the normal, then re-aim through p.
               const Eigen::Vector3d onSurface = footpoint - (at.distance / length) * normal;
               distance = (p - onSurface).dot(normal);
+              const Eigen::Vector3d previous = footpoint;
               footpoint = p - distance * normal;
+              // Converged (to 1e-4 voxel): the last interpolation holds at the footpoint.
+              if ((footpoint - previous).squaredNorm() < 1e-8) {
+                converged = true;
+                break;
+              }
             }
-            if (ok) {
+            if (ok && !converged) {
               at = interpolator.at(footpoint);
               if (at.weight < 0.25 || std::abs(at.distance) > 0.5) ok = false;
               degraded = degraded || at.weight < kDegradedWeight;
