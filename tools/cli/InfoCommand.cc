@@ -4,12 +4,16 @@
 #include <cctype>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "Command.h"
+#include "FieldReports.h"
 #include "JsonReports.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/FieldFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/io/VdbFile.h"
 #include "d2vdb/mesh/MeshIO.h"
@@ -100,6 +104,46 @@ void printMeshText(const nlohmann::json& report, const MeshReport& meshReport) {
   }
 }
 
+// For a .vdb holding an approximant field (its distance grid carries kFieldKindMetadata): the
+// field's summary (FieldReports.h) plus "distance_grid" and "companion_grids"; when the field
+// cannot be rebuilt (missing or mismatched companion grids), "error" says why instead.
+std::optional<nlohmann::json> fieldReport(const std::filesystem::path& path,
+                                          const std::vector<VdbGridInfo>& grids) {
+  const auto distance = std::find_if(grids.begin(), grids.end(), [](const VdbGridInfo& grid) {
+    return std::any_of(grid.metadata.begin(), grid.metadata.end(),
+                       [](const auto& entry) { return entry.first == kFieldKindMetadata; });
+  });
+  if (distance == grids.end()) return std::nullopt;
+  nlohmann::json report;
+  try {
+    report = fieldJson(readField(path));
+  } catch (const InputError& error) {
+    report = {{"error", error.what()}};
+  }
+  report["distance_grid"] = distance->name;
+  nlohmann::json companions = nlohmann::json::array();
+  for (const VdbGridInfo& grid : grids) {
+    if (grid.name != distance->name) companions.push_back(grid.name);
+  }
+  report["companion_grids"] = companions;
+  return report;
+}
+
+void printFieldText(const nlohmann::json& field) {
+  std::cout << "  approximant field (distance grid '"
+            << field.at("distance_grid").get<std::string>() << "')\n";
+  if (field.contains("error")) {
+    std::cout << "    cannot be rebuilt: " << field.at("error").get<std::string>() << '\n';
+  } else {
+    std::cout << fieldText(field, "    ");
+  }
+  std::string companions;
+  for (const nlohmann::json& name : field.at("companion_grids")) {
+    companions += (companions.empty() ? "" : ", ") + name.get<std::string>();
+  }
+  std::cout << "    companion grids " << (companions.empty() ? "none" : companions) << '\n';
+}
+
 nlohmann::json splineJson(const Spline& spline) {
   if (const auto* curve = std::get_if<BSplineCurve>(&spline)) {
     const std::vector<Eigen::Vector3d> points = curve->sample(1025);
@@ -130,13 +174,14 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
   const std::string extension = lowerExtension(path);
   if (extension == ".vdb") {
     nlohmann::json report = {{"file", file}, {"kind", "vdb"}, {"grids", nlohmann::json::array()}};
-    for (const VdbGridInfo& grid : describeVdbFile(path)) {
-      report["grids"].push_back(gridInfoJson(grid));
-    }
+    const std::vector<VdbGridInfo> grids = describeVdbFile(path);
+    for (const VdbGridInfo& grid : grids) report["grids"].push_back(gridInfoJson(grid));
+    if (const auto field = fieldReport(path, grids)) report["field"] = *field;
     if (options.json) {
       printJson(report);
     } else {
       printVdbText(report);
+      if (report.contains("field")) printFieldText(report.at("field"));
     }
     return kSuccess;
   }
@@ -181,7 +226,9 @@ void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
   CLI::App* command = app.add_subcommand(
       "info",
       "Report on a file: for .vdb the grids (type, class, voxel size, active voxels, bounding "
-      "boxes, memory, metadata); for meshes (.obj, .ply, .stl) the counts and whether the mesh "
+      "boxes, memory, metadata; for a field written by 'd2vdb field' also its kind, estimator, "
+      "levels, domain and companion grids); for meshes (.obj, .ply, .stl) the counts and whether "
+      "the mesh "
       "is closed, manifold and consistently oriented; for B-spline curve/surface .json files "
       "their degree, control points, knots and domain.\n"
       "Example: d2vdb info volumes/bunny.vdb --json");
