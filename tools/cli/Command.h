@@ -81,5 +81,8 @@ void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
 void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
   addSliceCommand(app, registry, options);
   addProjectCommand(app, registry, options);
   addHausdorffCommand(app, registry, options);
+  addFitCurveCommand(app, registry, options);
+  addFieldCommand(app, registry, options);
+  addQueryCommand(app, registry, options);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,228 @@
+// The iteration shared by CurveFitter and PointCloudFitter (detail/FitLoop.h).
+#include "d2vdb/fit/detail/FitLoop.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/fit/QuadraticModel.h"
+#include "d2vdb/fit/SensorBasis.h"
+#include "d2vdb/fit/SmoothingMatrix.h"
+
+namespace d2vdb {
+
+const char* fitStatusName(FitStatus status) {
+  switch (status) {
+    case FitStatus::Converged:
+      return "converged";
+    case FitStatus::Stalled:
+      return "stalled";
+    case FitStatus::IterationCap:
+      return "iteration cap";
+  }
+  return "unknown";
+}
+
+namespace detail {
+namespace {
+
+bool usesDamping(FitMethod method) {
+  return method == FitMethod::TDM;
+}
+
+double objectiveOf(const DataError& error, double smoothingEnergy) {
+  if (!error.valid || error.count == 0) return std::numeric_limits<double>::infinity();
+  return error.sum / error.count + smoothingEnergy;
+}
+
+std::vector<Eigen::Vector3d> moved(const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<Eigen::Vector3d>& displacement, double scale) {
+  std::vector<Eigen::Vector3d> result(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) result[i] = points[i] + scale * displacement[i];
+  return result;
+}
+
+double largestMove(const std::vector<Eigen::Vector3d>& displacement) {
+  double largest = 0.0;
+  for (const Eigen::Vector3d& c : displacement) largest = std::max(largest, c.norm());
+  return largest;
+}
+
+}  // namespace
+
+void validateFitOptions(const CurveFitOptions& options) {
+  const auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw InputError(message);
+  };
+  require(options.sensorsPerSpan >= 1, "sensors per knot span must be at least 1");
+  require(options.maxIterations >= 0, "the iteration cap must not be negative");
+  require(std::isfinite(options.smoothness),
+          "the smoothness weight must be finite (negative = automatic)");
+  require(std::isfinite(options.stretch) && options.stretch >= 0.0,
+          "the stretch weight must be finite and non-negative");
+  require(std::isfinite(options.pdmWeight) && options.pdmWeight >= 0.0,
+          "the PDM weight of tdm+pdm must be finite and non-negative");
+  require(std::isfinite(options.distanceTolerance) && options.distanceTolerance >= 0.0,
+          "the distance tolerance must be finite and non-negative");
+  require(std::isfinite(options.stepTolerance) && options.stepTolerance >= 0.0,
+          "the step tolerance must be finite and non-negative");
+  require(std::isfinite(options.objectiveTolerance) && options.objectiveTolerance >= 0.0,
+          "the objective tolerance must be finite and non-negative");
+  require(std::isfinite(options.stepSmoothness) && options.stepSmoothness >= 0.0,
+          "the step smoothness must be finite and non-negative");
+  require(std::isfinite(options.initialDamping) && options.initialDamping >= 0.0,
+          "the initial damping must be finite and non-negative");
+}
+
+void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& point : curve.controlPoints()) box.extend(point);
+  const double magnitude =
+      std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
+  if (box.sizes().maxCoeff() <= 1e-12 * std::max(magnitude, 1e-300)) {
+    throw InputError(std::string(what) +
+                     " is degenerate: all its control points coincide; give an initial curve "
+                     "with distinct control points (or let d2vdb generate one)");
+  }
+}
+
+CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& options,
+                          FitProblem& problem) {
+  validateFitOptions(options);
+  requireNonDegenerate(initial, "the initial curve");
+  const int n = initial.controlPointCount();
+  const int p = initial.degree();
+  Eigen::SparseMatrix<double> smoothing(n, n);
+  const double smoothness = options.smoothness >= 0.0 ? options.smoothness
+                            : initial.isClosed()      ? kAutoClosedSmoothness
+                                                      : 0.0;
+  if (smoothness > 0.0 && p >= 2) smoothing += smoothness * derivativeGramMatrix(initial, 2);
+  if (options.stretch > 0.0) smoothing += options.stretch * derivativeGramMatrix(initial, 1);
+  QuadraticModel model(n, initial.dimension(), std::move(smoothing));
+  if (options.stepSmoothness > 0.0) {
+    model.setStepRegularizer(derivativeGramMatrix(initial, std::min(p, 2)), options.stepSmoothness);
+  }
+
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& point : initial.controlPoints()) box.extend(point);
+  const double size = box.sizes().maxCoeff();
+
+  CurveFitResult result{initial, FitStatus::IterationCap, "", {}, {}};
+  std::vector<Eigen::Vector3d> points = initial.controlPoints();
+  const DataError initialError = problem.measure(initial);
+  if (!initialError.valid) {
+    throw InputError("the initial curve is not inside the region where the target answers");
+  }
+  problem.accept();
+  double objective = objectiveOf(initialError, model.smoothingEnergy(points));
+  result.history.push_back({0, objective, std::sqrt(initialError.sum / initialError.count),
+                            std::sqrt(initialError.maxSquared), 0.0, 0.0, 0.0});
+  if (options.keepIterates) result.iterates.push_back(initial);
+
+  double damping = usesDamping(options.method) ? options.initialDamping : 0.0;
+  std::vector<double> parameters;
+  std::vector<QuadraticForm> forms;
+  bool stopped = false;
+  for (int iteration = 1; iteration <= options.maxIterations && !stopped; ++iteration) {
+    if (options.progress) {
+      options.progress("fit", static_cast<double>(iteration - 1) / options.maxIterations);
+    }
+    problem.linearize(result.curve, options, parameters, forms);
+    const SensorBasis basis(result.curve, parameters);
+
+    // Step control: TDM raises the damping until a full step lowers E; the other methods halve
+    // the step (a line search on the true squared distances).
+    bool accepted = false;
+    bool flat = false;  // the objective at the full step equals E to rounding
+    double firstStep = 0.0;
+    double scale = 1.0;
+    double usedDamping = damping;
+    DataError acceptedError;
+    double acceptedObjective = objective;
+    std::vector<Eigen::Vector3d> acceptedPoints;
+    const int dampingAttempts = usesDamping(options.method) ? 12 : 1;
+    for (int attempt = 0; attempt < dampingAttempts && !accepted; ++attempt) {
+      const std::vector<Eigen::Vector3d> step = model.solve(basis, forms, points, damping);
+      if (attempt == 0) firstStep = largestMove(step);
+      const int halvings = usesDamping(options.method) ? 1 : 30;
+      scale = 1.0;
+      for (int h = 0; h < halvings; ++h, scale *= 0.5) {
+        std::vector<Eigen::Vector3d> candidatePoints = moved(points, step, scale);
+        BSplineCurve candidate = result.curve;
+        candidate.setControlPoints(candidatePoints);
+        const DataError error = problem.measure(candidate);
+        const double value = objectiveOf(error, model.smoothingEnergy(candidatePoints));
+        if (attempt == 0 && h == 0 && std::abs(value - objective) <= 1e-12 * objective) {
+          flat = true;
+        }
+        if (value < objective) {
+          accepted = true;
+          acceptedError = error;
+          acceptedObjective = value;
+          acceptedPoints = std::move(candidatePoints);
+          usedDamping = damping;
+          break;
+        }
+        if (largestMove(step) * scale < 1e-3 * options.stepTolerance * size) break;
+      }
+      if (!accepted && usesDamping(options.method)) damping = std::max(10.0 * damping, 1e-6);
+    }
+    if (!accepted) {
+      if (firstStep <= options.stepTolerance * size || flat) {
+        result.status = FitStatus::Converged;
+        result.reason = "the objective no longer changes beyond rounding";
+      } else {
+        result.status = FitStatus::Stalled;
+        result.reason = "no step along the solution of the quadratic model lowered the objective";
+      }
+      stopped = true;
+      break;
+    }
+    problem.accept();
+    double stepLength = 0.0;
+    for (int i = 0; i < n; ++i) {
+      stepLength = std::max(stepLength, (acceptedPoints[static_cast<std::size_t>(i)] -
+                                         points[static_cast<std::size_t>(i)])
+                                            .norm());
+    }
+    const double relativeDecrease = (objective - acceptedObjective) / objective;
+    points = std::move(acceptedPoints);
+    result.curve.setControlPoints(points);
+    objective = acceptedObjective;
+    const double rms = std::sqrt(acceptedError.sum / acceptedError.count);
+    result.history.push_back({iteration, objective, rms, std::sqrt(acceptedError.maxSquared),
+                              stepLength, scale, usedDamping});
+    if (options.keepIterates) result.iterates.push_back(result.curve);
+    if (usesDamping(options.method) && scale == 1.0) damping = std::max(damping / 3.0, 1e-9);
+
+    if (stepLength <= options.stepTolerance * size) {
+      result.status = FitStatus::Converged;
+      result.reason = "the largest control-point move fell below the step tolerance";
+      stopped = true;
+    } else if (options.distanceTolerance > 0.0 && rms <= options.distanceTolerance) {
+      result.status = FitStatus::Converged;
+      result.reason = "the RMS distance reached the distance tolerance";
+      stopped = true;
+    } else if (relativeDecrease < options.objectiveTolerance) {
+      result.status = FitStatus::Converged;
+      result.reason = "the objective decreased by less than the objective tolerance";
+      stopped = true;
+    }
+  }
+  if (!stopped) {
+    result.status = FitStatus::IterationCap;
+    std::ostringstream reason;
+    reason << "reached the iteration cap of " << options.maxIterations << " while still improving";
+    result.reason = reason.str();
+  }
+  if (options.progress) options.progress("fit", 1.0);
+  return result;
+}
+
+}  // namespace detail
+}  // namespace d2vdb

@@ -1,0 +1,156 @@
+// End-to-end tests of 'd2vdb fit-curve': an ellipse polyline, a point cloud, an offset, the
+// history, JSON report, SVG drawings, written curve and exit codes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/CliRunner.h"
+#include "d2vdb/io/SplineJson.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using d2vdb::test::CliResult;
+using d2vdb::test::readWholeFile;
+using d2vdb::test::runCli;
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+class FitCurveCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() /
+               (std::string("d2vdb-fit-cli-") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
+                std::to_string(::getpid()));
+    fs::remove_all(scratch_);
+    fs::create_directories(scratch_);
+    // Ellipse a = 1, b = 0.6 as a closed 2D polyline, and as a point cloud.
+    std::ostringstream polyline;
+    polyline.precision(17);
+    polyline << R"({"type": "polyline", "version": 1, "dimension": 2, "closed": true, "points": [)";
+    std::ostringstream cloud;
+    cloud.precision(17);
+    for (int i = 0; i < 2000; ++i) {
+      const double t = kTwoPi * i / 2000;
+      polyline << (i ? ", " : "") << '[' << std::cos(t) << ", " << 0.6 * std::sin(t) << ']';
+      cloud << std::cos(t) << ' ' << 0.6 * std::sin(t) << " 0\n";
+    }
+    polyline << "]}\n";
+    write("ellipse.json", polyline.str());
+    write("ellipse.xyz", cloud.str());
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+
+  void write(const std::string& name, const std::string& contents) const {
+    std::ofstream(scratch_ / name, std::ios::binary) << contents;
+  }
+  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
+  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
+
+  // Largest |(x/a)^2 + (y/b)^2 - 1| scaled to a distance (first order) over the fitted curve.
+  static double ellipseError(const d2vdb::BSplineCurve& curve) {
+    double worst = 0.0;
+    for (const Eigen::Vector3d& p : curve.sample(500)) {
+      const double radius = std::hypot(p.x(), p.y() / 0.6);
+      worst = std::max(worst, std::abs(radius - 1.0));
+    }
+    return worst;
+  }
+
+  fs::path scratch_;
+};
+
+TEST_F(FitCurveCliTest, HelpHasAnExample) {
+  const CliResult help = run("fit-curve --help");
+  EXPECT_EQ(help.exitCode, 0) << help.err;
+  EXPECT_NE(help.out.find("Example: d2vdb fit-curve"), std::string::npos) << help.out;
+}
+
+TEST_F(FitCurveCliTest, FitsAnEllipsePolylineWithPicturesAndComparison) {
+  const CliResult result =
+      run("fit-curve --target " + path("ellipse.json") + " --init circle --method sdm --ctrl 12 " +
+          "--out " + path("fitted.json") + " --svg " + path("fit.svg") + " --plot " +
+          path("conv.svg") + " --compare --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["method"], "sdm");
+  EXPECT_EQ(report["status"], "converged");
+  EXPECT_EQ(report["target_kind"], "polyline");
+  EXPECT_LT(report["max_distance"].get<double>(), 2e-3);
+  EXPECT_EQ(report["history"].size(), report["iterations"].get<std::size_t>() + 1);
+  ASSERT_TRUE(report.contains("compare"));
+  EXPECT_GT(report["compare"]["pdm"]["iterations"].get<int>(), report["iterations"].get<int>());
+  const d2vdb::BSplineCurve fitted = d2vdb::readCurveJson(scratch_ / "fitted.json");
+  EXPECT_TRUE(fitted.isClosed());
+  EXPECT_EQ(fitted.controlPointCount(), 12);
+  EXPECT_EQ(fitted.dimension(), 2);
+  EXPECT_LT(ellipseError(fitted), 2e-3);
+  const std::string svg = readWholeFile(scratch_ / "fit.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  EXPECT_GE(static_cast<int>(std::count(svg.begin(), svg.end(), '\n')), 5);
+  const std::string plot = readWholeFile(scratch_ / "conv.svg");
+  EXPECT_NE(plot.find("sdm ("), std::string::npos);
+  EXPECT_NE(plot.find("pdm ("), std::string::npos);
+}
+
+TEST_F(FitCurveCliTest, PrintsTheHistoryAndFitsAPointCloud) {
+  const CliResult result = run("fit-curve --target " + path("ellipse.xyz") +
+                               " --init ellipse --ctrl 10 --out " + path("cloud.json"));
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("sdm fit: converged"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("objective"), std::string::npos);
+  EXPECT_LT(ellipseError(d2vdb::readCurveJson(scratch_ / "cloud.json")), 2e-3);
+}
+
+TEST_F(FitCurveCliTest, OffsetFit) {
+  const CliResult result = run("fit-curve --target " + path("ellipse.json") +
+                               " --offset 0.2 --ctrl 20 --json --out " + path("offset.json"));
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_LT(report["max_distance"].get<double>(), 2e-3);
+  // The offset of the ellipse lies outside it: every fitted point is ~0.2 from the ellipse, so
+  // well outside (x/1.2)^2 + (y/0.8)^2 < 0.97.
+  for (const Eigen::Vector3d& p : d2vdb::readCurveJson(scratch_ / "offset.json").sample(200)) {
+    EXPECT_GT(std::hypot(p.x() / 1.2, p.y() / 0.8), 0.97);
+  }
+}
+
+TEST_F(FitCurveCliTest, BadInputAndUsageErrors) {
+  write("empty.xyz", "");
+  CliResult result = run("fit-curve --target " + path("empty.xyz") + " --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("error:"), std::string::npos);
+  EXPECT_FALSE(fs::exists(scratch_ / "o.json"));
+
+  write("bad_knots.json", R"({"type": "bspline_curve", "version": 1, "dimension": 2, "degree": 3, )"
+                          R"("knots": [0, 0, 0, 0, 0.8, 0.5, 1, 1, 1, 1], )"
+                          R"("control_points": [[0, 0], [1, 2], [2, 2], [3, 0], [4, 1], [5, 0]]})");
+  result = run("fit-curve --target " + path("ellipse.json") + " --init " + path("bad_knots.json") +
+               " --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("knot"), std::string::npos) << result.err;
+
+  result = run("fit-curve --target " + path("ellipse.json") + " --method newton --out " +
+               path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("pdm, tdm, sdm, tdm+pdm"), std::string::npos) << result.err;
+
+  result =
+      run("fit-curve --target " + path("ellipse.xyz") + " --offset 0.1 --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("--offset needs a curve target"), std::string::npos) << result.err;
+
+  result = run("fit-curve --out " + path("o.json"));  // no --target
+  EXPECT_EQ(result.exitCode, 1);
+  EXPECT_FALSE(fs::exists(scratch_ / "o.json"));
+}
+
+}  // namespace

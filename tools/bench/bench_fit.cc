@@ -1,0 +1,147 @@
+// Curve fitting benchmarks (issue 5, section 5).
+//  - BM_FitIteration/sensors/controlPoints/threads: one fitting iteration (sensor queries +
+//    assembly + solve + one line-search evaluation, plus the initial evaluation) of a closed 2D
+//    cubic fitted to a 20000-vertex polyline target, at 2k sensors / 100 control points and 20k /
+//    1000; 1 and 2 threads (tbb::global_control).
+//  - BM_TimeToRms/<target>/<method>: wall time for SDM and PDM, from the same initial curve, to
+//    reach the same RMS error (1.02 x the RMS SDM converges to), on a noisy point cloud (SDM II)
+//    and on a curve field (ApproximantField::fromCurve, SDM I). Counters: iterations, rms.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/fit/CurveFitter.h"
+#include "d2vdb/fit/InitialCurve.h"
+#include "d2vdb/fit/PointCloudFitter.h"
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+// A closed flower-like curve r = 1 + 0.15 cos(7 theta), scaled by (1, 0.7).
+Eigen::Vector3d flower(double theta) {
+  const double r = 1.0 + 0.15 * std::cos(7.0 * theta);
+  return {r * std::cos(theta), 0.7 * r * std::sin(theta), 0.0};
+}
+
+const d2vdb::CurveTarget& flowerTarget() {
+  static const d2vdb::CurveTarget target = [] {
+    d2vdb::Polyline polyline;
+    for (int i = 0; i < 20000; ++i) polyline.points.push_back(flower(kTwoPi * i / 20000));
+    polyline.closed = true;
+    polyline.dimension = 2;
+    return d2vdb::CurveTarget(polyline);
+  }();
+  return target;
+}
+
+void BM_FitIteration(benchmark::State& state) {
+  const int sensors = static_cast<int>(state.range(0));
+  const int controlPoints = static_cast<int>(state.range(1));
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(2)));
+  const d2vdb::CurveTarget& target = flowerTarget();
+  std::vector<Eigen::Vector3d> samples;
+  for (int i = 0; i < 4 * controlPoints; ++i)
+    samples.push_back(1.03 * flower(kTwoPi * i / (4 * controlPoints)));
+  const d2vdb::BSplineCurve initial =
+      d2vdb::fitPolylineLeastSquares(samples, true, 3, controlPoints, 2);
+  d2vdb::CurveFitOptions options;
+  options.maxIterations = 1;
+  options.sensorsPerSpan = sensors / controlPoints;
+  double rms = 0.0;
+  for (auto _ : state) {
+    const d2vdb::CurveFitResult result = d2vdb::fitCurve(initial, target, options);
+    rms = result.history.back().rmsDistance;
+    benchmark::DoNotOptimize(rms);
+  }
+  state.counters["rms_after"] = rms;
+}
+BENCHMARK(BM_FitIteration)
+    ->Args({2000, 100, 1})
+    ->Args({2000, 100, 2})
+    ->Args({20000, 1000, 1})
+    ->Args({20000, 1000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+std::vector<Eigen::Vector3d> noisyFlowerCloud() {
+  std::mt19937 engine(5);
+  std::normal_distribution<double> noise(0.0, 0.005);
+  std::uniform_real_distribution<double> angle(0.0, kTwoPi);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 5000; ++i) {
+    points.push_back(flower(angle(engine)) + Eigen::Vector3d(noise(engine), noise(engine), 0.0));
+  }
+  return points;
+}
+
+struct Problem {
+  std::vector<Eigen::Vector3d> cloud;
+  std::unique_ptr<d2vdb::ApproximantField> field;
+  std::unique_ptr<d2vdb::BSplineCurve> initial;
+  double cloudRms = 0.0;
+  double fieldRms = 0.0;
+};
+
+const Problem& problem() {
+  static const Problem instance = [] {
+    Problem p;
+    p.cloud = noisyFlowerCloud();
+    p.field = std::make_unique<d2vdb::ApproximantField>(
+        d2vdb::ApproximantField::fromCurve(flowerTarget(), 0.01, 8.0));
+    p.initial = std::make_unique<d2vdb::BSplineCurve>(
+        d2vdb::initialCurveAround(p.cloud, d2vdb::InitialShape::Ellipse, 3, 40, 2, 1.1));
+    d2vdb::CurveFitOptions options;
+    options.maxIterations = 200;
+    options.stepTolerance = 1e-9;
+    p.cloudRms =
+        1.02 * d2vdb::fitCurveToPoints(*p.initial, p.cloud, options).history.back().rmsDistance;
+    p.fieldRms = 1.02 * d2vdb::fitCurve(*p.initial, *p.field, options).history.back().rmsDistance;
+    return p;
+  }();
+  return instance;
+}
+
+void BM_TimeToRms(benchmark::State& state) {
+  const bool cloud = state.range(0) == 0;
+  const d2vdb::FitMethod method =
+      state.range(1) == 0 ? d2vdb::FitMethod::SDM : d2vdb::FitMethod::PDM;
+  const Problem& p = problem();
+  d2vdb::CurveFitOptions options;
+  options.method = method;
+  options.maxIterations = 5000;
+  options.stepTolerance = 0.0;
+  options.objectiveTolerance = 0.0;
+  options.distanceTolerance = cloud ? p.cloudRms : p.fieldRms;
+  d2vdb::CurveFitResult result{*p.initial, {}, {}, {}, {}};
+  for (auto _ : state) {
+    result = cloud ? d2vdb::fitCurveToPoints(*p.initial, p.cloud, options)
+                   : d2vdb::fitCurve(*p.initial, *p.field, options);
+  }
+  state.counters["iterations"] = result.iterations();
+  state.counters["rms"] = result.history.back().rmsDistance;
+  state.counters["target_rms"] = options.distanceTolerance;
+  state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1 : 0;
+  state.SetLabel(std::string(cloud ? "point cloud" : "curve field") + ", " +
+                 d2vdb::fitMethodName(method));
+}
+BENCHMARK(BM_TimeToRms)
+    ->ArgNames({"cloud0_field1", "sdm0_pdm1"})
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();

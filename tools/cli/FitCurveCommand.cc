@@ -1,0 +1,436 @@
+// d2vdb fit-curve: fits a B-spline curve to a curve, an offset of a curve, a point cloud or a
+// distance field by squared distance minimisation (PDM, TDM, SDM, TDM+PDM; issue 5), printing
+// the iteration history and optionally drawing the iterates and the convergence as SVG.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "Command.h"
+#include "d2vdb/core/AtomicFile.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/fit/CurveFitter.h"
+#include "d2vdb/fit/InitialCurve.h"
+#include "d2vdb/fit/OffsetTarget.h"
+#include "d2vdb/fit/PointCloudFitter.h"
+#include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/PolylineFile.h"
+#include "d2vdb/io/SplineJson.h"
+
+namespace d2vdb::cli {
+namespace {
+
+std::string lowerExtension(const std::string& file) {
+  std::string extension = std::filesystem::path(file).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+// What --target named, loaded.
+struct LoadedTarget {
+  std::string kind;                               // "curve", "polyline", "points", "field"
+  std::unique_ptr<SquaredDistanceTarget> target;  // curve, polyline, field
+  std::unique_ptr<OffsetTarget> offset;           // --offset
+  std::vector<Eigen::Vector3d> points;            // point cloud, or samples of a curve
+  bool closed = false;                            // closed curve or polyline
+  int dimension = 3;
+
+  const SquaredDistanceTarget& fitTarget() const {
+    return offset ? static_cast<const SquaredDistanceTarget&>(*offset) : *target;
+  }
+};
+
+// A JSON target is a B-spline curve or a polyline (or slice) file, told apart by "type".
+bool isSplineCurveFile(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError("cannot open target file '" + file + "'; check the path");
+  std::stringstream text;
+  text << in.rdbuf();
+  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, false);
+  if (document.is_discarded()) {
+    throw InputError("target file '" + file + "' is not valid JSON");
+  }
+  return document.is_object() && document.value("type", "") == "bspline_curve";
+}
+
+LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
+  LoadedTarget loaded;
+  const std::string extension = lowerExtension(file);
+  if (extension == ".json") {
+    std::unique_ptr<CurveTarget> curve;
+    if (isSplineCurveFile(file)) {
+      const BSplineCurve spline = readCurveJson(file);
+      loaded.kind = "curve";
+      loaded.closed = spline.isClosed();
+      loaded.dimension = spline.dimension();
+      curve = std::make_unique<CurveTarget>(spline);
+    } else {
+      Polyline polyline = readPolyline(file);
+      loaded.kind = "polyline";
+      loaded.closed = polyline.closed;
+      loaded.dimension = polyline.dimension;
+      curve = std::make_unique<CurveTarget>(std::move(polyline));
+    }
+    curve->setLabel(file);
+    loaded.points = curve->samplePoints(curve->length() / 2000.0);
+    loaded.target = std::move(curve);
+  } else if (extension == ".xyz" || extension == ".ply") {
+    loaded.kind = "points";
+    loaded.points = readPointSet(file);
+    loaded.dimension = std::all_of(loaded.points.begin(), loaded.points.end(),
+                                   [](const Eigen::Vector3d& p) { return p.z() == 0.0; })
+                           ? 2
+                           : 3;
+  } else if (extension == ".vdb") {
+    loaded.kind = "field";
+    loaded.target = std::make_unique<ApproximantField>(
+        readField(file, ApproximantFieldOptions{}, makeProgressPrinter(options)));
+    loaded.dimension = 3;
+  } else {
+    throw InputError("target file '" + file +
+                     "' has an unsupported extension; use a curve or polyline .json, a point "
+                     "cloud .xyz/.ply or a distance field .vdb");
+  }
+  if (offset != 0.0) {
+    if (!loaded.target || loaded.target->kind() != TargetKind::Curve) {
+      throw InputError("--offset needs a curve target (a B-spline or polyline .json), not a " +
+                       loaded.kind + " target");
+    }
+    loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
+  }
+  return loaded;
+}
+
+struct Arguments {
+  std::string target, init = "ellipse", method = "sdm", out, svg, plot;
+  int degree = 3;
+  int controlPoints = 12;
+  bool closed = false;
+  double offset = 0.0;
+  int every = 1;
+  bool compare = false;
+  CurveFitOptions fit;
+};
+
+BSplineCurve initialCurve(const Arguments& args, const LoadedTarget& target) {
+  const std::string& init = args.init;
+  if (init == "circle" || init == "ellipse" || init == "polyline") {
+    if (target.points.empty()) {
+      throw InputError("a " + target.kind +
+                       " target gives no points to place a generated initial "
+                       "curve around; pass --init curve.json");
+    }
+    if (init == "polyline") {
+      return fitPolylineLeastSquares(target.points, args.closed || target.closed, args.degree,
+                                     args.controlPoints, target.dimension);
+    }
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : target.points) box.extend(p);
+    const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
+    return initialCurveAround(
+        target.points, init == "circle" ? InitialShape::Circle : InitialShape::Ellipse, args.degree,
+        args.controlPoints, target.dimension, 1.2 + 2.0 * std::abs(args.offset) / extent);
+  }
+  return readCurveJson(init);
+}
+
+CurveFitResult runFit(const BSplineCurve& initial, const LoadedTarget& target,
+                      const CurveFitOptions& options) {
+  if (target.kind == "points") return fitCurveToPoints(initial, target.points, options);
+  return fitCurve(initial, target.fitTarget(), options);
+}
+
+nlohmann::json historyJson(const CurveFitResult& result) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const FitIteration& row : result.history) {
+    rows.push_back({{"iteration", row.iteration},
+                    {"objective", row.objective},
+                    {"rms_distance", row.rmsDistance},
+                    {"max_distance", row.maxDistance},
+                    {"step_length", row.stepLength},
+                    {"step_scale", row.stepScale},
+                    {"damping", row.damping}});
+  }
+  return rows;
+}
+
+nlohmann::json resultJson(const CurveFitResult& result, FitMethod method) {
+  return {{"method", fitMethodName(method)},
+          {"status", fitStatusName(result.status)},
+          {"reason", result.reason},
+          {"iterations", result.iterations()},
+          {"rms_distance", result.history.back().rmsDistance},
+          {"max_distance", result.history.back().maxDistance},
+          {"history", historyJson(result)}};
+}
+
+void printHistory(const CurveFitResult& result, FitMethod method) {
+  std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
+              fitStatusName(result.status), result.iterations(), result.reason.c_str());
+  std::printf("%5s %14s %12s %12s %12s %7s %9s\n", "iter", "objective", "rms", "max", "step",
+              "scale", "damping");
+  for (const FitIteration& row : result.history) {
+    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %7.4f %9.2e\n", row.iteration, row.objective,
+                row.rmsDistance, row.maxDistance, row.stepLength, row.stepScale, row.damping);
+  }
+}
+
+// Target (grey), initial curve (dashed blue), every k-th iterate (light), final curve (red),
+// projected onto the xy plane, y up.
+void writeIterationSvg(const std::string& file, const LoadedTarget& target,
+                       const CurveFitResult& result, int every) {
+  std::vector<std::vector<Eigen::Vector3d>> iterates;
+  for (const BSplineCurve& curve : result.iterates) iterates.push_back(curve.sample(600));
+  Eigen::AlignedBox3d box;
+  for (const auto& samples : iterates) {
+    for (const Eigen::Vector3d& p : samples) box.extend(p);
+  }
+  for (const Eigen::Vector3d& p : target.points) box.extend(p);
+  const double extent = std::max({box.sizes().x(), box.sizes().y(), 1e-300});
+  const double margin = 0.05 * extent;
+  const double width = box.sizes().x() + 2.0 * margin;
+  const double height = box.sizes().y() + 2.0 * margin;
+  const double stroke = 0.003 * extent;
+  const auto x = [&](const Eigen::Vector3d& p) { return p.x() - box.min().x() + margin; };
+  const auto y = [&](const Eigen::Vector3d& p) { return box.max().y() - p.y() + margin; };
+  const auto polyline = [&](const std::vector<Eigen::Vector3d>& points, const std::string& colour,
+                            double strokeWidth, const std::string& extra) {
+    std::ostringstream text;
+    text.precision(9);
+    text << "  <polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"" << strokeWidth
+         << "\"" << extra << " points=\"";
+    for (const Eigen::Vector3d& p : points) text << x(p) << ',' << y(p) << ' ';
+    text << "\"/>\n";
+    return text.str();
+  };
+  writeStreamAtomically(file, [&](std::ostream& out) {
+    out.precision(9);
+    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << width << ' ' << height
+        << "\" width=\"800\" height=\"" << 800.0 * height / width << "\">\n"
+        << "  <!-- d2vdb fit-curve: target (grey), initial curve (dashed blue), every " << every
+        << "-th iterate (light blue), final curve (red); xy projection -->\n";
+    if (target.kind == "points") {
+      const std::size_t stride = std::max<std::size_t>(1, target.points.size() / 5000);
+      for (std::size_t i = 0; i < target.points.size(); i += stride) {
+        out << "  <circle cx=\"" << x(target.points[i]) << "\" cy=\"" << y(target.points[i])
+            << "\" r=\"" << stroke << "\" fill=\"#808080\"/>\n";
+      }
+    } else if (!target.points.empty()) {
+      std::vector<Eigen::Vector3d> loop = target.points;
+      if (target.closed) loop.push_back(loop.front());
+      out << polyline(loop, "#808080", 2.0 * stroke, "");
+    }
+    for (std::size_t k = 1; k + 1 < iterates.size(); ++k) {
+      if (static_cast<int>(k) % every == 0)
+        out << polyline(iterates[k], "#9db4d8", 0.6 * stroke, "");
+    }
+    if (!iterates.empty()) {
+      out << polyline(iterates.front(), "#1f4e9c", stroke, " stroke-dasharray=\"6 4\"");
+      out << polyline(iterates.back(), "#b3261e", stroke, "");
+    }
+    out << "</svg>\n";
+  });
+}
+
+// RMS distance per iteration on a log scale; one series per run.
+void writeConvergencePlot(const std::string& file,
+                          const std::vector<std::pair<FitMethod, const CurveFitResult*>>& runs) {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = 0.0;
+  int maxIteration = 1;
+  for (const auto& [method, result] : runs) {
+    for (const FitIteration& row : result->history) {
+      if (row.rmsDistance > 0.0) {
+        lo = std::min(lo, row.rmsDistance);
+        hi = std::max(hi, row.rmsDistance);
+      }
+    }
+    maxIteration = std::max(maxIteration, result->iterations());
+  }
+  if (!(hi > 0.0)) lo = hi = 1.0;
+  const double top = std::ceil(std::log10(hi) + 1e-12);
+  double bottom = std::floor(std::log10(lo));
+  if (bottom >= top) bottom = top - 1.0;
+  const double width = 640.0, height = 420.0, left = 70.0, right = 20.0, upper = 20.0, lower = 50.0;
+  const auto px = [&](double iteration) {
+    return left + (width - left - right) * iteration / maxIteration;
+  };
+  const auto py = [&](double value) {
+    return upper + (height - upper - lower) * (top - std::log10(value)) / (top - bottom);
+  };
+  const char* colours[] = {"#b3261e", "#1f4e9c", "#2e7d32", "#6a1b9a"};
+  writeStreamAtomically(file, [&](std::ostream& out) {
+    out.precision(9);
+    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << width << ' ' << height
+        << "\" width=\"" << width << "\" height=\"" << height << "\" font-family=\"sans-serif\" "
+        << "font-size=\"12\">\n"
+        << "  <!-- d2vdb fit-curve: RMS distance per iteration, log scale -->\n"
+        << "  <rect x=\"" << left << "\" y=\"" << upper << "\" width=\"" << width - left - right
+        << "\" height=\"" << height - upper - lower << "\" fill=\"none\" stroke=\"black\"/>\n";
+    for (double decade = bottom; decade <= top + 1e-9; decade += 1.0) {
+      const double yy = py(std::pow(10.0, decade));
+      out << "  <line x1=\"" << left << "\" y1=\"" << yy << "\" x2=\"" << width - right
+          << "\" y2=\"" << yy << "\" stroke=\"#dddddd\"/>\n"
+          << "  <text x=\"" << left - 6 << "\" y=\"" << yy + 4 << "\" text-anchor=\"end\">1e"
+          << static_cast<int>(decade) << "</text>\n";
+    }
+    out << "  <text x=\"" << (left + width - right) / 2 << "\" y=\"" << height - 12
+        << "\" text-anchor=\"middle\">iteration (0.." << maxIteration << ")</text>\n"
+        << "  <text x=\"16\" y=\"" << (upper + height - lower) / 2
+        << "\" transform=\"rotate(-90 16 " << (upper + height - lower) / 2
+        << ")\" text-anchor=\"middle\">RMS distance</text>\n";
+    int series = 0;
+    for (const auto& [method, result] : runs) {
+      const char* colour = colours[series % 4];
+      out << "  <polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"";
+      for (const FitIteration& row : result->history) {
+        if (row.rmsDistance > 0.0) out << px(row.iteration) << ',' << py(row.rmsDistance) << ' ';
+      }
+      out << "\"/>\n"
+          << "  <text x=\"" << width - right - 10 << "\" y=\"" << upper + 20 + 16 * series
+          << "\" text-anchor=\"end\" fill=\"" << colour << "\">" << fitMethodName(method) << " ("
+          << result->iterations() << " iterations, " << fitStatusName(result->status)
+          << ")</text>\n";
+      ++series;
+    }
+    out << "</svg>\n";
+  });
+}
+
+}  // namespace
+
+void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
+  auto args = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "fit-curve",
+      "Fit a B-spline curve (knots fixed) to a target by squared distance minimisation: a curve or "
+      "polyline .json (SDM I; --offset R fits the offset at distance R), a point cloud .xyz/.ply "
+      "(SDM II: errors orthogonal to the active curve) or a distance field .vdb. Prints the "
+      "iteration history (objective, RMS and max distance, step) and why it stopped.\n"
+      "Example: d2vdb fit-curve --target ellipse.json --init circle --method sdm --ctrl 12 "
+      "--out fitted.json --svg fit.svg --plot conv.svg --compare");
+  command->add_option("--target", args->target, "Target: curve/polyline .json, .xyz/.ply, .vdb")
+      ->required();
+  command
+      ->add_option("--init", args->init,
+                   "Initial curve: 'circle' or 'ellipse' around the target (closed), 'polyline' "
+                   "(least-squares fit to the target's points in order), or a curve .json")
+      ->capture_default_str();
+  command->add_option("--method", args->method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
+  command->add_option("--degree", args->degree, "Degree of a generated initial curve")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 15));
+  command->add_option("--ctrl", args->controlPoints, "Control points of a generated initial curve")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000000));
+  command->add_flag("--closed", args->closed, "With --init polyline: fit a closed curve");
+  command->add_option("--offset", args->offset, "Fit the offset at this distance (curve targets)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--out", args->out, "Write the fitted curve (.json)")->required();
+  command->add_option("--iterations", args->fit.maxIterations, "Iteration cap")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  command->add_option("--sensors", args->fit.sensorsPerSpan, "Sensors per knot span (SDM I)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  command->add_option("--smoothness", args->fit.smoothness, "Weight of int |x''|^2 (dimensionless)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--stretch", args->fit.stretch, "Weight of int |x'|^2 (dimensionless)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--tolerance", args->fit.distanceTolerance,
+                   "Stop when the RMS distance reaches this (world units; 0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--step-tolerance", args->fit.stepTolerance,
+                   "Stop when no control point moves more than this fraction of the curve's size")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--svg", args->svg, "Draw target, initial, iterates and final curve (SVG)");
+  command->add_option("--every", args->every, "With --svg: draw every k-th iterate")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  command->add_option("--plot", args->plot, "Plot the RMS distance per iteration (SVG, log scale)");
+  command->add_flag("--compare", args->compare,
+                    "Also run PDM and SDM from the same initial curve; report and plot them");
+  command->add_flag("--json", options.json, "Print one JSON document on stdout");
+
+  registry.add(command, [args, &options]() {
+    const Stopwatch clock;
+    const FitMethod method = parseFitMethod(args->method);
+    const LoadedTarget target = loadTarget(args->target, args->offset, options);
+    const BSplineCurve initial = initialCurve(*args, target);
+    CurveFitOptions fit = args->fit;
+    fit.method = method;
+    fit.keepIterates = !args->svg.empty();
+    fit.progress = makeProgressPrinter(options);
+    const CurveFitResult result = runFit(initial, target, fit);
+    writeCurveJson(args->out, result.curve);
+
+    std::vector<std::pair<FitMethod, CurveFitResult>> extra;
+    if (args->compare) {
+      for (const FitMethod other : {FitMethod::PDM, FitMethod::SDM}) {
+        if (other == method) continue;
+        CurveFitOptions otherFit = fit;
+        otherFit.method = other;
+        otherFit.keepIterates = false;
+        extra.emplace_back(other, runFit(initial, target, otherFit));
+      }
+    }
+    if (!args->svg.empty()) writeIterationSvg(args->svg, target, result, args->every);
+    if (!args->plot.empty()) {
+      std::vector<std::pair<FitMethod, const CurveFitResult*>> runs = {{method, &result}};
+      for (const auto& [other, otherResult] : extra) runs.emplace_back(other, &otherResult);
+      writeConvergencePlot(args->plot, runs);
+    }
+
+    nlohmann::json report = resultJson(result, method);
+    report["target"] = args->target;
+    report["target_kind"] = target.kind;
+    report["offset"] = args->offset;
+    report["dimension"] = initial.dimension();
+    report["degree"] = initial.degree();
+    report["control_points"] = initial.controlPointCount();
+    report["closed"] = initial.isClosed();
+    report["output"] = args->out;
+    if (!args->svg.empty()) report["svg"] = args->svg;
+    if (!args->plot.empty()) report["plot"] = args->plot;
+    if (args->compare) {
+      nlohmann::json compare = {{fitMethodName(method), resultJson(result, method)}};
+      for (const auto& [other, otherResult] : extra) {
+        compare[fitMethodName(other)] = resultJson(otherResult, other);
+      }
+      report["compare"] = compare;
+    }
+    report["seconds"] = clock.seconds();
+    if (options.json) {
+      printJson(report);
+      return kSuccess;
+    }
+    printHistory(result, method);
+    for (const auto& [other, otherResult] : extra) printHistory(otherResult, other);
+    status(options, "wrote " + args->out);
+    return kSuccess;
+  });
+}
+
+}  // namespace d2vdb::cli
