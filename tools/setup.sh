@@ -61,6 +61,13 @@ case "$mode" in
     "$d2vdb" convert "$input" out/surface.vdb
     "$d2vdb" info out/surface.vdb
     "$d2vdb" mesh out/surface.vdb out/surface.obj --check
-    echo "== wrote out/info.json, out/surface.vdb and out/surface.obj"
+    # The squared-distance approximant field of the level set, and what it answers inside the
+    # bunny (a coarse level, beyond the band) and near its back (the band).
+    "$d2vdb" field "$input" out/field.vdb
+    if [ "$input" = volumes/bunny.vdb ]; then
+      "$d2vdb" query out/field.vdb 0 4.8 0
+      "$d2vdb" query out/field.vdb -4.5 4.0 -1.0
+    fi
+    echo "== wrote out/info.json, out/surface.vdb, out/surface.obj and out/field.vdb"
     ;;
 esac
