@@ -62,7 +62,7 @@ case "$mode" in
     "$d2vdb" info out/surface.vdb
     "$d2vdb" mesh out/surface.vdb out/surface.obj --check
     # The squared-distance approximant field of the level set, and what it answers inside the
-    # bunny (a coarse level, beyond the band) and near its back (the band).
+    # bunny and outside it (coarse levels beyond the band answer both).
     "$d2vdb" field "$input" out/field.vdb
     if [ "$input" = volumes/bunny.vdb ]; then
       "$d2vdb" query out/field.vdb 0 4.8 0
