@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "IoTestSupport.h"
 #include "d2vdb/core/Error.h"
 
 namespace {
@@ -24,45 +25,10 @@ using d2vdb::InputError;
 using d2vdb::Polyline;
 using Eigen::Vector3d;
 
-bool sameBits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof(double)) == 0;
-}
+using d2vdb::test::expectInputError;
+using d2vdb::test::sameBits;
 
-template <typename Call>
-void expectInputError(Call&& call, std::initializer_list<std::string> texts) {
-  try {
-    call();
-    ADD_FAILURE() << "expected InputError containing '" << *texts.begin() << "'";
-  } catch (const InputError& error) {
-    for (const std::string& text : texts) {
-      EXPECT_NE(std::string(error.what()).find(text), std::string::npos)
-          << "'" << text << "' not in: " << error.what();
-    }
-  }
-}
-
-class PolylineFileTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    directory_ = fs::temp_directory_path() /
-                 (std::string("d2vdb-polyline-") +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                  std::to_string(::getpid()));
-    fs::remove_all(directory_);
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-
-  fs::path file(const std::string& name) const { return directory_ / name; }
-
-  fs::path writeText(const std::string& name, const std::string& text) const {
-    std::ofstream out(file(name), std::ios::binary);
-    out << text;
-    return file(name);
-  }
-
-  fs::path directory_;
-};
+class PolylineFileTest : public d2vdb::test::TemporaryDirectoryTest {};
 
 void expectSamePolyline(const Polyline& a, const Polyline& b) {
   EXPECT_EQ(a.dimension, b.dimension);
