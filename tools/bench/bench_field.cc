@@ -40,13 +40,10 @@ openvdb::FloatGrid::Ptr bunnyLevelSet(int resolution) {
   openvdb::initialize();
   const double voxelSize = d2vdb::boundingBox(bunny()).extent().maxCoeff() / resolution;
   const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  // meshToLevelSet takes world-space points.
   std::vector<openvdb::Vec3s> points;
   points.reserve(bunny().positions.size());
-  for (const auto& p : bunny().positions) {
-    const openvdb::Vec3d index = transform->worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));
-    points.emplace_back(static_cast<float>(index.x()), static_cast<float>(index.y()),
-                        static_cast<float>(index.z()));
-  }
+  for (const auto& p : bunny().positions) points.emplace_back(p.x(), p.y(), p.z());
   std::vector<openvdb::Vec3I> triangles;
   triangles.reserve(bunny().triangles.size());
   for (const auto& t : bunny().triangles) triangles.emplace_back(t[0], t[1], t[2]);
