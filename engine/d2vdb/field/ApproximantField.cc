@@ -607,7 +607,10 @@ openvdb::GridPtrVec ApproximantField::toGrids() const {
   std::vector<openvdb::Int32Tree::LeafNodeType*> fl;
   const auto collect = [](auto& grid, auto& out) {
     if (!grid) return;
-    for (auto leaf = grid->tree().beginLeaf(); leaf; ++leaf) out.push_back(leaf.getLeaf());
+    // Leaves without active voxels have no band entry (FieldStorage::buildBandTable skips them).
+    for (auto leaf = grid->tree().beginLeaf(); leaf; ++leaf) {
+      if (!leaf->getValueMask().isOff()) out.push_back(leaf.getLeaf());
+    }
   };
   collect(vector0, v0);
   collect(vector1, v1);
