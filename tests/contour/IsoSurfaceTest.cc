@@ -3,9 +3,16 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
 #include <string>
+#include <string_view>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "contour/ContourTestSupport.h"
 #include "d2vdb/contour/IsoSurface.h"
@@ -90,19 +97,115 @@ TEST(IsoSurface, VerticesLieOnTheSphereOfRadiusFortyVoxels) {
   }
 }
 
-/// A FloatGrid of random values in a box (many ambiguous faces and cells), with an "outside"
-/// background; a tenth of the values equal the iso-value exactly.
-openvdb::FloatGrid::Ptr randomBlock(unsigned seed, double iso) {
-  auto grid = openvdb::FloatGrid::create(1.0f);
+/// Sets the voxels of `box` to random values in [-1, 1], a tenth of them to the iso-value
+/// exactly (many ambiguous faces and cells).
+void addRandomValues(openvdb::FloatGrid& grid, unsigned seed, double iso, const CoordBBox& box) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<float> value(-1.0f, 1.0f);
   std::uniform_int_distribution<int> tenth(0, 9);
-  auto accessor = grid->getAccessor();
-  for (auto ijk = CoordBBox(Coord(-5, -3, -4), Coord(12, 10, 9)).begin(); ijk; ++ijk) {
+  auto accessor = grid.getAccessor();
+  for (auto ijk = box.begin(); ijk; ++ijk) {
     const float v = value(random);
     accessor.setValue(*ijk, tenth(random) == 0 ? static_cast<float>(iso) : v);
   }
+}
+
+/// A FloatGrid of random values in a box, with an "outside" background.
+openvdb::FloatGrid::Ptr randomBlock(unsigned seed, double iso) {
+  auto grid = openvdb::FloatGrid::create(1.0f);
+  addRandomValues(*grid, seed, iso, CoordBBox(Coord(-5, -3, -4), Coord(12, 10, 9)));
   return grid;
+}
+
+/// Brute-force reference: every grid edge with an end in an allocated leaf whose ends lie on
+/// both sides of `iso`, keyed by (start voxel, axis), with the parameter of its vertex (linear
+/// interpolation, kept kCornerClearance away from the ends).
+std::map<std::array<int, 4>, double> crossedLeafEdges(const openvdb::FloatGrid& grid, double iso) {
+  std::map<std::array<int, 4>, double> edges;
+  const auto accessor = grid.getConstAccessor();
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+    for (auto voxel = leaf->cbeginValueAll(); voxel; ++voxel) {
+      for (int axis = 0; axis < 3; ++axis) {
+        for (const int step : {-1, 1}) {
+          Coord start = voxel.getCoord(), end = start;
+          (step > 0 ? end : start)[axis] += step;
+          const double v0 = accessor.getValue(start), v1 = accessor.getValue(end);
+          if ((v0 < iso) == (v1 < iso)) continue;
+          edges[{start.x(), start.y(), start.z(), axis}] =
+              std::clamp((iso - v0) / (v1 - v0), kCornerClearance, 1.0 - kCornerClearance);
+        }
+      }
+    }
+  }
+  return edges;
+}
+
+TEST(IsoSurface, OneVertexOnEveryCrossedEdgeWhereverTheBlocksLie) {
+  // Two boxes of random values, side by side and then far apart (a sparse set of blocks), with
+  // an identity transform so that vertices are in index space.
+  const double iso = 0.2;
+  for (const int distance : {20, 3000}) {
+    auto grid = openvdb::FloatGrid::create(1.0f);
+    addRandomValues(*grid, 21, iso, CoordBBox(Coord(-5, -3, -4), Coord(12, 10, 9)));
+    addRandomValues(*grid, 22, iso,
+                    CoordBBox(Coord(distance - 5, 3, -20), Coord(distance + 9, 17, -7)));
+    IsoSurfaceOptions options;
+    options.isoValue = iso;
+    options.computeNormals = false;
+    const TriangleMesh mesh = extractIsoSurface(*grid, options);
+    const std::string what = "distance " + std::to_string(distance);
+    const MeshReport report = validateMesh(mesh);
+    EXPECT_TRUE(report.closed && report.manifold && report.oriented)
+        << what << ": " << report.problems();
+
+    // A vertex with two integer coordinates lies on the edge from there along the third axis;
+    // the others are the centre vertices of cells with 8- to 12-sided contours.
+    const auto expected = crossedLeafEdges(*grid, iso);
+    std::map<std::array<int, 4>, int> verticesOnEdge;
+    std::size_t centreVertices = 0;
+    for (const auto& position : mesh.positions) {
+      std::array<int, 4> edge{0, 0, 0, -1};
+      int integers = 0;
+      for (int i = 0; i < 3; ++i) {
+        edge[i] = static_cast<int>(std::floor(position[i]));
+        if (position[i] == std::floor(position[i])) {
+          ++integers;
+        } else {
+          edge[3] = i;
+        }
+      }
+      if (integers != 2) {
+        ++centreVertices;
+        continue;
+      }
+      const auto found = expected.find(edge);
+      ASSERT_NE(found, expected.end()) << what << ": a vertex on an edge that is not crossed";
+      EXPECT_NEAR(position[edge[3]] - edge[edge[3]], found->second, 1e-3) << what;
+      ++verticesOnEdge[edge];
+    }
+    EXPECT_EQ(verticesOnEdge.size(), expected.size()) << what << ": crossed edges without vertex";
+    for (const auto& [edge, count] : verticesOnEdge) EXPECT_EQ(count, 1) << what;
+    EXPECT_LT(centreVertices, expected.size() / 20) << what;
+    // Every triangle lies in one cell.
+    for (const auto& triangle : mesh.triangles) {
+      for (int axis = 0; axis < 3; ++axis) {
+        float low = mesh.positions[triangle[0]][axis], high = low;
+        for (const auto vertex : triangle) {
+          low = std::min(low, mesh.positions[vertex][axis]);
+          high = std::max(high, mesh.positions[vertex][axis]);
+        }
+        EXPECT_LE(std::ceil(high) - std::floor(low), 1.0f) << what;
+      }
+    }
+
+    TriangleMesh twoThreads;
+    {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+      twoThreads = extractIsoSurface(*grid, options);
+    }
+    EXPECT_EQ(twoThreads.positions, mesh.positions) << what;
+    EXPECT_EQ(twoThreads.triangles, mesh.triangles) << what;
+  }
 }
 
 TEST(IsoSurface, RandomValuesGiveClosedManifoldMeshes) {
@@ -180,6 +283,34 @@ TEST(IsoSurface, ReportsSurfacesLeavingTheStoredLeaves) {
   } catch (const InputError& error) {
     EXPECT_NE(std::string(error.what()).find("leaves the stored band"), std::string::npos)
         << error.what();
+  }
+}
+
+TEST(IsoSurface, ReportsProgressOfBothPassesFromTheCallingThread) {
+  const auto sphere = sphereLevelSet(Eigen::Vector3d::Zero(), 6.0, 0.5);
+  const auto empty = openvdb::FloatGrid::create(1.0f);
+  for (const openvdb::FloatGrid* grid : {sphere.get(), empty.get()}) {
+    std::vector<std::pair<std::string, double>> reports;
+    const auto caller = std::this_thread::get_id();
+    const ProgressCallback progress = [&](std::string_view stage, double fraction) {
+      EXPECT_EQ(std::this_thread::get_id(), caller);
+      reports.emplace_back(std::string(stage), fraction);
+    };
+    extractIsoSurface(*grid, {}, progress);
+    ASSERT_FALSE(reports.empty());
+    double previous = 0.0;
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+      const auto& [stage, fraction] = reports[i];
+      EXPECT_TRUE(stage == "contour: counting" || stage == "contour: meshing") << stage;
+      EXPECT_TRUE(fraction >= 0.0 && fraction <= 1.0) << stage << " " << fraction;
+      if (i > 0 && stage == reports[i - 1].first) {
+        EXPECT_GE(fraction, previous) << stage;
+      }
+      previous = fraction;
+    }
+    EXPECT_EQ(reports.front().first, "contour: counting");
+    EXPECT_EQ(reports.back().first, "contour: meshing");
+    EXPECT_EQ(reports.back().second, 1.0);
   }
 }
 
