@@ -34,17 +34,46 @@ using SampleTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SampleCloud>,
                                         SampleCloud, 3, std::uint32_t>;
 
-/// Nearest sample to `query` (index space): its index and distance.
+/// nanoflann result set for the single nearest point within a starting bound: the search only
+/// enters tree cells closer than the best distance so far, so a tight bound prunes most of them.
+class BoundedNearest {
+ public:
+  /// Starts from a known point `index` at squared distance `squared`; it stays the answer unless
+  /// a strictly closer point is found.
+  BoundedNearest(std::uint32_t index, float squared) : index_(index), squared_(squared) {}
+  std::size_t size() const { return 1; }
+  bool full() const { return true; }
+  bool addPoint(float squared, std::uint32_t index) {
+    if (squared < squared_ || (squared == squared_ && index < index_)) {
+      squared_ = squared;
+      index_ = index;
+    }
+    return true;
+  }
+  float worstDist() const { return squared_; }
+  std::uint32_t index() const { return index_; }
+
+ private:
+  std::uint32_t index_;
+  float squared_;
+};
+
+/// Nearest sample to `query` (index space), seeded with sample `seed` (any sample; the closer
+/// to the answer, the faster): its index and distance. Ties go to the lower index.
 std::pair<std::uint32_t, double> nearestSample(const SampleTree& tree,
                                                const std::vector<Eigen::Vector3f>& samples,
-                                               const Eigen::Vector3d& query) {
-  const float point[3] = {static_cast<float>(query.x()), static_cast<float>(query.y()),
-                          static_cast<float>(query.z())};
-  std::uint32_t index = 0;
-  float squared = 0.0f;
-  nanoflann::KNNResultSet<float, std::uint32_t> result(1);
-  result.init(&index, &squared);
-  tree.findNeighbors(result, point, nanoflann::SearchParams());
+                                               const Eigen::Vector3d& query, std::uint32_t seed) {
+  const Eigen::Vector3f point = query.cast<float>();
+  // The seed's squared distance as the search computes it (float, same operation order), so
+  // that the seed never beats an equally close point found by the search.
+  float seedSquared = 0.0f;
+  for (int axis = 0; axis < 3; ++axis) {
+    const float difference = point[axis] - samples[seed][axis];
+    seedSquared += difference * difference;
+  }
+  BoundedNearest result(seed, std::nextafter(seedSquared, std::numeric_limits<float>::max()));
+  tree.findNeighbors(result, point.data(), nanoflann::SearchParams());
+  const std::uint32_t index = result.index();
   return {index, (samples[index].cast<double>() - query).norm()};
 }
 
@@ -429,10 +458,18 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
           for (std::size_t i = range.begin(); i != range.end(); ++i) {
             LeafEntry& entry = levelEntries[i];
             entry.origin = leaves[i]->origin();
+            // Each voxel's search starts from the previous voxel's answer, a near neighbour.
+            std::uint32_t seed =
+                nearestSample(
+                    tree, sampleFootpoints,
+                    Eigen::Vector3d(entry.origin.x(), entry.origin.y(), entry.origin.z()) * scale,
+                    0)
+                    .first;
             for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
               const openvdb::Coord ijk = voxel.getCoord();
               const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale;
-              const auto [sample, distance] = nearestSample(tree, sampleFootpoints, centre);
+              const auto [sample, distance] = nearestSample(tree, sampleFootpoints, centre, seed);
+              seed = sample;
               if (!top && distance > reach) continue;
               const int offset = static_cast<int>(voxel.pos());
               entry.mask[offset >> 6] |= std::uint64_t{1} << (offset & 63);
