@@ -346,7 +346,14 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
   command->add_option("--sensors", args->fit.sensorsPerSpan, "Sensors per knot span (SDM I)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  command->add_option("--smoothness", args->fit.smoothness, "Weight of int |x''|^2 (dimensionless)")
+  command
+      ->add_option("--smoothness", args->fit.smoothness,
+                   "Weight of int |x''|^2 (dimensionless; default: 0 for open curves, 1e-8 then "
+                   "1e-11 for closed ones)")
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--step-smoothness", args->fit.stepSmoothness,
+                   "Damping of rough and tangential control-point moves (relative; no bias)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command->add_option("--stretch", args->fit.stretch, "Weight of int |x'|^2 (dimensionless)")

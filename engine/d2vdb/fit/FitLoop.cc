@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/QuadraticModel.h"
@@ -91,16 +92,17 @@ void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
   }
 }
 
-CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& options,
-                          FitProblem& problem) {
-  validateFitOptions(options);
-  requireNonDegenerate(initial, "the initial curve");
+namespace {
+
+/// Smallest relative objective decrease that keeps the automatic refinement phase going.
+constexpr double kRefineObjectiveTolerance = 1e-6;
+
+/// One fit with a fixed bending weight `smoothness` (options.smoothness is ignored).
+CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& options,
+                           double smoothness, FitProblem& problem) {
   const int n = initial.controlPointCount();
   const int p = initial.degree();
   Eigen::SparseMatrix<double> smoothing(n, n);
-  const double smoothness = options.smoothness >= 0.0 ? options.smoothness
-                            : initial.isClosed()      ? kAutoClosedSmoothness
-                                                      : 0.0;
   if (smoothness > 0.0 && p >= 2) smoothing += smoothness * derivativeGramMatrix(initial, 2);
   if (options.stretch > 0.0) smoothing += options.stretch * derivativeGramMatrix(initial, 1);
   QuadraticModel model(n, initial.dimension(), std::move(smoothing));
@@ -221,6 +223,60 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
     result.reason = reason.str();
   }
   if (options.progress) options.progress("fit", 1.0);
+  return result;
+}
+
+}  // namespace
+
+CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& options,
+                          FitProblem& problem) {
+  validateFitOptions(options);
+  requireNonDegenerate(initial, "the initial curve");
+  if (options.smoothness >= 0.0 || !initial.isClosed()) {
+    return runFitPhase(initial, options, std::max(0.0, options.smoothness), problem);
+  }
+  // Automatic bending weight of a closed curve: converge with kAutoClosedSmoothness, which fixes
+  // the parametrisation and makes SDM converge fast, then refine with a thousandth of it, which
+  // removes most of its bias (it grows with the curve's waviness) at the cost of a slower tail.
+  CurveFitOptions coarseOptions = options;
+  if (options.progress) {
+    coarseOptions.progress = [&options](std::string_view stage, double fraction) {
+      options.progress(stage, 0.5 * fraction);
+    };
+  }
+  CurveFitResult result = runFitPhase(initial, coarseOptions, kAutoClosedSmoothness, problem);
+  const int remaining = options.maxIterations - result.iterations();
+  const bool reachedTolerance = options.distanceTolerance > 0.0 &&
+                                result.history.back().rmsDistance <= options.distanceTolerance;
+  if (result.status != FitStatus::Converged || reachedTolerance || remaining <= 0) {
+    if (options.progress) options.progress("fit", 1.0);
+    return result;
+  }
+  CurveFitOptions refineOptions = options;
+  refineOptions.maxIterations = remaining;
+  // What is left to gain is mostly the curve sliding along itself, which a weak bending term
+  // pulls on only slowly: stop once the objective barely moves.
+  refineOptions.objectiveTolerance =
+      std::max(options.objectiveTolerance, kRefineObjectiveTolerance);
+  if (options.progress) {
+    refineOptions.progress = [&options](std::string_view stage, double fraction) {
+      options.progress(stage, 0.5 + 0.5 * fraction);
+    };
+  }
+  CurveFitResult refined =
+      runFitPhase(result.curve, refineOptions, kAutoRefinedSmoothness, problem);
+  const int offset = result.iterations();
+  for (std::size_t row = 1; row < refined.history.size(); ++row) {
+    FitIteration iteration = refined.history[row];
+    iteration.iteration += offset;
+    result.history.push_back(iteration);
+  }
+  for (std::size_t i = 1; i < refined.iterates.size(); ++i) {
+    result.iterates.push_back(std::move(refined.iterates[i]));
+  }
+  result.curve = std::move(refined.curve);
+  result.status = refined.status;
+  result.reason = refined.reason;
   return result;
 }
 
