@@ -2,6 +2,7 @@
 #include "d2vdb/field/CurveTarget.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -225,12 +226,13 @@ Approximant CurveTarget::polylineApproximant(const Eigen::Vector3d& point) const
   double best = std::numeric_limits<double>::infinity();
   std::size_t bestSegment = 0;
   double bestLambda = 0.0;
-  std::vector<int> stack;
-  stack.reserve(64);
-  stack.push_back(1);
-  while (!stack.empty()) {
-    const int node = stack.back();
-    stack.pop_back();
+  // Depth-first: at most one pending sibling per level of the tree (depth < 64 for any size
+  // that fits in memory), so a fixed array replaces a heap allocation per query.
+  std::array<int, 128> stack;
+  int pending = 0;
+  stack[pending++] = 1;
+  while (pending > 0) {
+    const int node = stack[--pending];
     if (boxSquaredDistance(segmentBoxTree_[node], point) > best) continue;
     if (node >= segmentLeafCount_) {
       const std::size_t i = static_cast<std::size_t>(node - segmentLeafCount_);
@@ -249,11 +251,11 @@ Approximant CurveTarget::polylineApproximant(const Eigen::Vector3d& point) const
     const double left = boxSquaredDistance(segmentBoxTree_[2 * node], point);
     const double right = boxSquaredDistance(segmentBoxTree_[2 * node + 1], point);
     if (left <= right) {
-      stack.push_back(2 * node + 1);
-      stack.push_back(2 * node);
+      stack[pending++] = 2 * node + 1;
+      stack[pending++] = 2 * node;
     } else {
-      stack.push_back(2 * node);
-      stack.push_back(2 * node + 1);
+      stack[pending++] = 2 * node;
+      stack[pending++] = 2 * node + 1;
     }
   }
 
