@@ -22,6 +22,7 @@ class TargetProblem final : public detail::FitProblem {
         basis_(initial, uniformSensorParameters(initial, perSpan)) {}
 
   const SensorBasis& basis() const { return basis_; }
+  const SensorBasis* fixedBasis() const override { return &basis_; }
 
   void linearize(const BSplineCurve& curve, const CurveFitOptions& options,
                  std::vector<double>& parameters, std::vector<QuadraticForm>& forms) override {

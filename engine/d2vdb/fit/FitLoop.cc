@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -135,7 +136,9 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
       options.progress("fit", static_cast<double>(iteration - 1) / options.maxIterations);
     }
     problem.linearize(result.curve, options, parameters, forms);
-    const SensorBasis basis(result.curve, parameters);
+    std::optional<SensorBasis> ownBasis;
+    const SensorBasis* basis = problem.fixedBasis();
+    if (basis == nullptr) basis = &ownBasis.emplace(result.curve, parameters);
 
     // Step control: TDM raises the damping until a full step lowers E; the other methods halve
     // the step (a line search on the true squared distances).
@@ -149,7 +152,7 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
     std::vector<Eigen::Vector3d> acceptedPoints;
     const int dampingAttempts = usesDamping(options.method) ? 12 : 1;
     for (int attempt = 0; attempt < dampingAttempts && !accepted; ++attempt) {
-      const std::vector<Eigen::Vector3d> step = model.solve(basis, forms, points, damping);
+      const std::vector<Eigen::Vector3d> step = model.solve(*basis, forms, points, damping);
       if (attempt == 0) firstStep = largestMove(step);
       const int halvings = usesDamping(options.method) ? 1 : 30;
       scale = 1.0;
@@ -235,9 +238,10 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
   if (options.smoothness >= 0.0 || !initial.isClosed()) {
     return runFitPhase(initial, options, std::max(0.0, options.smoothness), problem);
   }
-  // Automatic bending weight of a closed curve: converge with kAutoClosedSmoothness, which fixes
-  // the parametrisation and makes SDM converge fast, then refine with a thousandth of it, which
-  // removes most of its bias (it grows with the curve's waviness) at the cost of a slower tail.
+  // Automatic bending weight of a closed curve: converge (or stall) with kAutoClosedSmoothness,
+  // which fixes the parametrisation and makes SDM converge fast, then refine with a thousandth of
+  // it, which removes most of its bias (it grows with the curve's waviness) at the cost of a slower
+  // tail.
   CurveFitOptions coarseOptions = options;
   if (options.progress) {
     coarseOptions.progress = [&options](std::string_view stage, double fraction) {
@@ -248,7 +252,7 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
   const int remaining = options.maxIterations - result.iterations();
   const bool reachedTolerance = options.distanceTolerance > 0.0 &&
                                 result.history.back().rmsDistance <= options.distanceTolerance;
-  if (result.status != FitStatus::Converged || reachedTolerance || remaining <= 0) {
+  if (result.status == FitStatus::IterationCap || reachedTolerance || remaining <= 0) {
     if (options.progress) options.progress("fit", 1.0);
     return result;
   }

@@ -46,11 +46,20 @@ SensorBasis::SensorBasis(const BSplineCurve& curve, std::vector<double> paramete
                         }
                       }
                     });
+  // Sensors grouped by span, in increasing span and, within a span, sensor order: a counting
+  // sort (spans are knot indices, a small range).
   spanOrder_.resize(count);
-  std::iota(spanOrder_.begin(), spanOrder_.end(), 0);
-  std::stable_sort(spanOrder_.begin(), spanOrder_.end(), [&](int a, int b) {
-    return spans_[static_cast<std::size_t>(a)] < spans_[static_cast<std::size_t>(b)];
-  });
+  if (count > 0) {
+    const auto [lowest, highest] = std::minmax_element(spans_.begin(), spans_.end());
+    const int first = *lowest;
+    std::vector<int> start(static_cast<std::size_t>(*highest - first) + 2, 0);
+    for (const int span : spans_) ++start[static_cast<std::size_t>(span - first) + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    for (std::size_t k = 0; k < count; ++k) {
+      spanOrder_[static_cast<std::size_t>(start[static_cast<std::size_t>(spans_[k] - first)]++)] =
+          static_cast<int>(k);
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
     if (i == 0 || spans_[static_cast<std::size_t>(spanOrder_[i])] !=
                       spans_[static_cast<std::size_t>(spanOrder_[i - 1])]) {

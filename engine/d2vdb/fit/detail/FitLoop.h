@@ -6,6 +6,7 @@
 
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/fit/CurveFit.h"
+#include "d2vdb/fit/SensorBasis.h"
 
 namespace d2vdb::detail {
 
@@ -29,6 +30,9 @@ class FitProblem {
   virtual DataError measure(const BSplineCurve& curve) = 0;
   /// The last measured candidate became the current curve.
   virtual void accept() {}
+  /// The sensors' basis when their parameters never change (linearize() always returns
+  /// basis->parameters()), so the loop need not rebuild it each iteration; else null.
+  virtual const SensorBasis* fixedBasis() const { return nullptr; }
 };
 
 /// Runs the fit from `initial` (validated by the caller; the loop checks the options and that
