@@ -36,9 +36,10 @@ struct CurveFitOptions {
   /// (1.6e-5 R at 1e-8), a wavy one far more (the energy grows with the fourth power of the
   /// waviness: at 1e-8 a seven-lobed flower of size 2 ends 0.015 off), and shortens open curves,
   /// whose ends the one-sided distance barely holds. Negative (the default) = automatic: open
-  /// curves get 0; closed curves converge with kAutoClosedSmoothness and then continue from that
-  /// result with kAutoRefinedSmoothness (the flower then ends 9e-5 off), the history running on
-  /// through both phases (its objective uses each phase's weight).
+  /// curves get 0; closed curves converge with kAutoClosedSmoothness (to a relative objective
+  /// decrease of at least 1e-5) and then continue from that result with kAutoRefinedSmoothness
+  /// (to at least 1e-6; the flower then ends 9e-5 off), the history running on through both
+  /// phases (its objective uses each phase's weight).
   double smoothness = -1.0;
   /// lambda1: weight of the stretching energy int |x'|^2.
   double stretch = 0.0;

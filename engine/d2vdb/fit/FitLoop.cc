@@ -95,6 +95,8 @@ void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
 
 namespace {
 
+/// Smallest relative objective decrease that keeps the first automatic phase going.
+constexpr double kCoarseObjectiveTolerance = 1e-5;
 /// Smallest relative objective decrease that keeps the automatic refinement phase going.
 constexpr double kRefineObjectiveTolerance = 1e-6;
 
@@ -243,6 +245,9 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
   // it, which removes most of its bias (it grows with the curve's waviness) at the cost of a slower
   // tail.
   CurveFitOptions coarseOptions = options;
+  // The first phase only has to get near its (biased) optimum: the refinement moves on from it.
+  coarseOptions.objectiveTolerance =
+      std::max(options.objectiveTolerance, kCoarseObjectiveTolerance);
   if (options.progress) {
     coarseOptions.progress = [&options](std::string_view stage, double fraction) {
       options.progress(stage, 0.5 * fraction);
