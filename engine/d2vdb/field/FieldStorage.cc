@@ -34,6 +34,32 @@ using SampleTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SampleCloud>,
                                         SampleCloud, 3, std::uint32_t>;
 
+constexpr double kSqrt3 = 1.7320508075688772935;
+
+/// Steps of 26-neighbour (cube) and 6-neighbour (octahedron) dilation whose combination covers
+/// every lattice point within `radius` of an active one (in voxels) with the fewest extra points:
+/// the combined region's support k1 |n|_1 + k2 |n|_inf must reach `radius` along the axes, the
+/// face and the body diagonals; among those pairs, the smallest mean thickness
+/// (1.5 k1 + 0.77 k2, the mean of |n|_1 and |n|_inf over directions) wins.
+std::pair<int, int> dilationSteps(double radius) {
+  const int total = static_cast<int>(std::ceil(radius));
+  std::pair<int, int> best{total, 0};
+  double bestCost = 1.5 * total;
+  for (int cube = 0; cube <= total; ++cube) {
+    const double faceDiagonal = (radius - cube * std::sqrt(2.0)) * std::sqrt(2.0);
+    const double bodyDiagonal = (radius - cube * kSqrt3) * kSqrt3;
+    const int octahedron = std::max({0, static_cast<int>(std::ceil(radius - cube)),
+                                     static_cast<int>(std::ceil(faceDiagonal)),
+                                     static_cast<int>(std::ceil(bodyDiagonal))});
+    const double cost = 1.5 * cube + 0.77 * octahedron;
+    if (cost < bestCost) {
+      bestCost = cost;
+      best = {cube, octahedron};
+    }
+  }
+  return best;
+}
+
 /// nanoflann result set for the single nearest point within a starting bound: the search only
 /// enters tree cells closer than the best distance so far, so a tight bound prunes most of them.
 class BoundedNearest {
@@ -444,7 +470,10 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
                                            static_cast<int>(std::lround(c.y())),
                                            static_cast<int>(std::lround(c.z()))));
       }
-      openvdb::tools::dilateActiveValues(mask.tree(), coarseHalfWidth + 1,
+      const auto [cubeSteps, octahedronSteps] = dilationSteps(coarseHalfWidth + 0.5 * kSqrt3);
+      openvdb::tools::dilateActiveValues(mask.tree(), octahedronSteps, openvdb::tools::NN_FACE,
+                                         openvdb::tools::IGNORE_TILES);
+      openvdb::tools::dilateActiveValues(mask.tree(), cubeSteps,
                                          openvdb::tools::NN_FACE_EDGE_VERTEX,
                                          openvdb::tools::IGNORE_TILES);
     }
@@ -452,9 +481,28 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
     for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
     std::vector<LeafEntry> levelEntries(leaves.size());
     std::vector<std::vector<std::uint32_t>> levelSamples(leaves.size());
+    // A voxel centre of this level is also one of the finer level's (index 2 ijk there): where
+    // that level kept it, its nearest sample is already known.
+    const CoarseLevel* finer = coarse.empty() ? nullptr : &coarse.back();
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
         [&](const tbb::blocked_range<std::size_t>& range) {
+          std::int64_t finerLeaf = -1;
+          openvdb::Coord finerOrigin;
+          const auto knownSample = [&](const openvdb::Coord& ijk) -> std::int64_t {
+            if (finer == nullptr) return -1;
+            const openvdb::Coord child(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z());
+            const openvdb::Coord origin = LeafTable::blockOrigin(child);
+            if (finerLeaf < 0 || origin != finerOrigin) {
+              finerLeaf = finer->table.findLeaf(child);
+              finerOrigin = origin;
+              if (finerLeaf < 0) return -1;
+            }
+            const std::int64_t record = LeafTable::recordIndex(
+                finer->table.entries()[static_cast<std::size_t>(finerLeaf)], child);
+            if (record < 0) return -1;
+            return static_cast<std::int64_t>(finer->sampleOf[static_cast<std::size_t>(record)]);
+          };
           for (std::size_t i = range.begin(); i != range.end(); ++i) {
             LeafEntry& entry = levelEntries[i];
             entry.origin = leaves[i]->origin();
@@ -468,7 +516,15 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
             for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
               const openvdb::Coord ijk = voxel.getCoord();
               const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale;
-              const auto [sample, distance] = nearestSample(tree, sampleFootpoints, centre, seed);
+              const std::int64_t known = knownSample(ijk);
+              const auto [sample, distance] =
+                  known >= 0
+                      ? std::pair<std::uint32_t, double>(
+                            static_cast<std::uint32_t>(known),
+                            (sampleFootpoints[static_cast<std::size_t>(known)].cast<double>() -
+                             centre)
+                                .norm())
+                      : nearestSample(tree, sampleFootpoints, centre, seed);
               seed = sample;
               if (!top && distance > reach) continue;
               const int offset = static_cast<int>(voxel.pos());
