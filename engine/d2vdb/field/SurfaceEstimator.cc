@@ -146,11 +146,23 @@ StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
 }
 
 /// Trilinear interpolation of pass-1 data at an index-space point, over the corners that have a
-/// Hessian; caches the last leaf looked up.
+/// Hessian. Looks voxels up through the 27 leaves around the current one (setLeaf), where every
+/// footpoint of a 3-voxel band lies, and through the band's hash elsewhere.
 class Interpolator {
  public:
   Interpolator(const FieldStorage& storage, const std::vector<StencilData>& stencils)
       : storage_(storage), stencils_(stencils) {}
+
+  /// Makes the leaf with origin `origin` (and its 26 neighbours) the current one.
+  void setLeaf(const openvdb::Coord& origin) {
+    origin_ = origin;
+    for (int slot = 0; slot < 27; ++slot) {
+      const openvdb::Coord neighbour =
+          origin + openvdb::Coord((slot / 9 - 1) * 8, ((slot / 3) % 3 - 1) * 8, (slot % 3 - 1) * 8);
+      neighbours_[static_cast<std::size_t>(slot)] = storage_.band.findLeaf(neighbour);
+    }
+    hasLeaf_ = true;
+  }
 
   struct Result {
     Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
@@ -199,6 +211,17 @@ class Interpolator {
 
  private:
   std::int64_t find(const openvdb::Coord& ijk) {
+    if (hasLeaf_) {
+      // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
+      const int sx = (ijk.x() - origin_.x()) >> 3, sy = (ijk.y() - origin_.y()) >> 3,
+                sz = (ijk.z() - origin_.z()) >> 3;
+      if (sx >= -1 && sx <= 1 && sy >= -1 && sy <= 1 && sz >= -1 && sz <= 1) {
+        const std::int64_t leaf =
+            neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
+        if (leaf < 0) return -1;
+        return LeafTable::recordIndex(storage_.band.entries()[static_cast<std::size_t>(leaf)], ijk);
+      }
+    }
     const openvdb::Coord origin = LeafTable::blockOrigin(ijk);
     if (cached_ < 0 || origin != cachedOrigin_) {
       cached_ = storage_.band.findLeaf(ijk);
@@ -212,6 +235,9 @@ class Interpolator {
   const std::vector<StencilData>& stencils_;
   std::int64_t cached_ = -1;
   openvdb::Coord cachedOrigin_;
+  bool hasLeaf_ = false;
+  openvdb::Coord origin_;
+  std::array<std::int64_t, 27> neighbours_{};
 };
 
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:
@@ -263,6 +289,7 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
         Interpolator interpolator(storage, stencils);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const LeafEntry& entry = entries[i];
+          interpolator.setLeaf(entry.origin);
           std::uint32_t record = entry.base;
           for (int offset = 0; offset < 512; ++offset) {
             if (((entry.mask[offset >> 6] >> (offset & 63)) & 1u) == 0) continue;
