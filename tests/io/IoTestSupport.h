@@ -40,8 +40,8 @@ class TemporaryDirectoryTest : public ::testing::Test {
   void SetUp() override {
     directory_ = std::filesystem::temp_directory_path() /
                  (std::string("d2vdb-io-") +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() +
-                  "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
+                  ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() + "-" +
+                  ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
                   std::to_string(::getpid()));
     std::filesystem::remove_all(directory_);
     std::filesystem::create_directories(directory_);

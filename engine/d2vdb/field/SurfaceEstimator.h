@@ -27,17 +27,18 @@ inline constexpr const char* kSurfaceEstimator =
 /// H_xy = sum x y f / 12. Other voxels get a gradient from the central or one-sided differences
 /// their active neighbours allow.
 /// Pass 2: for every active voxel p, the footpoint s with p - s parallel to the normal at s and
-/// d(s) = 0, by up to three rounds (fewer once the footpoint moves by less than 1e-4 voxel) of: interpolate d, grad d (trilinearly, from the pass-1 data of the
-/// 8 voxels around s), project onto the zero level, re-aim along the normal through p. The
-/// distance stored is the one this footpoint implies. The Hessian interpolated at the footpoint is
-/// the shape operator there (on the surface, Hessian(d) = sum k_i e_i e_i^T); its restriction to
-/// the tangent plane is diagonalised in closed form: k1 >= k2, e1.
-/// Flags: kFlagDegradedEstimate where the voxels with a full stencil carry less than half of the
-/// trilinear weight at the footpoint (weights are renormalised over them in any case);
-/// kFlagCutLocus where the gradient at p is below 0.7 in length, the projection does not converge
-/// to within 0.5 voxel, or 1 + d k_i < 0.05 (then normal and footpoint come from the local gradient
-/// and the curvatures are 0); kFlagCurvatureClamped where |k| > 1/voxel. Parallel over leaves
-/// (TBB); every record depends only on the input, so the result is identical for any thread count.
+/// d(s) = 0, by up to three rounds (fewer once the footpoint moves by less than 1e-4 voxel) of:
+/// interpolate d, grad d (trilinearly, from the pass-1 data of the 8 voxels around s), project onto
+/// the zero level, re-aim along the normal through p. The distance stored is the one this footpoint
+/// implies. The Hessian interpolated at the footpoint is the shape operator there (on the surface,
+/// Hessian(d) = sum k_i e_i e_i^T); its restriction to the tangent plane is diagonalised in closed
+/// form: k1 >= k2, e1. Flags: kFlagDegradedEstimate where the voxels with a full stencil carry less
+/// than half of the trilinear weight at the footpoint (weights are renormalised over them in any
+/// case); kFlagCutLocus where the gradient at p is below 0.7 in length, the projection does not
+/// converge to within 0.5 voxel, or 1 + d k_i < 0.05 (then normal and footpoint come from the local
+/// gradient and the curvatures are 0); kFlagCurvatureClamped where |k| > 1/voxel. Parallel over
+/// leaves (TBB); every record depends only on the input, so the result is identical for any thread
+/// count.
 void estimateSurfaceRecords(
     FieldStorage& storage,
     const std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*>& leaves,
