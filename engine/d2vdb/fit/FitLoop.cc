@@ -100,6 +100,15 @@ constexpr double kCoarseObjectiveTolerance = 1e-5;
 /// Smallest relative objective decrease that keeps the automatic refinement phase going.
 constexpr double kRefineObjectiveTolerance = 1e-6;
 
+/// `progress` for one of two equal halves of the work, the one starting at `start` (0 or 0.5);
+/// empty when `progress` is.
+ProgressCallback progressPart(const ProgressCallback& progress, double start) {
+  if (!progress) return {};
+  return [&progress, start](std::string_view stage, double fraction) {
+    progress(stage, start + 0.5 * fraction);
+  };
+}
+
 /// One fit with a fixed bending weight `smoothness` (options.smoothness is ignored).
 CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& options,
                            double smoothness, FitProblem& problem) {
@@ -248,11 +257,7 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
   // The first phase only has to get near its (biased) optimum: the refinement moves on from it.
   coarseOptions.objectiveTolerance =
       std::max(options.objectiveTolerance, kCoarseObjectiveTolerance);
-  if (options.progress) {
-    coarseOptions.progress = [&options](std::string_view stage, double fraction) {
-      options.progress(stage, 0.5 * fraction);
-    };
-  }
+  coarseOptions.progress = progressPart(options.progress, 0.0);
   CurveFitResult result = runFitPhase(initial, coarseOptions, kAutoClosedSmoothness, problem);
   const int remaining = options.maxIterations - result.iterations();
   const bool reachedTolerance = options.distanceTolerance > 0.0 &&
@@ -267,11 +272,7 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
   // pulls on only slowly: stop once the objective barely moves.
   refineOptions.objectiveTolerance =
       std::max(options.objectiveTolerance, kRefineObjectiveTolerance);
-  if (options.progress) {
-    refineOptions.progress = [&options](std::string_view stage, double fraction) {
-      options.progress(stage, 0.5 + 0.5 * fraction);
-    };
-  }
+  refineOptions.progress = progressPart(options.progress, 0.5);
   CurveFitResult refined =
       runFitPhase(result.curve, refineOptions, kAutoRefinedSmoothness, problem);
   const int offset = result.iterations();
