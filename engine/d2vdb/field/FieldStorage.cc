@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
@@ -487,19 +488,12 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
         [&](const tbb::blocked_range<std::size_t>& range) {
-          std::int64_t finerLeaf = -1;
-          openvdb::Coord finerOrigin;
+          std::optional<LeafCursor> finerCursor;
+          if (finer != nullptr) finerCursor.emplace(finer->table);
           const auto knownSample = [&](const openvdb::Coord& ijk) -> std::int64_t {
-            if (finer == nullptr) return -1;
-            const openvdb::Coord child(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z());
-            const openvdb::Coord origin = LeafTable::blockOrigin(child);
-            if (finerLeaf < 0 || origin != finerOrigin) {
-              finerLeaf = finer->table.findLeaf(child);
-              finerOrigin = origin;
-              if (finerLeaf < 0) return -1;
-            }
-            const std::int64_t record = LeafTable::recordIndex(
-                finer->table.entries()[static_cast<std::size_t>(finerLeaf)], child);
+            if (!finerCursor) return -1;
+            const std::int64_t record =
+                finerCursor->record(openvdb::Coord(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z()));
             if (record < 0) return -1;
             return static_cast<std::int64_t>(finer->sampleOf[static_cast<std::size_t>(record)]);
           };

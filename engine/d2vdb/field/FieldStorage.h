@@ -65,6 +65,29 @@ class LeafTable {
   std::size_t slotMask_ = 0;
 };
 
+/// Voxel look-ups in one LeafTable that remember the last leaf found, for queries that move
+/// little between calls. One per thread; the table must outlive it.
+class LeafCursor {
+ public:
+  explicit LeafCursor(const LeafTable& table) : table_(&table) {}
+
+  /// Record index of voxel `ijk`, or -1 when the table does not hold it.
+  std::int64_t record(const openvdb::Coord& ijk) {
+    const openvdb::Coord origin = LeafTable::blockOrigin(ijk);
+    if (leaf_ < 0 || origin != origin_) {
+      leaf_ = table_->findLeaf(ijk);
+      origin_ = origin;
+      if (leaf_ < 0) return -1;
+    }
+    return LeafTable::recordIndex(table_->entries()[static_cast<std::size_t>(leaf_)], ijk);
+  }
+
+ private:
+  const LeafTable* table_;
+  std::int64_t leaf_ = -1;
+  openvdb::Coord origin_;
+};
+
 /// The 16-byte record of one band voxel (level 0). Vectors are in the field's index frame.
 /// - normal: octahedral encoding of the unit normal (surface) or of the direction from the
 ///   footpoint toward the voxel (curves, points), two snorm16 values;

@@ -222,19 +222,12 @@ class Interpolator {
         return LeafTable::recordIndex(storage_.band.entries()[static_cast<std::size_t>(leaf)], ijk);
       }
     }
-    const openvdb::Coord origin = LeafTable::blockOrigin(ijk);
-    if (cached_ < 0 || origin != cachedOrigin_) {
-      cached_ = storage_.band.findLeaf(ijk);
-      cachedOrigin_ = origin;
-      if (cached_ < 0) return -1;
-    }
-    return LeafTable::recordIndex(storage_.band.entries()[static_cast<std::size_t>(cached_)], ijk);
+    return bandCursor_.record(ijk);
   }
 
   const FieldStorage& storage_;
   const std::vector<StencilData>& stencils_;
-  std::int64_t cached_ = -1;
-  openvdb::Coord cachedOrigin_;
+  LeafCursor bandCursor_{storage_.band};
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
