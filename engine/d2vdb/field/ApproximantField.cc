@@ -427,6 +427,10 @@ double ApproximantField::coarseDistanceErrorBound(int level) const {
   return std::sqrt(3.0) * std::ldexp(storage_->voxelSize, level) + storage_->sampleError;
 }
 
+double ApproximantField::resolution() const {
+  return voxelSize();
+}
+
 std::string ApproximantField::describe() const {
   return std::string(targetKindName(storage_->kind)) + " field (" +
          std::to_string(storage_->records.size()) + " band voxels, voxel size " +

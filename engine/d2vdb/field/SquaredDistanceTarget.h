@@ -41,6 +41,11 @@ class SquaredDistanceTarget {
 
   /// A short description for messages and reports, e.g. "curve field of helix.json".
   virtual std::string describe() const = 0;
+
+  /// Length (world units) on which the target's answers are resolved: a field's voxel size, 0
+  /// for exact targets. Moves far below it cannot be told apart by the target's approximants, so
+  /// a fit whose step is below a small fraction of it has converged. Throws nothing.
+  virtual double resolution() const { return 0.0; }
 };
 
 }  // namespace d2vdb

@@ -70,7 +70,8 @@ struct CurveFitOptions {
 /// Why a fit stopped.
 enum class FitStatus {
   Converged,     ///< the step, the RMS distance or the relative decrease of the objective fell
-                 ///< below its tolerance
+                 ///< below its tolerance, or no step lowered the objective although the model's
+                 ///< step was below 1/100 of the target's resolution (a field's voxel size)
   Stalled,       ///< no step along the model's solution lowered the objective (line search /
                  ///< damping exhausted) although the model predicted a decrease
   IterationCap,  ///< maxIterations reached while still improving

@@ -23,6 +23,7 @@ class TargetProblem final : public detail::FitProblem {
 
   const SensorBasis& basis() const { return basis_; }
   const SensorBasis* fixedBasis() const override { return &basis_; }
+  double resolution() const override { return target_.resolution(); }
 
   void linearize(const BSplineCurve& curve, const CurveFitOptions& options,
                  std::vector<double>& parameters, std::vector<QuadraticForm>& forms) override {

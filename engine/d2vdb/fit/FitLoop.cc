@@ -95,6 +95,10 @@ void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
 
 namespace {
 
+/// Fraction of the target's resolution (a field's voxel) below which a step that does not lower
+/// the objective counts as convergence: the approximants' own error (footpoints to a few hundredths
+/// of a voxel, piecewise per voxel) makes the objective rough on that scale.
+constexpr double kResolvedFraction = 0.01;
 /// Smallest relative objective decrease that keeps the first automatic phase going.
 constexpr double kCoarseObjectiveTolerance = 1e-5;
 /// Smallest relative objective decrease that keeps the automatic refinement phase going.
@@ -192,6 +196,13 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
       if (firstStep <= options.stepTolerance * size || flat) {
         result.status = FitStatus::Converged;
         result.reason = "the objective no longer changes beyond rounding";
+      } else if (firstStep <= kResolvedFraction * problem.resolution()) {
+        result.status = FitStatus::Converged;
+        std::ostringstream reason;
+        reason << "the model's step (" << firstStep << ") is below " << kResolvedFraction
+               << " of the target's resolution (" << problem.resolution()
+               << "): the target resolves no further improvement";
+        result.reason = reason.str();
       } else {
         result.status = FitStatus::Stalled;
         result.reason = "no step along the solution of the quadratic model lowered the objective";

@@ -32,6 +32,8 @@ class OffsetTarget final : public SquaredDistanceTarget {
   Eigen::AlignedBox3d domain() const override { return base_.domain(); }
   Approximant approximantAt(const Eigen::Vector3d& point) const override;
   std::string describe() const override;
+  /// The base target's resolution.
+  double resolution() const override { return base_.resolution(); }
 
   /// The offset distance r (world units).
   double offset() const { return offset_; }

@@ -33,6 +33,8 @@ class FitProblem {
   /// The sensors' basis when their parameters never change (linearize() always returns
   /// basis->parameters()), so the loop need not rebuild it each iteration; else null.
   virtual const SensorBasis* fixedBasis() const { return nullptr; }
+  /// The target's resolution (SquaredDistanceTarget::resolution()); 0 for exact data.
+  virtual double resolution() const { return 0.0; }
 };
 
 /// Runs the fit from `initial` (validated by the caller; the loop checks the options and that
