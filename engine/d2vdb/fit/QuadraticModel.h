@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <utility>
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
@@ -24,7 +25,10 @@ namespace d2vdb {
 ///
 /// Assembly runs in parallel over knot spans; each span's sensors are summed in index order and
 /// the spans in span order, so results are bitwise identical for any thread count. Solved with
-/// Eigen's SimplicialLDLT.
+/// Eigen's SimplicialLDLT. The system's sparsity pattern (control points sharing a knot span,
+/// plus the smoothing and regulariser patterns) is kept between solves, and with it the
+/// fill-reducing ordering and symbolic factorisation: a solve whose sensors couple no new pair of
+/// control points only scatters its blocks into the stored pattern and refactorises numerically.
 class QuadraticModel {
  public:
   /// `smoothing` must be controlPointCount x controlPointCount, symmetric PSD. InputError for a
@@ -51,11 +55,38 @@ class QuadraticModel {
   int dimension() const { return dimension_; }
 
  private:
+  /// Position in the control-point pattern of row i within column j, or -1 when absent.
+  int patternRank(int row, int column) const;
+  /// Rebuilds the pattern as the union of the current one, `pairs` (row, column of control
+  /// points), the smoothing, the regulariser and the diagonal; the solver must re-analyse.
+  void rebuildPattern(const std::vector<std::pair<int, int>>& pairs);
+  /// Index into system_'s values of unknown (row * d + r, column * d + c), given the rank of row
+  /// in the column.
+  int valueIndex(int rank, int column, int r, int c) const {
+    return static_cast<int>(system_.outerIndexPtr()[column * dimension_ + c]) + rank * dimension_ +
+           r;
+  }
+  /// Value indices of every entry of `matrix` (an n x n matrix inside the pattern) for each
+  /// coordinate, in `matrix`'s storage order: entry e, coordinate a at [e * d + a].
+  std::vector<int> valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const;
+  /// Adds scale * matrix (per coordinate) into system_'s values at `indices` (valueIndicesOf).
+  void addScaled(const Eigen::SparseMatrix<double>& matrix, const std::vector<int>& indices,
+                 double scale);
+
   int controlPointCount_;
   int dimension_;
   Eigen::SparseMatrix<double> smoothing_;
   Eigen::SparseMatrix<double> regularizer_;
   double regularizerWeight_ = 0.0;
+  // Control-point pattern (compressed columns, sorted rows) and the system over the unknowns
+  // that expands it (each control-point entry becomes a d x d block).
+  std::vector<int> patternStart_;
+  std::vector<int> patternRows_;
+  Eigen::SparseMatrix<double> system_;
+  std::vector<int> smoothingIndices_;
+  std::vector<int> regularizerIndices_;
+  std::vector<int> diagonalIndices_;
+  bool analyzed_ = false;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
 };
 
