@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
@@ -28,8 +29,12 @@ class TargetProblem final : public detail::FitProblem {
   void linearize(const BSplineCurve& curve, const CurveFitOptions& options,
                  std::vector<double>& parameters, std::vector<QuadraticForm>& forms) override {
     parameters = basis_.parameters();
-    const std::vector<Eigen::Vector3d> sensors = basis_.positions(curve.controlPoints());
-    const std::vector<Approximant> approximants = target_.approximantsAt(sensors);
+    // The loop linearises the curve it last accepted, whose approximants measure() kept.
+    if (curve.controlPoints() != acceptedControlPoints_) {
+      acceptedControlPoints_ = curve.controlPoints();
+      acceptedApproximants_ = target_.approximantsAt(basis_.positions(acceptedControlPoints_));
+    }
+    const std::vector<Approximant>& approximants = acceptedApproximants_;
     forms.resize(approximants.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, approximants.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -39,34 +44,57 @@ class TargetProblem final : public detail::FitProblem {
                       });
   }
 
+  // One parallel pass: sensor positions, the domain check, the approximants there (kept for
+  // linearize() should this curve be accepted) and the squared distances they give (as
+  // SquaredDistanceTarget::squaredDistanceAt() computes them).
   detail::DataError measure(const BSplineCurve& curve) override {
-    const std::vector<Eigen::Vector3d> sensors = basis_.positions(curve.controlPoints());
+    const std::vector<Eigen::Vector3d>& controlPoints = curve.controlPoints();
+    const int count = basis_.sensorCount();
+    measuredApproximants_.resize(static_cast<std::size_t>(count));
+    squared_.resize(static_cast<std::size_t>(count));
+    std::atomic<bool> outside{false};
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, count, 256), [&](const tbb::blocked_range<int>& range) {
+          for (int k = range.begin(); k != range.end(); ++k) {
+            const Eigen::Vector3d x = basis_.position(k, controlPoints);
+            if (!domain_.contains(x) || !x.allFinite()) {
+              outside = true;
+              return;
+            }
+            Approximant& approximant = measuredApproximants_[static_cast<std::size_t>(k)];
+            approximant = target_.approximantAt(x);
+            squared_[static_cast<std::size_t>(k)] = approximant.form(ErrorTerm::SDM)(x);
+          }
+        });
     detail::DataError error;
-    error.count = static_cast<int>(sensors.size());
-    for (const Eigen::Vector3d& x : sensors) {
-      if (!domain_.contains(x) || !x.allFinite()) {
-        error.valid = false;
-        return error;
-      }
+    error.count = count;
+    if (outside) {
+      error.valid = false;
+      measuredControlPoints_.clear();
+      return error;
     }
-    std::vector<double> squared(sensors.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sensors.size(), 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                          squared[k] = target_.squaredDistanceAt(sensors[k]);
-                        }
-                      });
-    for (const double value : squared) {  // fixed order: deterministic sum
+    for (const double value : squared_) {  // fixed order: deterministic sum
       error.sum += value;
       error.maxSquared = std::max(error.maxSquared, value);
     }
+    measuredControlPoints_ = controlPoints;
     return error;
+  }
+
+  void accept() override {
+    acceptedControlPoints_.swap(measuredControlPoints_);
+    acceptedApproximants_.swap(measuredApproximants_);
   }
 
  private:
   const SquaredDistanceTarget& target_;
   Eigen::AlignedBox3d domain_;
   SensorBasis basis_;
+  // Sensor approximants of the last measured and of the accepted curve, with its control points
+  // (an empty control-point list: none valid).
+  std::vector<Eigen::Vector3d> measuredControlPoints_, acceptedControlPoints_;
+  std::vector<Approximant> measuredApproximants_, acceptedApproximants_;
+  std::vector<double> squared_;
 };
 
 std::string pointText(const Eigen::Vector3d& p) {

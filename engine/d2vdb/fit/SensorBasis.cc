@@ -75,11 +75,7 @@ std::vector<Eigen::Vector3d> SensorBasis::positions(
   tbb::parallel_for(tbb::blocked_range<int>(0, sensorCount(), 512),
                     [&](const tbb::blocked_range<int>& range) {
                       for (int k = range.begin(); k != range.end(); ++k) {
-                        Eigen::Vector3d x = Eigen::Vector3d::Zero();
-                        for (int j = 0; j < order_; ++j) {
-                          x += weight(k, j) * controlPoints[static_cast<std::size_t>(index(k, j))];
-                        }
-                        result[static_cast<std::size_t>(k)] = x;
+                        result[static_cast<std::size_t>(k)] = position(k, controlPoints);
                       }
                     });
   return result;

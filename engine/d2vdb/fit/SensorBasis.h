@@ -45,6 +45,14 @@ class SensorBasis {
 
   /// Sensor positions for `controlPoints` (same count as the curve's), in parallel.
   std::vector<Eigen::Vector3d> positions(const std::vector<Eigen::Vector3d>& controlPoints) const;
+  /// Position of sensor k for `controlPoints` (same count as the curve's).
+  Eigen::Vector3d position(int k, const std::vector<Eigen::Vector3d>& controlPoints) const {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int j = 0; j < order_; ++j) {
+      x += weight(k, j) * controlPoints[static_cast<std::size_t>(index(k, j))];
+    }
+    return x;
+  }
 
  private:
   std::vector<double> parameters_;
