@@ -17,10 +17,13 @@ namespace {
 // Sensors at fixed parameters, approximants from the target.
 class TargetProblem final : public detail::FitProblem {
  public:
-  TargetProblem(const BSplineCurve& initial, const SquaredDistanceTarget& target, int perSpan)
+  TargetProblem(const BSplineCurve& initial, const SquaredDistanceTarget& target,
+                const CurveFitOptions& options)
       : target_(target),
         domain_(target.domain()),
-        basis_(initial, uniformSensorParameters(initial, perSpan)) {}
+        basis_(initial, uniformSensorParameters(initial, options.sensorsPerSpan)),
+        method_(options.method),
+        pdmWeight_(options.pdmWeight) {}
 
   const SensorBasis& basis() const { return basis_; }
   const SensorBasis* fixedBasis() const override { return &basis_; }
@@ -29,12 +32,15 @@ class TargetProblem final : public detail::FitProblem {
   void linearize(const BSplineCurve& curve, const CurveFitOptions& options,
                  std::vector<double>& parameters, std::vector<QuadraticForm>& forms) override {
     parameters = basis_.parameters();
-    // The loop linearises the curve it last accepted, whose approximants measure() kept.
-    if (curve.controlPoints() != acceptedControlPoints_) {
-      acceptedControlPoints_ = curve.controlPoints();
-      acceptedApproximants_ = target_.approximantsAt(basis_.positions(acceptedControlPoints_));
+    // The loop linearises the curve it last accepted, whose forms measure() computed.
+    if (curve.controlPoints() == acceptedControlPoints_ && acceptedFormsValid_ &&
+        options.method == method_ && options.pdmWeight == pdmWeight_) {
+      forms.swap(acceptedForms_);
+      acceptedFormsValid_ = false;
+      return;
     }
-    const std::vector<Approximant>& approximants = acceptedApproximants_;
+    const std::vector<Approximant> approximants =
+        target_.approximantsAt(basis_.positions(curve.controlPoints()));
     forms.resize(approximants.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, approximants.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -44,26 +50,26 @@ class TargetProblem final : public detail::FitProblem {
                       });
   }
 
-  // One parallel pass: sensor positions, the domain check, the approximants there (kept for
-  // linearize() should this curve be accepted) and the squared distances they give (as
-  // SquaredDistanceTarget::squaredDistanceAt() computes them).
+  // One parallel pass: sensor positions, the domain check, the approximants there, the squared
+  // distances they give (as SquaredDistanceTarget::squaredDistanceAt() computes them) and the
+  // fitting forms (kept for linearize() should this curve be accepted).
   detail::DataError measure(const BSplineCurve& curve) override {
     const std::vector<Eigen::Vector3d>& controlPoints = curve.controlPoints();
     const int count = basis_.sensorCount();
-    measuredApproximants_.resize(static_cast<std::size_t>(count));
+    measuredForms_.resize(static_cast<std::size_t>(count));
     squared_.resize(static_cast<std::size_t>(count));
     std::atomic<bool> outside{false};
     tbb::parallel_for(
-        tbb::blocked_range<int>(0, count, 256), [&](const tbb::blocked_range<int>& range) {
+        tbb::blocked_range<int>(0, count, 32), [&](const tbb::blocked_range<int>& range) {
           for (int k = range.begin(); k != range.end(); ++k) {
             const Eigen::Vector3d x = basis_.position(k, controlPoints);
             if (!domain_.contains(x) || !x.allFinite()) {
               outside = true;
               return;
             }
-            Approximant& approximant = measuredApproximants_[static_cast<std::size_t>(k)];
-            approximant = target_.approximantAt(x);
+            const Approximant approximant = target_.approximantAt(x);
             squared_[static_cast<std::size_t>(k)] = approximant.form(ErrorTerm::SDM)(x);
+            measuredForms_[static_cast<std::size_t>(k)] = fitForm(approximant, method_, pdmWeight_);
           }
         });
     detail::DataError error;
@@ -83,17 +89,21 @@ class TargetProblem final : public detail::FitProblem {
 
   void accept() override {
     acceptedControlPoints_.swap(measuredControlPoints_);
-    acceptedApproximants_.swap(measuredApproximants_);
+    acceptedForms_.swap(measuredForms_);
+    acceptedFormsValid_ = !acceptedControlPoints_.empty();
   }
 
  private:
   const SquaredDistanceTarget& target_;
   Eigen::AlignedBox3d domain_;
   SensorBasis basis_;
-  // Sensor approximants of the last measured and of the accepted curve, with its control points
-  // (an empty control-point list: none valid).
+  FitMethod method_;
+  double pdmWeight_;
+  // Sensor forms of the last measured and of the accepted curve, with its control points (an
+  // empty control-point list: none valid); linearize() hands the accepted forms over once.
   std::vector<Eigen::Vector3d> measuredControlPoints_, acceptedControlPoints_;
-  std::vector<Approximant> measuredApproximants_, acceptedApproximants_;
+  std::vector<QuadraticForm> measuredForms_, acceptedForms_;
+  bool acceptedFormsValid_ = false;
   std::vector<double> squared_;
 };
 
@@ -109,7 +119,7 @@ CurveFitResult fitCurve(const BSplineCurve& initial, const SquaredDistanceTarget
                         const CurveFitOptions& options) {
   detail::validateFitOptions(options);
   detail::requireNonDegenerate(initial, "the initial curve");
-  TargetProblem problem(initial, target, options.sensorsPerSpan);
+  TargetProblem problem(initial, target, options);
   const Eigen::AlignedBox3d domain = target.domain();
   const std::vector<Eigen::Vector3d> sensors = problem.basis().positions(initial.controlPoints());
   for (std::size_t k = 0; k < sensors.size(); ++k) {
