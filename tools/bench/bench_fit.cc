@@ -4,6 +4,8 @@
 //    polyline target, at 2k sensors / 100 control points and 20k / 1000; 1 and 2 threads
 //    (tbb::global_control). Manual time: (fit of 6 iterations - fit of 1) / 5, so once-per-fit
 //    work is not counted.
+//  - BM_FitIterationSpeedup/sensors/controlPoints: the same iteration timed with 1 and 2 threads
+//    alternately in every benchmark iteration (paired); counters t1_ms, t2_ms (medians), speedup.
 //  - BM_TimeToRms/<target>/<method>/<permille>: wall time for SDM and PDM, from the same initial
 //    curve, to reach the same RMS error ((1 + permille / 1000) x the RMS SDM converges to with
 //    default tolerances), on a noisy point cloud (SDM II) and on a curve field
@@ -12,6 +14,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -45,49 +48,72 @@ const d2vdb::CurveTarget& flowerTarget() {
   return target;
 }
 
+/// The BM_FitIteration problem: a closed 2D cubic with `controlPoints` control points near the
+/// flower, `sensors` sensors, a fixed bending weight and no early stop (every fit does exactly
+/// the iterations asked for).
+struct IterationProblem {
+  IterationProblem(int sensors, int controlPoints) : initial(initialCurve(controlPoints)) {
+    options.sensorsPerSpan = sensors / controlPoints;
+    options.smoothness = d2vdb::kAutoClosedSmoothness;
+    options.stepTolerance = 0.0;
+    options.objectiveTolerance = 0.0;
+  }
+  static d2vdb::BSplineCurve initialCurve(int controlPoints) {
+    std::vector<Eigen::Vector3d> samples;
+    for (int i = 0; i < 4 * controlPoints; ++i)
+      samples.push_back(1.03 * flower(kTwoPi * i / (4 * controlPoints)));
+    return d2vdb::fitPolylineLeastSquares(samples, true, 3, controlPoints, 2);
+  }
+  d2vdb::BSplineCurve initial;
+  d2vdb::CurveFitOptions options;
+};
+
+constexpr int kTimedIterations = 5;
+
+/// Seconds per iteration on the current thread limit: (a fit of 1 + kTimedIterations iterations
+/// - a fit of 1) / kTimedIterations, so the once-per-fit work (smoothing matrix, initial
+/// evaluation, checks) cancels out. `rms` gets the longer fit's final RMS distance. Returns a
+/// negative value if a fit stopped early.
+double secondsPerIteration(IterationProblem& problem, double& rms) {
+  d2vdb::CurveFitOptions& options = problem.options;
+  options.maxIterations = 1;
+  const auto start = std::chrono::steady_clock::now();
+  const d2vdb::CurveFitResult first = d2vdb::fitCurve(problem.initial, flowerTarget(), options);
+  const auto middle = std::chrono::steady_clock::now();
+  options.maxIterations = 1 + kTimedIterations;
+  const d2vdb::CurveFitResult longer = d2vdb::fitCurve(problem.initial, flowerTarget(), options);
+  const auto end = std::chrono::steady_clock::now();
+  if (longer.iterations() != 1 + kTimedIterations || first.iterations() != 1) return -1.0;
+  rms = longer.history.back().rmsDistance;
+  // Not DoNotOptimize(rms): with GCC its "+m,r" constraint on a double handed back a wrong
+  // value (6.27 instead of 0.0057), which the counter then reported.
+  benchmark::DoNotOptimize(longer.history.data());
+  const std::chrono::duration<double> once = middle - start, more = end - middle;
+  return (more - once).count() / kTimedIterations;
+}
+
+/// A fit of one iteration outside any timing: TBB starts its worker threads on the first
+/// parallel loop after a new global_control, a once-per-process cost that is not part of an
+/// iteration.
+void warmUp(IterationProblem& problem) {
+  problem.options.maxIterations = 1;
+  benchmark::DoNotOptimize(
+      d2vdb::fitCurve(problem.initial, flowerTarget(), problem.options).history.data());
+}
+
 void BM_FitIteration(benchmark::State& state) {
-  const int sensors = static_cast<int>(state.range(0));
-  const int controlPoints = static_cast<int>(state.range(1));
+  IterationProblem problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                   static_cast<std::size_t>(state.range(2)));
-  const d2vdb::CurveTarget& target = flowerTarget();
-  std::vector<Eigen::Vector3d> samples;
-  for (int i = 0; i < 4 * controlPoints; ++i)
-    samples.push_back(1.03 * flower(kTwoPi * i / (4 * controlPoints)));
-  const d2vdb::BSplineCurve initial =
-      d2vdb::fitPolylineLeastSquares(samples, true, 3, controlPoints, 2);
-  // A fixed bending weight and no early stop: every run does exactly the iterations asked for.
-  d2vdb::CurveFitOptions options;
-  options.sensorsPerSpan = sensors / controlPoints;
-  options.smoothness = d2vdb::kAutoClosedSmoothness;
-  options.stepTolerance = 0.0;
-  options.objectiveTolerance = 0.0;
-  constexpr int kTimedIterations = 5;
-  // Warm-up outside the timing: TBB starts its worker threads on the first parallel loop after
-  // the global_control above, a once-per-process cost that is not part of an iteration.
-  options.maxIterations = 1;
-  benchmark::DoNotOptimize(d2vdb::fitCurve(initial, target, options).history.data());
+  warmUp(problem);
   double rms = 0.0;
   for (auto _ : state) {
-    // One iteration = (a fit of 1 + kTimedIterations iterations - a fit of 1) / kTimedIterations:
-    // the once-per-fit work (smoothing matrix, initial evaluation, checks) cancels out.
-    options.maxIterations = 1;
-    const auto start = std::chrono::steady_clock::now();
-    const d2vdb::CurveFitResult first = d2vdb::fitCurve(initial, target, options);
-    const auto middle = std::chrono::steady_clock::now();
-    options.maxIterations = 1 + kTimedIterations;
-    const d2vdb::CurveFitResult longer = d2vdb::fitCurve(initial, target, options);
-    const auto end = std::chrono::steady_clock::now();
-    if (longer.iterations() != 1 + kTimedIterations || first.iterations() != 1) {
+    const double seconds = secondsPerIteration(problem, rms);
+    if (seconds < 0.0) {
       state.SkipWithError("a fit stopped early");
       break;
     }
-    const std::chrono::duration<double> once = middle - start, more = end - middle;
-    state.SetIterationTime((more - once).count() / kTimedIterations);
-    rms = longer.history.back().rmsDistance;
-    // Not DoNotOptimize(rms): with GCC its "+m,r" constraint on a double handed back a wrong
-    // value (6.27 instead of 0.0057), which the counter then reported.
-    benchmark::DoNotOptimize(longer.history.data());
+    state.SetIterationTime(seconds);
   }
   state.counters["rms_after"] = rms;
 }
@@ -98,6 +124,40 @@ BENCHMARK(BM_FitIteration)
     ->Args({20000, 1000, 2})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
+
+/// Paired measurement of the 2-thread speed-up: every benchmark iteration times one iteration
+/// with 1 thread and right after it with 2, so slow drifts of this shared machine hit both
+/// alike. Counters: medians of the 1- and 2-thread times (ms) and their ratio.
+void BM_FitIterationSpeedup(benchmark::State& state) {
+  IterationProblem problem(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  std::vector<double> times[2];
+  double rms = 0.0;
+  for (auto _ : state) {
+    for (int threads = 1; threads <= 2; ++threads) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
+      warmUp(problem);
+      const double seconds = secondsPerIteration(problem, rms);
+      if (seconds < 0.0) {
+        state.SkipWithError("a fit stopped early");
+        return;
+      }
+      times[threads - 1].push_back(seconds);
+    }
+  }
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+  };
+  state.counters["t1_ms"] = 1e3 * median(times[0]);
+  state.counters["t2_ms"] = 1e3 * median(times[1]);
+  state.counters["speedup"] = median(times[0]) / median(times[1]);
+}
+BENCHMARK(BM_FitIterationSpeedup)
+    ->Args({2000, 100})
+    ->Args({20000, 1000})
+    ->Iterations(31)
+    ->Unit(benchmark::kMillisecond);
 
 std::vector<Eigen::Vector3d> noisyFlowerCloud() {
   std::mt19937 engine(5);
