@@ -369,8 +369,8 @@ ApproximantField ApproximantField::fromPoints(const std::vector<Eigen::Vector3d>
   using PointTree =
       nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,
                                           PointCloud, 3, std::uint32_t>;
-  PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  // The constructor builds the index.
+  const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   if (progress) progress("field: approximants", 0.0);
   const auto mask = candidateMask(points, *storage, static_cast<int>(std::ceil(halfWidth)) + 1);
   buildUnsignedBand(

@@ -6,6 +6,7 @@
 #include <openvdb/tools/Morphology.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <nanoflann.hpp>
 
 #include <algorithm>
@@ -36,6 +37,8 @@ using SampleTree =
                                         SampleCloud, 3, std::uint32_t>;
 
 constexpr double kSqrt3 = 1.7320508075688772935;
+/// More coarse levels than any domain needs (2^30 voxels across).
+constexpr int kMaxCoarseLevels = 30;
 
 /// Steps of 26-neighbour (cube) and 6-neighbour (octahedron) dilation whose combination covers
 /// every lattice point within `radius` of an active one (in voxels) with the fewest extra points:
@@ -373,6 +376,36 @@ void FieldStorage::setDomain(const Eigen::AlignedBox3d& targetBounds, double pad
   domain.max().array() += pad;
 }
 
+openvdb::MaskGrid::Ptr FieldStorage::candidateCells(int level,
+                                                    const Eigen::AlignedBox3d& indexDomain,
+                                                    double diagonal) const {
+  const double scale = std::ldexp(1.0, level);
+  auto mask = openvdb::MaskGrid::create(false);
+  if (coarseHalfWidth * scale >= diagonal + scale) {  // the top level: the whole domain
+    const Eigen::Vector3d lo = indexDomain.min() / scale, hi = indexDomain.max() / scale;
+    const openvdb::Coord a(static_cast<int>(std::floor(lo.x())),
+                           static_cast<int>(std::floor(lo.y())),
+                           static_cast<int>(std::floor(lo.z())));
+    const openvdb::Coord b(static_cast<int>(std::ceil(hi.x())), static_cast<int>(std::ceil(hi.y())),
+                           static_cast<int>(std::ceil(hi.z())));
+    mask->tree().denseFill(openvdb::CoordBBox(a, b), true, true);
+    return mask;
+  }
+  auto accessor = mask->getAccessor();
+  for (const Eigen::Vector3f& footpoint : sampleFootpoints) {
+    const Eigen::Vector3d c = footpoint.cast<double>() / scale;
+    accessor.setValueOn(openvdb::Coord(static_cast<int>(std::lround(c.x())),
+                                       static_cast<int>(std::lround(c.y())),
+                                       static_cast<int>(std::lround(c.z()))));
+  }
+  const auto [cubeSteps, octahedronSteps] = dilationSteps(coarseHalfWidth + 0.5 * kSqrt3);
+  openvdb::tools::dilateActiveValues(mask->tree(), octahedronSteps, openvdb::tools::NN_FACE,
+                                     openvdb::tools::IGNORE_TILES);
+  openvdb::tools::dilateActiveValues(mask->tree(), cubeSteps, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                     openvdb::tools::IGNORE_TILES);
+  return mask;
+}
+
 void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   // Samples: band voxels within sqrt(3)/2 voxel of the target. Every target point has a voxel
   // centre within sqrt(3)/2 voxel, which is then a sample whose footpoint is within sqrt(3)
@@ -436,10 +469,6 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   sampleError = std::sqrt(3.0) * voxelSize;
   perLeaf.clear();
 
-  SampleCloud cloud{&sampleFootpoints};
-  SampleTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
-
   // Levels until one band covers the whole domain.
   const Eigen::Vector3d domainMin = worldToIndex(domain.min());
   Eigen::AlignedBox3d indexDomain(domainMin);
@@ -448,36 +477,34 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
         worldToIndex(domain.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))));
   }
   const double diagonal = indexDomain.sizes().norm();
+  int levelCount = 0;
+  for (int level = 1; level <= kMaxCoarseLevels; ++level) {
+    levelCount = level;
+    const double scale = std::ldexp(1.0, level);
+    if (coarseHalfWidth * scale >= diagonal + scale) break;
+  }
+
+  // The candidate cells of every level need only the samples, so they are made while the k-d tree
+  // is built (a serial build: the two run side by side).
+  SampleCloud cloud{&sampleFootpoints};
+  SampleTree tree(3, cloud,
+                  nanoflann::KDTreeSingleIndexAdaptorParams(
+                      16, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
+  std::vector<openvdb::MaskGrid::Ptr> masks(static_cast<std::size_t>(levelCount));
+  tbb::parallel_invoke([&] { tree.buildIndex(); },
+                       [&] {
+                         tbb::parallel_for(0, levelCount, [&](int index) {
+                           masks[static_cast<std::size_t>(index)] =
+                               candidateCells(index + 1, indexDomain, diagonal);
+                         });
+                       });
+
   coarse.clear();
-  for (int level = 1; level <= 30; ++level) {
+  for (int level = 1; level <= levelCount; ++level) {
     const double scale = std::ldexp(1.0, level);
     const double reach = coarseHalfWidth * scale;
     const bool top = reach >= diagonal + scale;
-    openvdb::MaskGrid mask(false);
-    if (top) {
-      const Eigen::Vector3d lo = indexDomain.min() / scale, hi = indexDomain.max() / scale;
-      const openvdb::Coord a(static_cast<int>(std::floor(lo.x())),
-                             static_cast<int>(std::floor(lo.y())),
-                             static_cast<int>(std::floor(lo.z())));
-      const openvdb::Coord b(static_cast<int>(std::ceil(hi.x())),
-                             static_cast<int>(std::ceil(hi.y())),
-                             static_cast<int>(std::ceil(hi.z())));
-      mask.tree().denseFill(openvdb::CoordBBox(a, b), true, true);
-    } else {
-      auto accessor = mask.getAccessor();
-      for (const Eigen::Vector3f& footpoint : sampleFootpoints) {
-        const Eigen::Vector3d c = footpoint.cast<double>() / scale;
-        accessor.setValueOn(openvdb::Coord(static_cast<int>(std::lround(c.x())),
-                                           static_cast<int>(std::lround(c.y())),
-                                           static_cast<int>(std::lround(c.z()))));
-      }
-      const auto [cubeSteps, octahedronSteps] = dilationSteps(coarseHalfWidth + 0.5 * kSqrt3);
-      openvdb::tools::dilateActiveValues(mask.tree(), octahedronSteps, openvdb::tools::NN_FACE,
-                                         openvdb::tools::IGNORE_TILES);
-      openvdb::tools::dilateActiveValues(mask.tree(), cubeSteps,
-                                         openvdb::tools::NN_FACE_EDGE_VERTEX,
-                                         openvdb::tools::IGNORE_TILES);
-    }
+    const openvdb::MaskGrid& mask = *masks[static_cast<std::size_t>(level - 1)];
     std::vector<const openvdb::MaskGrid::TreeType::LeafNodeType*> leaves;
     for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
     std::vector<LeafEntry> levelEntries(leaves.size());
@@ -538,6 +565,7 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
     }
     coarseLevel.table.build(std::move(kept));
     coarse.push_back(std::move(coarseLevel));
+    masks[static_cast<std::size_t>(level - 1)].reset();  // mask is not used after this
     if (progress) progress("field: coarse levels", top ? 1.0 : std::min(0.99, reach / diagonal));
     if (top) break;
   }

@@ -179,6 +179,11 @@ struct FieldStorage {
   std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> buildBandTable();
   /// Samples (band voxels with |d| <= sqrt(3)/2 voxel), the coarse levels, sampleError.
   void buildCoarseLevels(const ProgressCallback& progress);
+  /// The cells coarse level `level` examines: every cell whose centre can lie within its reach
+  /// of a sample (the rounded samples dilated), or the whole index-space domain for the top level
+  /// (reach >= diagonal + voxel). Needs the samples.
+  openvdb::MaskGrid::Ptr candidateCells(int level, const Eigen::AlignedBox3d& indexDomain,
+                                        double diagonal) const;
   /// Domain from the options (or the active voxels' footpoint bounds padded).
   void setDomain(const Eigen::AlignedBox3d& targetBounds, double padding,
                  const std::optional<Eigen::AlignedBox3d>& explicitDomain);
