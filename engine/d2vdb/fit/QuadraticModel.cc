@@ -97,12 +97,16 @@ std::vector<Eigen::Vector3d> QuadraticModel::solve(
                             }
                           }
                         }
-                        block.triangularView<Eigen::StrictlyLower>() = block.transpose();
+                        for (int column = 0; column < blockSize; ++column) {
+                          for (int row = column + 1; row < blockSize; ++row) {
+                            block(row, column) = block(column, row);
+                          }
+                        }
                         blocks[static_cast<std::size_t>(g)] = inverseCount * block;
                         rhs[static_cast<std::size_t>(g)] = inverseCount * vector;
                       }
                     });
-  if (outsidePattern) {  // new sensor spans: rebuild the pattern with them
+  if (outsidePattern || patternStart_.empty()) {  // new sensor spans (or none yet): rebuild
     std::vector<std::pair<int, int>> pairs;
     pairs.reserve(ranks.size());
     for (int g = 0; g < groups; ++g) {
