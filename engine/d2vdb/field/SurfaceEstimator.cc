@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace d2vdb {
 namespace {
@@ -182,8 +183,7 @@ class Interpolator {
       const double w =
           (cx ? t.x() : 1.0 - t.x()) * (cy ? t.y() : 1.0 - t.y()) * (cz ? t.z() : 1.0 - t.z());
       if (w <= 0.0) continue;
-      const openvdb::Coord ijk = corner0 + openvdb::Coord(cx, cy, cz);
-      const std::int64_t record = find(ijk);
+      const std::int64_t record = cornerRecord(corner0, corner);
       if (record < 0) continue;
       const StencilData& data = stencils_[static_cast<std::size_t>(record)];
       if (!data.hasHessian) continue;
@@ -210,6 +210,21 @@ class Interpolator {
   }
 
  private:
+  /// Record of corner `corner` (bits x, y, z) of the cell at `corner0`, or -1. The projection
+  /// rounds usually stay in one cell, so the last cell's corners are remembered (record indices
+  /// are global, so they stay valid across setLeaf()).
+  std::int64_t cornerRecord(const openvdb::Coord& corner0, int corner) {
+    if (corner0 != cachedCell_) {
+      cachedCell_ = corner0;
+      cachedRecords_.fill(kNotLookedUp);
+    }
+    std::int64_t& record = cachedRecords_[static_cast<std::size_t>(corner)];
+    if (record == kNotLookedUp) {
+      record = find(corner0 + openvdb::Coord(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
+    }
+    return record;
+  }
+
   std::int64_t find(const openvdb::Coord& ijk) {
     if (hasLeaf_) {
       // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
@@ -231,6 +246,9 @@ class Interpolator {
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
+  static constexpr std::int64_t kNotLookedUp = -2;
+  openvdb::Coord cachedCell_{std::numeric_limits<int>::min()};
+  std::array<std::int64_t, 8> cachedRecords_{};
 };
 
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:
