@@ -37,6 +37,8 @@ using SampleTree =
                                         SampleCloud, 3, std::uint32_t>;
 
 constexpr double kSqrt3 = 1.7320508075688772935;
+/// Relative rounding of a nearest-sample distance found with float arithmetic (generous).
+constexpr double kSearchRounding = 1e-5;
 /// More coarse levels than any domain needs (2^30 voxels across).
 constexpr int kMaxCoarseLevels = 30;
 
@@ -534,9 +536,21 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
                     Eigen::Vector3d(entry.origin.x(), entry.origin.y(), entry.origin.z()) * scale,
                     0)
                     .first;
+            // A lower bound on the nearest-sample distance at `boundCentre` (distance to a sample
+            // set is 1-Lipschitz): a voxel it puts beyond the reach needs no search.
+            double bound = -std::numeric_limits<double>::infinity();
+            Eigen::Vector3d boundCentre = Eigen::Vector3d::Zero();
             for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
               const openvdb::Coord ijk = voxel.getCoord();
               const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale;
+              if (!top) {
+                const double here = bound - (centre - boundCentre).norm();
+                if (here > reach) {
+                  bound = here;
+                  boundCentre = centre;
+                  continue;
+                }
+              }
               const std::int64_t known = knownSample(ijk);
               const auto [sample, distance] =
                   known >= 0
@@ -547,6 +561,9 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
                                 .norm())
                       : nearestSample(tree, sampleFootpoints, centre, seed);
               seed = sample;
+              // The answer is a nearest sample up to float rounding of the search.
+              bound = distance * (1.0 - kSearchRounding);
+              boundCentre = centre;
               if (!top && distance > reach) continue;
               const int offset = static_cast<int>(voxel.pos());
               entry.mask[offset >> 6] |= std::uint64_t{1} << (offset & 63);
