@@ -396,6 +396,81 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
   }
 }
 
+// The coarse levels by brute force: a coarse answer's footpoint is that of the sample (a band
+// voxel within sqrt(3)/2 voxel of the surface) nearest to the centre of the cell the query fell in,
+// and a query answered at level L > 1 has no sample within level L-1's reach of its cell there
+// (else that finer level would have kept the cell).
+TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
+  const double h = 0.05;
+  const Sphere sphere(Eigen::Vector3d(0.03, -0.02, 0.01), 0.5);
+  ApproximantFieldOptions options;
+  const ApproximantField field =
+      ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}), options);
+  const auto& grid = *field.distanceGrid();
+  std::vector<Eigen::Vector3d> samples;
+  for (const Eigen::Vector3d& centre : bandCentres(field)) {
+    const Approximant a = field.approximantAt(centre);
+    if (std::abs(a.distance) <= 0.5 * std::sqrt(3.0) * h) samples.push_back(a.footpoint);
+  }
+  ASSERT_GT(samples.size(), 1000u);
+  // Nearest and second-nearest sample distances from a world point.
+  const auto nearest = [&](const Eigen::Vector3d& point, Eigen::Vector3d& footpoint) {
+    double best = 1e300, second = 1e300;
+    for (const Eigen::Vector3d& sample : samples) {
+      const double distance = (sample - point).norm();
+      if (distance < best) {
+        second = best;
+        best = distance;
+        footpoint = sample;
+      } else {
+        second = std::min(second, distance);
+      }
+    }
+    return std::pair<double, double>(best, second);
+  };
+  const auto cellCentre = [&](const Eigen::Vector3d& point, int level) {
+    const double scale = std::ldexp(1.0, level);
+    const openvdb::Vec3d index = grid.worldToIndex(openvdb::Vec3d(point.x(), point.y(), point.z()));
+    const openvdb::Vec3d centre(std::round(index.x() / scale) * scale,
+                                std::round(index.y() / scale) * scale,
+                                std::round(index.z() / scale) * scale);
+    const openvdb::Vec3d world = grid.indexToWorld(centre);
+    return Eigen::Vector3d(world.x(), world.y(), world.z());
+  };
+  const Eigen::AlignedBox3d domain = field.domain();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  ApproximantField::Accessor accessor(field);
+  int checked = 0, finerChecked = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Eigen::Vector3d x =
+        domain.min() +
+        (domain.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random)))
+            .matrix();
+    const Approximant a = accessor.approximantAt(x);
+    const int level = accessor.lastLevel();
+    if (level == 0) continue;
+    Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+    const auto [best, second] = nearest(cellCentre(x, level), expected);
+    if (second - best > 1e-6) {  // not a tie up to the footpoints' float rounding
+      EXPECT_LT((a.footpoint - expected).norm(), 1e-6)
+          << "level " << level << " at " << x.transpose();
+      ++checked;
+    }
+    if (level > 1) {
+      Eigen::Vector3d unused = Eigen::Vector3d::Zero();
+      const double finerReach = options.coarseHalfWidth * std::ldexp(1.0, level - 1) * h;
+      EXPECT_GT(nearest(cellCentre(x, level - 1), unused).first, finerReach * (1.0 - 1e-9))
+          << "level " << level - 1 << " dropped a cell within its reach at " << x.transpose();
+      ++finerChecked;
+    }
+  }
+  std::printf("coarse cells: %zu samples, %d nearest-sample checks, %d finer-level checks\n",
+              samples.size(), checked, finerChecked);
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(finerChecked, 300);
+}
+
 /// Every approximant at the band's voxel centres and at `extra` points, compared field by field.
 void expectSameAnswers(const ApproximantField& a, const ApproximantField& b,
                        const std::vector<Eigen::Vector3d>& extra) {
