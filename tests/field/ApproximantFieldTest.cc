@@ -38,6 +38,20 @@ std::vector<Eigen::Vector3d> bandCentres(const ApproximantField& field) {
   return centres;
 }
 
+/// `count` points uniformly distributed in `box`, from a generator seeded with `seed`.
+std::vector<Eigen::Vector3d> randomPoints(const Eigen::AlignedBox3d& box, int count,
+                                          unsigned seed = 17) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    points.push_back(
+        box.min() +
+        (box.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random))).matrix());
+  }
+  return points;
+}
+
 /// Angle in degrees between two lines (directions up to sign).
 double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double c = std::min(1.0, std::abs(a.normalized().dot(b.normalized())));
@@ -345,16 +359,10 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
   const Eigen::AlignedBox3d domain = field.domain();
   // Default domain: the target's box padded by half its size.
   EXPECT_NEAR(domain.sizes().x(), 2.0 * (1.0 + 2 * 3 * h) * 1.0, 0.1);
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   double worstRelative = 0.0;
   int farQueries = 0;
   ApproximantField::Accessor accessor(field);
-  for (int trial = 0; trial < 20000; ++trial) {
-    const Eigen::Vector3d x =
-        domain.min() +
-        (domain.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random)))
-            .matrix();
+  for (const Eigen::Vector3d& x : randomPoints(domain, 20000, 5)) {
     const Approximant a = accessor.approximantAt(x);
     const double exact = sphere.signedDistance(x);
     ASSERT_TRUE(a.footpoint.allFinite() && a.normal.allFinite() && std::isfinite(a.distance));
@@ -438,15 +446,9 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
     return Eigen::Vector3d(world.x(), world.y(), world.z());
   };
   const Eigen::AlignedBox3d domain = field.domain();
-  std::mt19937 random(11);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
   ApproximantField::Accessor accessor(field);
   int checked = 0, finerChecked = 0;
-  for (int trial = 0; trial < 3000; ++trial) {
-    const Eigen::Vector3d x =
-        domain.min() +
-        (domain.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random)))
-            .matrix();
+  for (const Eigen::Vector3d& x : randomPoints(domain, 3000, 11)) {
     const Approximant a = accessor.approximantAt(x);
     const int level = accessor.lastLevel();
     if (level == 0) continue;
@@ -489,18 +491,6 @@ void expectSameAnswers(const ApproximantField& a, const ApproximantField& b,
         << " t " << x.tangent.transpose() << " / " << y.tangent.transpose() << " k " << x.k1 << ","
         << x.k2 << " / " << y.k1 << "," << y.k2;
   }
-}
-
-std::vector<Eigen::Vector3d> randomPoints(const Eigen::AlignedBox3d& box, int count) {
-  std::mt19937 random(17);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < count; ++i) {
-    points.push_back(
-        box.min() +
-        (box.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random))).matrix());
-  }
-  return points;
 }
 
 TEST(ApproximantField, SameFieldForOneAndTwoThreadsAndExactRoundTrip) {

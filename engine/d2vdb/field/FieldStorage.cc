@@ -37,6 +37,13 @@ using SampleTree =
                                         SampleCloud, 3, std::uint32_t>;
 
 constexpr double kSqrt3 = 1.7320508075688772935;
+/// Whether coarse level `level` is the top one: its reach (halfWidth voxels of 2^level band voxels)
+/// spans the domain's index-space diagonal plus one of its voxels.
+bool isTopLevel(int halfWidth, int level, double diagonal) {
+  const double scale = std::ldexp(1.0, level);
+  return halfWidth * scale >= diagonal + scale;
+}
+
 /// Relative rounding of a nearest-sample distance found with float arithmetic (generous).
 constexpr double kSearchRounding = 1e-5;
 /// More coarse levels than any domain needs (2^30 voxels across).
@@ -383,7 +390,7 @@ openvdb::MaskGrid::Ptr FieldStorage::candidateCells(int level,
                                                     double diagonal) const {
   const double scale = std::ldexp(1.0, level);
   auto mask = openvdb::MaskGrid::create(false);
-  if (coarseHalfWidth * scale >= diagonal + scale) {  // the top level: the whole domain
+  if (isTopLevel(coarseHalfWidth, level, diagonal)) {  // the whole domain
     const Eigen::Vector3d lo = indexDomain.min() / scale, hi = indexDomain.max() / scale;
     const openvdb::Coord a(static_cast<int>(std::floor(lo.x())),
                            static_cast<int>(std::floor(lo.y())),
@@ -482,8 +489,7 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   int levelCount = 0;
   for (int level = 1; level <= kMaxCoarseLevels; ++level) {
     levelCount = level;
-    const double scale = std::ldexp(1.0, level);
-    if (coarseHalfWidth * scale >= diagonal + scale) break;
+    if (isTopLevel(coarseHalfWidth, level, diagonal)) break;
   }
 
   // The candidate cells of every level need only the samples, so they are made while the k-d tree
@@ -505,7 +511,7 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   for (int level = 1; level <= levelCount; ++level) {
     const double scale = std::ldexp(1.0, level);
     const double reach = coarseHalfWidth * scale;
-    const bool top = reach >= diagonal + scale;
+    const bool top = isTopLevel(coarseHalfWidth, level, diagonal);
     const openvdb::MaskGrid& mask = *masks[static_cast<std::size_t>(level - 1)];
     std::vector<const openvdb::MaskGrid::TreeType::LeafNodeType*> leaves;
     for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
