@@ -77,7 +77,8 @@ struct FieldStatistics {
 ///
 /// Levels 1..L (beyond the band): voxel size voxelSize * 2^level, half-width coarseHalfWidth;
 /// each active voxel holds the index of the band sample (a level-0 voxel near the target) whose
-/// footpoint is nearest to the voxel centre, found exactly with a k-d tree over the samples. The
+/// footpoint is nearest to the voxel centre, found exactly (NearestPointTree over the samples);
+/// level-1 voxels whose every query the band answers are left out. The
 /// top level covers the whole working domain. A query at x uses the finest level whose stored
 /// voxel nearest to x is active and returns that voxel's approximant (Taylor expansion of d^2
 /// about the voxel centre). Error bound beyond the band: see coarseDistanceErrorBound().

@@ -7,7 +7,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -16,25 +15,12 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/field/NearestPointTree.h"
 
 namespace d2vdb {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925286766559;
-
-/// nanoflann adaptor over the sample footpoints.
-struct SampleCloud {
-  const std::vector<Eigen::Vector3f>* points;
-  std::size_t kdtree_get_point_count() const { return points->size(); }
-  float kdtree_get_pt(std::size_t index, std::size_t dim) const { return (*points)[index][dim]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-using SampleTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, SampleCloud>,
-                                        SampleCloud, 3, std::uint32_t>;
 
 constexpr double kSqrt3 = 1.7320508075688772935;
 /// Whether coarse level `level` is the top one: its reach (halfWidth voxels of 2^level band voxels)
@@ -73,48 +59,106 @@ std::pair<int, int> dilationSteps(double radius) {
   return best;
 }
 
-/// nanoflann result set for the single nearest point within a starting bound: the search only
-/// enters tree cells closer than the best distance so far, so a tight bound prunes most of them.
-class BoundedNearest {
+/// Fills the leaves of one coarse level (one filler per thread): for every candidate cell, the
+/// nearest sample to its centre, unless the cell can never answer a query.
+class CoarseLeafFiller {
  public:
-  /// Starts from a known point `index` at squared distance `squared`; it stays the answer unless
-  /// a strictly closer point is found.
-  BoundedNearest(std::uint32_t index, float squared) : index_(index), squared_(squared) {}
-  std::size_t size() const { return 1; }
-  bool full() const { return true; }
-  bool addPoint(float squared, std::uint32_t index) {
-    if (squared < squared_ || (squared == squared_ && index < index_)) {
-      squared_ = squared;
-      index_ = index;
+  CoarseLeafFiller(const NearestPointTree& tree, const std::vector<Eigen::Vector3f>& samples,
+                   const LeafTable& band, const CoarseLevel* finer, int level, double reach,
+                   bool top)
+      : tree_(tree),
+        samples_(samples),
+        finer_(finer),
+        level_(level),
+        scale_(std::ldexp(1.0, level)),
+        reach_(reach),
+        top_(top),
+        bandCursor_(band) {
+    if (finer_ != nullptr) finerCursor_.emplace(finer_->table);
+  }
+
+  /// Fills `entry` (origin and mask) and `kept` (the kept cells' samples, in mask order) from the
+  /// candidate cells of `leaf`.
+  void fill(const openvdb::MaskGrid::TreeType::LeafNodeType& leaf, LeafEntry& entry,
+            std::vector<std::uint32_t>& kept) {
+    entry.origin = leaf.origin();
+    // Each cell's search starts from the previous cell's answer, a near neighbour.
+    std::uint32_t seed =
+        tree_
+            .nearest(Eigen::Vector3f(static_cast<float>(entry.origin.x() * scale_),
+                                     static_cast<float>(entry.origin.y() * scale_),
+                                     static_cast<float>(entry.origin.z() * scale_)),
+                     0)
+            .index;
+    // Lower bounds on the nearest-sample distance at the leaf's cells (index units): the distance
+    // to a sample set is 1-Lipschitz, so a cell whose face neighbour is known to lie beyond the
+    // reach plus one cell needs no search.
+    std::array<double, 512> lower;
+    lower.fill(-std::numeric_limits<double>::infinity());
+    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+      const openvdb::Coord ijk = voxel.getCoord();
+      const int offset = static_cast<int>(voxel.pos());
+      if (!top_) {
+        double neighbour = -std::numeric_limits<double>::infinity();
+        if ((offset & 7) != 0) neighbour = std::max(neighbour, lower[offset - 1]);
+        if ((offset & 56) != 0) neighbour = std::max(neighbour, lower[offset - 8]);
+        if ((offset & 448) != 0) neighbour = std::max(neighbour, lower[offset - 64]);
+        if (neighbour - scale_ > reach_) {
+          lower[offset] = neighbour - scale_;
+          continue;
+        }
+      }
+      if (level_ == 1 && answeredByBand(ijk)) continue;
+      const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale_;
+      const std::int64_t known = knownSample(ijk);
+      const std::uint32_t sample = known >= 0 ? static_cast<std::uint32_t>(known)
+                                              : tree_.nearest(centre.cast<float>(), seed).index;
+      seed = sample;
+      const double distance = (samples_[sample].cast<double>() - centre).norm();
+      // The answer is a nearest sample up to float rounding of the search.
+      lower[offset] = distance * (1.0 - kSearchRounding);
+      if (!top_ && distance > reach_) continue;
+      entry.mask[offset >> 6] |= std::uint64_t{1} << (offset & 63);
+      kept.push_back(sample);
+    }
+  }
+
+ private:
+  /// Whether the band answers every query that would reach level-1 cell `ijk`: those round to one
+  /// of the 27 band voxels 2 ijk + {-1, 0, 1}^3.
+  bool answeredByBand(const openvdb::Coord& ijk) {
+    const openvdb::Coord centre(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z());
+    if (bandCursor_.record(centre) < 0) return false;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (bandCursor_.record(centre + openvdb::Coord(dx, dy, dz)) < 0) return false;
+        }
+      }
     }
     return true;
   }
-  float worstDist() const { return squared_; }
-  std::uint32_t index() const { return index_; }
 
- private:
-  std::uint32_t index_;
-  float squared_;
-};
-
-/// Nearest sample to `query` (index space), seeded with sample `seed` (any sample; the closer
-/// to the answer, the faster): its index and distance. Ties go to the lower index.
-std::pair<std::uint32_t, double> nearestSample(const SampleTree& tree,
-                                               const std::vector<Eigen::Vector3f>& samples,
-                                               const Eigen::Vector3d& query, std::uint32_t seed) {
-  const Eigen::Vector3f point = query.cast<float>();
-  // The seed's squared distance as the search computes it (float, same operation order), so
-  // that the seed never beats an equally close point found by the search.
-  float seedSquared = 0.0f;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float difference = point[axis] - samples[seed][axis];
-    seedSquared += difference * difference;
+  /// A cell centre of this level is also one of the finer level's (index 2 ijk there): where that
+  /// level kept it, its nearest sample is already known. -1 otherwise.
+  std::int64_t knownSample(const openvdb::Coord& ijk) {
+    if (!finerCursor_) return -1;
+    const std::int64_t record =
+        finerCursor_->record(openvdb::Coord(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z()));
+    if (record < 0) return -1;
+    return static_cast<std::int64_t>(finer_->sampleOf[static_cast<std::size_t>(record)]);
   }
-  BoundedNearest result(seed, std::nextafter(seedSquared, std::numeric_limits<float>::max()));
-  tree.findNeighbors(result, point.data(), nanoflann::SearchParams());
-  const std::uint32_t index = result.index();
-  return {index, (samples[index].cast<double>() - query).norm()};
-}
+
+  const NearestPointTree& tree_;
+  const std::vector<Eigen::Vector3f>& samples_;
+  const CoarseLevel* finer_;
+  int level_;
+  double scale_;
+  double reach_;
+  bool top_;
+  LeafCursor bandCursor_;
+  std::optional<LeafCursor> finerCursor_;
+};
 
 }  // namespace
 
@@ -437,7 +481,10 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
                         }
                       }
                     });
-  sampleRecords.clear();
+  std::size_t sampleCount = 0;
+  for (const auto& list : perLeaf) sampleCount += list.size();
+  sampleRecords = std::vector<std::uint32_t>();  // exact capacity: statistics() counts it
+  sampleRecords.reserve(sampleCount);
   sampleFootpoints.clear();
   for (const auto& list : perLeaf) {
     sampleRecords.insert(sampleRecords.end(), list.begin(), list.end());
@@ -492,14 +539,11 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
     if (isTopLevel(coarseHalfWidth, level, diagonal)) break;
   }
 
-  // The candidate cells of every level need only the samples, so they are made while the k-d tree
-  // is built (a serial build: the two run side by side).
-  SampleCloud cloud{&sampleFootpoints};
-  SampleTree tree(3, cloud,
-                  nanoflann::KDTreeSingleIndexAdaptorParams(
-                      16, nanoflann::KDTreeSingleIndexAdaptorFlags::SkipInitialBuildIndex));
+  // The candidate cells of every level need only the samples, so they are made while the
+  // nearest-sample tree is built.
+  std::optional<NearestPointTree> tree;
   std::vector<openvdb::MaskGrid::Ptr> masks(static_cast<std::size_t>(levelCount));
-  tbb::parallel_invoke([&] { tree.buildIndex(); },
+  tbb::parallel_invoke([&] { tree.emplace(sampleFootpoints); },
                        [&] {
                          tbb::parallel_for(0, levelCount, [&](int index) {
                            masks[static_cast<std::size_t>(index)] =
@@ -517,69 +561,25 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
     for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
     std::vector<LeafEntry> levelEntries(leaves.size());
     std::vector<std::vector<std::uint32_t>> levelSamples(leaves.size());
-    // A voxel centre of this level is also one of the finer level's (index 2 ijk there): where
-    // that level kept it, its nearest sample is already known.
     const CoarseLevel* finer = coarse.empty() ? nullptr : &coarse.back();
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          std::optional<LeafCursor> finerCursor;
-          if (finer != nullptr) finerCursor.emplace(finer->table);
-          const auto knownSample = [&](const openvdb::Coord& ijk) -> std::int64_t {
-            if (!finerCursor) return -1;
-            const std::int64_t record =
-                finerCursor->record(openvdb::Coord(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z()));
-            if (record < 0) return -1;
-            return static_cast<std::int64_t>(finer->sampleOf[static_cast<std::size_t>(record)]);
-          };
-          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            LeafEntry& entry = levelEntries[i];
-            entry.origin = leaves[i]->origin();
-            // Each voxel's search starts from the previous voxel's answer, a near neighbour.
-            std::uint32_t seed =
-                nearestSample(
-                    tree, sampleFootpoints,
-                    Eigen::Vector3d(entry.origin.x(), entry.origin.y(), entry.origin.z()) * scale,
-                    0)
-                    .first;
-            // A lower bound on the nearest-sample distance at `boundCentre` (distance to a sample
-            // set is 1-Lipschitz): a voxel it puts beyond the reach needs no search.
-            double bound = -std::numeric_limits<double>::infinity();
-            Eigen::Vector3d boundCentre = Eigen::Vector3d::Zero();
-            for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
-              const openvdb::Coord ijk = voxel.getCoord();
-              const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale;
-              if (!top) {
-                const double here = bound - (centre - boundCentre).norm();
-                if (here > reach) {
-                  bound = here;
-                  boundCentre = centre;
-                  continue;
-                }
-              }
-              const std::int64_t known = knownSample(ijk);
-              const auto [sample, distance] =
-                  known >= 0
-                      ? std::pair<std::uint32_t, double>(
-                            static_cast<std::uint32_t>(known),
-                            (sampleFootpoints[static_cast<std::size_t>(known)].cast<double>() -
-                             centre)
-                                .norm())
-                      : nearestSample(tree, sampleFootpoints, centre, seed);
-              seed = sample;
-              // The answer is a nearest sample up to float rounding of the search.
-              bound = distance * (1.0 - kSearchRounding);
-              boundCentre = centre;
-              if (!top && distance > reach) continue;
-              const int offset = static_cast<int>(voxel.pos());
-              entry.mask[offset >> 6] |= std::uint64_t{1} << (offset & 63);
-              levelSamples[i].push_back(sample);
-            }
-          }
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        CoarseLeafFiller filler(*tree, sampleFootpoints, band, finer, level, reach,
+                                                top);
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          filler.fill(*leaves[i], levelEntries[i], levelSamples[i]);
+                        }
+                      });
     CoarseLevel coarseLevel;
     coarseLevel.level = level;
     std::vector<LeafEntry> kept;
+    std::size_t keptCells = 0, keptLeaves = 0;
+    for (const auto& list : levelSamples) {
+      keptCells += list.size();
+      keptLeaves += list.empty() ? 0 : 1;
+    }
+    coarseLevel.sampleOf.reserve(keptCells);  // exact capacities: statistics() counts them
+    kept.reserve(keptLeaves);
     for (std::size_t i = 0; i < levelEntries.size(); ++i) {
       if (levelSamples[i].empty()) continue;
       kept.push_back(levelEntries[i]);
