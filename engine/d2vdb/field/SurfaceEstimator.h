@@ -27,7 +27,7 @@ inline constexpr const char* kSurfaceEstimator =
 /// H_xy = sum x y f / 12. Other voxels get a gradient from the central or one-sided differences
 /// their active neighbours allow.
 /// Pass 2: for every active voxel p, the footpoint s with p - s parallel to the normal at s and
-/// d(s) = 0, by up to three rounds (fewer once the footpoint moves by less than 1e-4 voxel) of:
+/// d(s) = 0, by up to three rounds (fewer once the footpoint moves by less than 0.02 voxel) of:
 /// interpolate d, grad d (trilinearly, from the pass-1 data of the 8 voxels around s), project onto
 /// the zero level, re-aim along the normal through p. The distance stored is the one this footpoint
 /// implies. The Hessian interpolated at the footpoint is the shape operator there (on the surface,
