@@ -179,7 +179,7 @@ std::uint64_t LeafTable::build(std::vector<LeafEntry> entries) {
     std::uint32_t running = 0;
     for (int w = 0; w < 8; ++w) {
       entry.prefix[w] = static_cast<std::uint16_t>(running);
-      running += static_cast<std::uint32_t>(__builtin_popcountll(entry.mask[w]));
+      running += static_cast<std::uint32_t>(countBits(entry.mask[w]));
     }
     total += running;
   }
@@ -472,7 +472,7 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
                         const LeafEntry& entry = entries[leaf];
                         std::uint32_t record = entry.base;
                         for (int w = 0; w < 8; ++w) {
-                          const int count = __builtin_popcountll(entry.mask[w]);
+                          const int count = countBits(entry.mask[w]);
                           for (int k = 0; k < count; ++k, ++record) {
                             if (std::abs(records[record].distance) <= limit) {
                               perLeaf[leaf].push_back(record);

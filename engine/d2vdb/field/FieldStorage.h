@@ -18,6 +18,15 @@
 
 namespace d2vdb {
 
+/// Number of set bits of `bits`, inline (the portable x86-64 baseline has no popcount instruction,
+/// and __builtin_popcountll then becomes a library call on every voxel look-up).
+inline int countBits(std::uint64_t bits) {
+  bits = bits - ((bits >> 1) & 0x5555555555555555ull);
+  bits = (bits & 0x3333333333333333ull) + ((bits >> 2) & 0x3333333333333333ull);
+  bits = (bits + (bits >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<int>((bits * 0x0101010101010101ull) >> 56);
+}
+
 /// One 8^3 block of a sparse level: its origin (index space, multiples of 8), the active-voxel
 /// mask (bit (x & 7) * 64 + (y & 7) * 8 + (z & 7), OpenVDB's leaf order) and the index of its
 /// first record; records of the block's active voxels follow in mask order.
@@ -45,7 +54,7 @@ class LeafTable {
     const std::uint64_t bit = std::uint64_t{1} << (offset & 63);
     if ((leaf.mask[word] & bit) == 0) return -1;
     return static_cast<std::int64_t>(leaf.base) + leaf.prefix[word] +
-           __builtin_popcountll(leaf.mask[word] & (bit - 1));
+           countBits(leaf.mask[word] & (bit - 1));
   }
 
   const std::vector<LeafEntry>& entries() const { return entries_; }

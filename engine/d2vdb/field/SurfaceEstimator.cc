@@ -179,11 +179,12 @@ class Interpolator {
   };
 
   Result at(const Eigen::Vector3d& point) {
-    Result result;
     const Eigen::Vector3d base = point.array().floor();
     const Eigen::Vector3d t = point - base;
     const openvdb::Coord corner0(static_cast<int>(base.x()), static_cast<int>(base.y()),
                                  static_cast<int>(base.z()));
+    // Sums in locals (weight, distance, gradient, Hessian xx yy zz xy xz yz), stored once.
+    std::array<double, 11> sum{};
     for (int corner = 0; corner < 8; ++corner) {
       const int cx = corner & 1, cy = (corner >> 1) & 1, cz = (corner >> 2) & 1;
       const double w =
@@ -193,25 +194,20 @@ class Interpolator {
       if (record < 0) continue;
       const StencilData& data = stencils_[static_cast<std::size_t>(record)];
       if (!data.hasHessian) continue;
-      result.weight += w;
-      result.distance += w * data.distance;
-      result.gradient += w * Eigen::Vector3d(data.gradient[0], data.gradient[1], data.gradient[2]);
-      const auto& h = data.hessian;
-      result.hessian(0, 0) += w * h[0];
-      result.hessian(1, 1) += w * h[1];
-      result.hessian(2, 2) += w * h[2];
-      result.hessian(0, 1) += w * h[3];
-      result.hessian(0, 2) += w * h[4];
-      result.hessian(1, 2) += w * h[5];
+      sum[0] += w;
+      sum[1] += w * data.distance;
+      for (int k = 0; k < 3; ++k) sum[2 + k] += w * data.gradient[k];
+      for (int k = 0; k < 6; ++k) sum[5 + k] += w * data.hessian[k];
     }
-    if (result.weight > 0.0) {
-      result.distance /= result.weight;
-      result.gradient /= result.weight;
-      result.hessian /= result.weight;
-    }
-    result.hessian(1, 0) = result.hessian(0, 1);
-    result.hessian(2, 0) = result.hessian(0, 2);
-    result.hessian(2, 1) = result.hessian(1, 2);
+    Result result;
+    result.weight = sum[0];
+    const double scale = sum[0] > 0.0 ? 1.0 / sum[0] : 0.0;
+    result.distance = sum[1] * scale;
+    result.gradient = Eigen::Vector3d(sum[2], sum[3], sum[4]) * scale;
+    result.hessian << sum[5], sum[8], sum[9],  //
+        sum[8], sum[6], sum[10],               //
+        sum[9], sum[10], sum[7];
+    result.hessian *= scale;
     return result;
   }
 
@@ -258,19 +254,35 @@ class Interpolator {
 };
 
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:
-/// curvatures k1 >= k2 (1/voxel) and the unit direction of k1.
+/// curvatures k1 >= k2 (1/voxel) and the unit direction of k1, in closed form: in the basis
+/// (b0, b1) = tangentBasis(normal) the restriction is [[a, b], [b, c]], and e1 is the direction
+/// at angle atan2(2b, a - c) / 2 from b0 (the one with a non-negative b0 component; b0 at an
+/// umbilic), found without trigonometry.
 void principalCurvatures(const Eigen::Matrix3d& hessian, const Eigen::Vector3d& normal, double& k1,
                          double& k2, Eigen::Vector3d& e1) {
   const auto basis = tangentBasis(normal);
-  const double a = basis[0].dot(hessian * basis[0]);
-  const double b = basis[0].dot(hessian * basis[1]);
+  const Eigen::Vector3d hb0 = hessian * basis[0];
+  const double a = basis[0].dot(hb0);
+  const double b = basis[1].dot(hb0);
   const double c = basis[1].dot(hessian * basis[1]);
-  const double mean = 0.5 * (a + c);
-  const double radius = std::hypot(0.5 * (a - c), b);
-  k1 = mean + radius;
-  k2 = mean - radius;
-  const double angle = 0.5 * std::atan2(2.0 * b, a - c);
-  e1 = std::cos(angle) * basis[0] + std::sin(angle) * basis[1];
+  const double half = 0.5 * (a - c);
+  const double radius = std::sqrt(half * half + b * b);
+  k1 = 0.5 * (a + c) + radius;
+  k2 = 0.5 * (a + c) - radius;
+  // An eigenvector of k1: (half + radius, b) when a >= c, else (b, radius - half); both are long
+  // (|v| >= radius) where they are used.
+  double u = half >= 0.0 ? half + radius : b;
+  double v = half >= 0.0 ? b : radius - half;
+  const double length = std::sqrt(u * u + v * v);
+  if (!(length > 1e-300)) {
+    e1 = basis[0];
+    return;
+  }
+  if (u < 0.0) {
+    u = -u;
+    v = -v;
+  }
+  e1 = (u / length) * basis[0] + (v / length) * basis[1];
 }
 
 }  // namespace
