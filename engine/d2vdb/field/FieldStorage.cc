@@ -82,14 +82,6 @@ class CoarseLeafFiller {
   void fill(const openvdb::MaskGrid::TreeType::LeafNodeType& leaf, LeafEntry& entry,
             std::vector<std::uint32_t>& kept) {
     entry.origin = leaf.origin();
-    // Each cell's search starts from the previous cell's answer, a near neighbour.
-    std::uint32_t seed =
-        tree_
-            .nearest(Eigen::Vector3f(static_cast<float>(entry.origin.x() * scale_),
-                                     static_cast<float>(entry.origin.y() * scale_),
-                                     static_cast<float>(entry.origin.z() * scale_)),
-                     0)
-            .index;
     // Lower bounds on the nearest-sample distance at the leaf's cells (index units): the distance
     // to a sample set is 1-Lipschitz, so a cell whose face neighbour is known to lie beyond the
     // reach plus one cell needs no search.
@@ -112,8 +104,8 @@ class CoarseLeafFiller {
       const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale_;
       const std::int64_t known = knownSample(ijk);
       const std::uint32_t sample = known >= 0 ? static_cast<std::uint32_t>(known)
-                                              : tree_.nearest(centre.cast<float>(), seed).index;
-      seed = sample;
+                                              : tree_.nearest(centre.cast<float>(), hint_).index;
+      hint_ = sample;
       const double distance = (samples_[sample].cast<double>() - centre).norm();
       // The answer is a nearest sample up to float rounding of the search.
       lower[offset] = distance * (1.0 - kSearchRounding);
@@ -158,6 +150,9 @@ class CoarseLeafFiller {
   bool top_;
   LeafCursor bandCursor_;
   std::optional<LeafCursor> finerCursor_;
+  /// The previous cell's answer, a near neighbour's: each search starts from it (answers are exact,
+  /// so they do not depend on it).
+  std::uint32_t hint_ = 0;
 };
 
 }  // namespace
