@@ -130,7 +130,8 @@ std::uint16_t encodeHalf(double value);
 double decodeHalf(std::uint16_t bits);
 
 /// A coarse level: voxel size voxelSize * 2^level; each active voxel's record is the index of
-/// the band sample whose footpoint is nearest to the voxel centre.
+/// the band sample whose footpoint is nearest to the voxel centre. Level 1 leaves out the voxels
+/// whose every query the band answers.
 struct CoarseLevel {
   int level = 1;
   LeafTable table;
