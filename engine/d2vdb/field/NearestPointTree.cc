@@ -234,10 +234,4 @@ NearestPointTree::Nearest NearestPointTree::nearest(const Eigen::Vector3f& query
   return best;
 }
 
-std::size_t NearestPointTree::memoryBytes() const {
-  return (xs_.capacity() + ys_.capacity() + zs_.capacity()) * sizeof(float) +
-         (originalIndex_.capacity() + position_.capacity()) * sizeof(std::uint32_t) +
-         nodes_.capacity() * sizeof(Node);
-}
-
 }  // namespace d2vdb

@@ -37,8 +37,6 @@ class NearestPointTree {
   Nearest nearest(const Eigen::Vector3f& query, std::uint32_t hint) const;
 
   std::size_t size() const { return originalIndex_.size(); }
-  /// Bytes held (points, indices, boxes).
-  std::size_t memoryBytes() const;
 
  private:
   /// A node in depth-first order: its left child follows it, `second` is the right child's index;
