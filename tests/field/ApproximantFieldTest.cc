@@ -357,6 +357,11 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
   const ApproximantField field =
       ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}));
   const Eigen::AlignedBox3d domain = field.domain();
+  // The coarse levels wait for the first query beyond the band; band queries do not build them.
+  EXPECT_FALSE(field.coarseLevelsBuilt());
+  EXPECT_EQ(field.statistics().levels.size(), 1u);
+  EXPECT_EQ(field.approximantAt(Eigen::Vector3d(0.55, 0.0, -0.03)).flags & kFlagFarField, 0);
+  EXPECT_FALSE(field.coarseLevelsBuilt());
   // Default domain: the target's box padded by half its size.
   EXPECT_NEAR(domain.sizes().x(), 2.0 * (1.0 + 2 * 3 * h) * 1.0, 0.1);
   double worstRelative = 0.0;
@@ -386,7 +391,10 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
     worstRelative =
         std::max(worstRelative, std::abs(std::sqrt(form(x)) - std::abs(exact)) / std::abs(exact));
   }
+  EXPECT_TRUE(field.coarseLevelsBuilt());
   const FieldStatistics stats = field.statistics();
+  EXPECT_TRUE(stats.coarseLevelsBuilt);
+  EXPECT_EQ(static_cast<int>(stats.levels.size()), field.levelCount());
   std::printf(
       "beyond the band: %d far queries, worst relative error of sqrt(F(x)) %.3g; %d levels;"
       " %llu bytes vs dense %.3g\n",
@@ -497,10 +505,27 @@ TEST(ApproximantField, SameFieldForOneAndTwoThreadsAndExactRoundTrip) {
   const double h = 0.03;
   const Torus torus(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 0.35);
   const auto grid = primitiveLevelSet(torus, {h, 3.0});
-  const ApproximantField one = withThreads(1, [&] { return ApproximantField::fromLevelSet(grid); });
-  const ApproximantField two = withThreads(2, [&] { return ApproximantField::fromLevelSet(grid); });
+  // Fields built entirely with 1 and with 2 threads, and one whose coarse levels are built
+  // lazily, inside a 2-thread batch query whose threads meet the first far points at once.
+  const auto build = [&] {
+    ApproximantField field = ApproximantField::fromLevelSet(grid);
+    field.buildCoarseLevels();
+    return field;
+  };
+  const ApproximantField one = withThreads(1, build);
+  const ApproximantField two = withThreads(2, build);
   const auto extra = randomPoints(one.domain(), 5000);
   expectSameAnswers(one, two, extra);
+  const ApproximantField lazy = ApproximantField::fromLevelSet(grid);
+  ASSERT_FALSE(lazy.coarseLevelsBuilt());
+  const auto lazyBatch = withThreads(2, [&] { return lazy.approximantsAt(extra); });
+  EXPECT_TRUE(lazy.coarseLevelsBuilt());
+  const auto eagerBatch = withThreads(1, [&] { return one.approximantsAt(extra); });
+  for (std::size_t i = 0; i < extra.size(); ++i) {
+    ASSERT_EQ(lazyBatch[i].footpoint, eagerBatch[i].footpoint) << i;
+    ASSERT_EQ(lazyBatch[i].distance, eagerBatch[i].distance) << i;
+  }
+  expectSameAnswers(one, lazy, extra);
   // Batch queries with 1 and 2 threads.
   const auto batchOne = withThreads(1, [&] { return one.approximantsAt(extra); });
   const auto batchTwo = withThreads(2, [&] { return one.approximantsAt(extra); });

@@ -88,11 +88,26 @@ void BM_LevelSet_openvdb_meshToLevelSet(benchmark::State& state) {
   }
 }
 
+/// What construction does: the band's approximants (the coarse levels wait for the first query
+/// beyond the band).
 void BM_Field_fromLevelSet(benchmark::State& state) {
   const auto limit = threadLimit(state, 0);
   const auto grid = bunny512();
   for (auto _ : state) {
     const auto field = d2vdb::ApproximantField::fromLevelSet(grid);
+    benchmark::DoNotOptimize(field.coarseLevelsBuilt());
+    state.counters["active_voxels"] = static_cast<double>(grid->activeVoxelCount());
+  }
+}
+
+/// Construction and the coarse levels: the whole structure, as the first query beyond the band
+/// finds it.
+void BM_Field_fromLevelSetWithCoarseLevels(benchmark::State& state) {
+  const auto limit = threadLimit(state, 0);
+  const auto grid = bunny512();
+  for (auto _ : state) {
+    const auto field = d2vdb::ApproximantField::fromLevelSet(grid);
+    field.buildCoarseLevels();
     const d2vdb::FieldStatistics stats = field.statistics();
     const double active = static_cast<double>(stats.levels.front().activeVoxels);
     state.counters["active_voxels"] = active;
@@ -163,6 +178,11 @@ BENCHMARK(BM_LevelSet_openvdb_meshToLevelSet)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_Field_fromLevelSet)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Field_fromLevelSetWithCoarseLevels)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_Query_field, random, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query_openvdb_BoxSampler, random, true)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query_sdmForm, random, true)->Unit(benchmark::kMillisecond);

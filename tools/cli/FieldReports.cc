@@ -32,6 +32,7 @@ nlohmann::json fieldJson(const ApproximantField& field) {
           {"half_width", field.halfWidth()},
           {"domain", boxJson(field.domain())},
           {"levels", levels},
+          {"coarse_levels_built", statistics.coarseLevelsBuilt},
           {"active_voxels", bandVoxels},
           {"memory_bytes", statistics.totalBytes},
           {"distance_grid_bytes", statistics.distanceGridBytes},
@@ -69,9 +70,15 @@ std::string fieldText(const nlohmann::json& report, const std::string& indent) {
     }
     text << '\n';
   }
+  const bool coarseBuilt = report.at("coarse_levels_built").get<bool>();
+  if (!coarseBuilt) {
+    text << indent << "coarse levels   not built yet: built on the first query beyond the band"
+         << " (files do not store them)\n";
+  }
   const nlohmann::json& flagged = report.at("flagged");
-  text << indent << "memory          " << memory
-       << " bytes (a dense grid over the domain: " << dense << " bytes, "
+  text << indent << "memory          " << memory << " bytes"
+       << (coarseBuilt ? "" : " without coarse levels")
+       << " (a dense grid over the domain: " << dense << " bytes, "
        << (memory > 0 ? dense / memory : 0.0) << "x more)\n"
        << indent << "flagged voxels  " << flagged.at("cut_locus").get<std::uint64_t>()
        << " cut locus, " << flagged.at("curvature_clamped").get<std::uint64_t>()

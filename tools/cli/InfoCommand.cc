@@ -116,7 +116,9 @@ std::optional<nlohmann::json> fieldReport(const std::filesystem::path& path,
   if (distance == grids.end()) return std::nullopt;
   nlohmann::json report;
   try {
-    report = fieldJson(readField(path));
+    const ApproximantField field = readField(path);
+    field.buildCoarseLevels();  // info shows every level
+    report = fieldJson(field);
   } catch (const InputError& error) {
     report = {{"error", error.what()}};
   }

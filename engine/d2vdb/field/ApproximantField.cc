@@ -308,7 +308,7 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
     bounds.extend(storage->indexToWorld(Eigen::Vector3d(c.x(), c.y(), c.z())));
   }
   storage->setDomain(bounds, options.domainPadding, options.domain);
-  storage->buildCoarseLevels(progress);
+  storage->selectSamples();
   return ApproximantField(std::move(storage));
 }
 
@@ -335,7 +335,7 @@ ApproximantField ApproximantField::fromCurve(const CurveTarget& curve, double vo
       *storage, *mask, halfWidth,
       [&](const Eigen::Vector3d& centre) { return curve.approximantAtAnyPoint(centre); }, progress);
   storage->setDomain(curve.curveBounds(), options.domainPadding, options.domain);
-  storage->buildCoarseLevels(progress);
+  storage->selectSamples();
   return ApproximantField(std::move(storage));
 }
 
@@ -395,7 +395,7 @@ ApproximantField ApproximantField::fromPoints(const std::vector<Eigen::Vector3d>
       },
       progress);
   storage->setDomain(bounds, options.domainPadding, options.domain);
-  storage->buildCoarseLevels(progress);
+  storage->selectSamples();
   return ApproximantField(std::move(storage));
 }
 
@@ -417,7 +417,14 @@ double ApproximantField::halfWidth() const {
   return storage_->halfWidth;
 }
 int ApproximantField::levelCount() const {
+  storage_->ensureCoarseLevels({});
   return 1 + static_cast<int>(storage_->coarse.size());
+}
+void ApproximantField::buildCoarseLevels(const ProgressCallback& progress) const {
+  storage_->ensureCoarseLevels(progress);
+}
+bool ApproximantField::coarseLevelsBuilt() const {
+  return storage_->coarseLevelsBuilt();
 }
 double ApproximantField::sampleError() const {
   return storage_->sampleError;
@@ -438,9 +445,7 @@ std::string ApproximantField::describe() const {
 }
 
 ApproximantField::Accessor::Accessor(const ApproximantField& field)
-    : field_(field),
-      cachedLeaf_(static_cast<std::size_t>(field.levelCount()), -1),
-      cachedOrigin_(static_cast<std::size_t>(field.levelCount())) {}
+    : field_(field), cachedLeaf_(1, -1), cachedOrigin_(1) {}
 
 Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& point) {
   const FieldStorage& storage = *field_.storage_;
@@ -472,6 +477,11 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
       transportTo(a, point);
       return a;
     }
+  }
+  field_.storage_->ensureCoarseLevels({});
+  if (cachedLeaf_.size() < storage.coarse.size() + 1) {
+    cachedLeaf_.resize(storage.coarse.size() + 1, -1);
+    cachedOrigin_.resize(storage.coarse.size() + 1);
   }
   for (std::size_t i = 0; i < storage.coarse.size(); ++i) {
     const CoarseLevel& level = storage.coarse[i];
@@ -531,7 +541,9 @@ FieldStatistics ApproximantField::statistics() const {
   band.memoryBytes = s.records.capacity() * sizeof(BandRecord) + s.band.memoryBytes();
   stats.levels.push_back(band);
   std::uint64_t total = band.memoryBytes;
-  for (const CoarseLevel& level : s.coarse) {
+  stats.coarseLevelsBuilt = s.coarseLevelsBuilt();
+  for (std::size_t i = 0; stats.coarseLevelsBuilt && i < s.coarse.size(); ++i) {
+    const CoarseLevel& level = s.coarse[i];
     FieldLevelInfo info;
     info.level = level.level;
     info.voxelSize = std::ldexp(s.voxelSize, level.level);
@@ -828,7 +840,7 @@ ApproximantField ApproximantField::fromGrids(const openvdb::GridPtrVec& grids,
                      ": the field's companion grids hold non-finite values or normals "
                      "that are not unit vectors");
   }
-  storage->buildCoarseLevels(progress);
+  storage->selectSamples();
   return ApproximantField(std::move(storage));
 }
 

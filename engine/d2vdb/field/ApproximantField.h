@@ -53,9 +53,10 @@ struct FieldLevelInfo {
 
 struct FieldStatistics {
   TargetKind kind = TargetKind::Surface;
-  std::string estimator;  ///< how the band data was obtained (one line)
-  std::vector<FieldLevelInfo> levels;
-  std::uint64_t samples = 0;  ///< footpoint samples the coarse levels refer to
+  std::string estimator;               ///< how the band data was obtained (one line)
+  std::vector<FieldLevelInfo> levels;  ///< the band, then the coarse levels if built
+  bool coarseLevelsBuilt = false;      ///< else levels, totalBytes leave them out
+  std::uint64_t samples = 0;           ///< footpoint samples the coarse levels refer to
   std::uint64_t flaggedCutLocus = 0, flaggedCurvatureClamped = 0, flaggedDegraded = 0;
   std::uint64_t distanceGridBytes = 0;  ///< the FloatGrid of level 0
   std::uint64_t totalBytes = 0;         ///< everything the field holds
@@ -83,8 +84,10 @@ struct FieldStatistics {
 /// voxel nearest to x is active and returns that voxel's approximant (Taylor expansion of d^2
 /// about the voxel centre). Error bound beyond the band: see coarseDistanceErrorBound().
 ///
-/// Queries are thread-safe; Accessor caches the last leaf per thread. Building is parallel (TBB)
-/// and the result is bitwise identical for any thread count.
+/// Construction computes the band; the coarse levels are built on the first query beyond it (or
+/// by buildCoarseLevels()), with the same result. Queries are thread-safe; Accessor caches the
+/// last leaf per thread. Building is parallel (TBB) and the result is bitwise identical for any
+/// thread count.
 class ApproximantField final : public SquaredDistanceTarget {
  public:
   /// Builds the field of a signed level set (any FloatGrid of class level set, from d2vdb or any
@@ -151,8 +154,15 @@ class ApproximantField final : public SquaredDistanceTarget {
   double voxelSize() const;
   /// Half-width of the band in voxels.
   double halfWidth() const;
-  /// Number of levels (1 + coarse levels).
+  /// Number of levels (1 + coarse levels); builds the coarse levels if they are not built yet.
   int levelCount() const;
+  /// Builds the coarse levels now, reporting progress. They are otherwise built on the first
+  /// query beyond the band: the band's approximants, which construction computes, are all that
+  /// writing the field or querying near the target needs. Thread-safe and done once; threads
+  /// that query beyond the band meanwhile help with the build and wait for it.
+  void buildCoarseLevels(const ProgressCallback& progress = {}) const;
+  /// Whether the coarse levels have been built.
+  bool coarseLevelsBuilt() const;
   /// Upper bound (world units) on how much the distance implied by a coarse-level answer at a
   /// point x, |x - footpoint|, can exceed the true distance d(x) (it is never below
   /// d(x) - sampleError()): sqrt(3) * (that level's voxel size) + sampleError(). Coarse answers
@@ -163,7 +173,7 @@ class ApproximantField final : public SquaredDistanceTarget {
   /// error of the coarse levels, measured during construction as an upper bound
   /// (see the .cc for how).
   double sampleError() const;
-  /// Sizes and counts.
+  /// Sizes and counts; the coarse levels only once built (statistics() does not build them).
   FieldStatistics statistics() const;
 
   /// The band's data as standard OpenVDB grids sharing the distance grid's topology, for

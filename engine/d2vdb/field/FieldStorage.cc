@@ -454,7 +454,7 @@ openvdb::MaskGrid::Ptr FieldStorage::candidateCells(int level,
   return mask;
 }
 
-void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
+void FieldStorage::selectSamples() {
   // Samples: band voxels within sqrt(3)/2 voxel of the target. Every target point has a voxel
   // centre within sqrt(3)/2 voxel, which is then a sample whose footpoint is within sqrt(3)
   // voxels of that point: the bound sampleError.
@@ -518,8 +518,16 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
         }
       });
   sampleError = std::sqrt(3.0) * voxelSize;
-  perLeaf.clear();
+}
 
+void FieldStorage::ensureCoarseLevels(const ProgressCallback& progress) {
+  tbb::collaborative_call_once(coarseOnce, [&] {
+    buildCoarseLevels(progress);
+    coarseBuilt.store(true, std::memory_order_release);
+  });
+}
+
+void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   // Levels until one band covers the whole domain.
   const Eigen::Vector3d domainMin = worldToIndex(domain.min());
   Eigen::AlignedBox3d indexDomain(domainMin);

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <openvdb/openvdb.h>
+#include <tbb/collaborative_call_once.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -154,7 +156,9 @@ struct FieldStorage {
   std::vector<BandRecord> records;
   std::vector<std::uint32_t> sampleRecords;       ///< band records serving as samples
   std::vector<Eigen::Vector3f> sampleFootpoints;  ///< their footpoints (index space)
-  std::vector<CoarseLevel> coarse;
+  std::vector<CoarseLevel> coarse;                ///< read only after ensureCoarseLevels()
+  tbb::collaborative_once_flag coarseOnce;
+  std::atomic<bool> coarseBuilt{false};
   Eigen::AlignedBox3d domain;  ///< world
   std::string estimator;
   std::string label;
@@ -187,7 +191,16 @@ struct FieldStorage {
   /// Builds the band table from the grid's leaves (tree order, voxels in offset order); returns
   /// the leaf pointers in the same order.
   std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*> buildBandTable();
-  /// Samples (band voxels with |d| <= sqrt(3)/2 voxel), the coarse levels, sampleError.
+  /// The samples (band voxels with |d| <= sqrt(3)/2 voxel) and sampleError; throws InputError when
+  /// there is none (the target is not resolved at this voxel size).
+  void selectSamples();
+  /// The coarse levels, once (needs selectSamples()): thread-safe, callers that arrive while
+  /// another builds them help with the build and return when it is done. Throws what the build
+  /// throws (the next call then tries again).
+  void ensureCoarseLevels(const ProgressCallback& progress);
+  /// Whether ensureCoarseLevels() has completed.
+  bool coarseLevelsBuilt() const { return coarseBuilt.load(std::memory_order_acquire); }
+  /// Builds the coarse levels (ensureCoarseLevels() calls it once).
   void buildCoarseLevels(const ProgressCallback& progress);
   /// The cells coarse level `level` examines: every cell whose centre can lie within its reach
   /// of a sample (the rounded samples dilated), or the whole index-space domain for the top level
