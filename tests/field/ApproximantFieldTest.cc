@@ -18,6 +18,7 @@
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/Primitives.h"
 
 namespace d2vdb {
@@ -143,6 +144,74 @@ TEST(ApproximantField, TorusWithRadiiSixtyAndTwentyVoxels) {
   EXPECT_LE(errors.e1, 3.0);
   EXPECT_LE(errors.footpoint, 0.05);
   EXPECT_EQ(errors.flagged, 0u);
+}
+
+/// A torus about the z axis tessellated with `around` x `across` vertices (two triangles per quad,
+/// outward-facing).
+TriangleMesh torusMesh(const Torus& torus, double R, double r, int around, int across) {
+  TriangleMesh mesh;
+  for (int i = 0; i < around; ++i) {
+    const double u = 2.0 * kPi * i / around;
+    for (int j = 0; j < across; ++j) {
+      const double v = 2.0 * kPi * j / across;
+      const Eigen::Vector3d p((R + r * std::cos(v)) * std::cos(u),
+                              (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+      mesh.positions.push_back((p + torus.centre()).cast<float>());
+    }
+  }
+  const auto index = [&](int i, int j) {
+    return static_cast<TriangleMesh::Index>(((i + around) % around) * across +
+                                            (j + across) % across);
+  };
+  for (int i = 0; i < around; ++i) {
+    for (int j = 0; j < across; ++j) {
+      mesh.triangles.push_back({index(i, j), index(i + 1, j), index(i + 1, j + 1)});
+      mesh.triangles.push_back({index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+    }
+  }
+  return mesh;
+}
+
+// The whole mesh pipeline: a finely tessellated torus (facets bulge from the true surface by at
+// most 0.0025 voxel) through meshToLevelSet into a field, against the analytic torus. The facets'
+// kinks put noise of the order of (bulge / voxel^2) into the level set's second differences, so
+// curvatures are checked by quantiles; the measured values are in the README.
+TEST(ApproximantField, TessellatedTorusThroughMeshToLevelSet) {
+  const double h = 0.02, R = 60 * h, r = 20 * h;
+  const Torus torus(Eigen::Vector3d(0.013, -0.007, 0.004), R, r);
+  LevelSetOptions options;
+  options.voxelSize = h;
+  options.halfWidth = 3.0;
+  const ApproximantField field = ApproximantField::fromLevelSet(
+      meshToLevelSet(torusMesh(torus, R, r, 600, 200), options).grid);
+  std::vector<double> curvature, e1;  // |dk| r, degrees
+  double footpoint = 0.0;             // voxels
+  std::size_t flagged = 0;
+  ApproximantField::Accessor accessor(field);
+  for (const Eigen::Vector3d& centre : bandCentres(field)) {
+    const Approximant a = accessor.approximantAt(centre);
+    const SurfacePoint exact = torus.closestSurfacePoint(centre);
+    if (a.flags & (kFlagCutLocus | kFlagDegradedEstimate | kFlagCurvatureClamped)) ++flagged;
+    curvature.push_back(std::max(std::abs(a.k1 - exact.k1), std::abs(a.k2 - exact.k2)) * r);
+    e1.push_back(lineAngleDegrees(a.tangent, exact.e1));
+    footpoint = std::max(footpoint, (a.footpoint - exact.point).norm() / h);
+  }
+  const auto quantile = [](std::vector<double> values, double q) {
+    std::sort(values.begin(), values.end());
+    return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+  };
+  const double k50 = quantile(curvature, 0.5), k99 = quantile(curvature, 0.99);
+  const double kMax = quantile(curvature, 1.0), e99 = quantile(e1, 0.99);
+  std::printf(
+      "meshed torus 60/20 voxels: %zu voxels, |dk| r median %.3g, 99%% %.3g, max %.3g; e1 99%% "
+      "%.3g deg, max %.3g; footpoint max %.3g voxel; %zu flagged\n",
+      curvature.size(), k50, k99, kMax, e99, quantile(e1, 1.0), footpoint, flagged);
+  EXPECT_LE(k50, 0.01);
+  EXPECT_LE(k99, 0.06);
+  EXPECT_LE(kMax, 0.2);
+  EXPECT_LE(e99, 1.5);
+  EXPECT_LE(footpoint, 0.05);
+  EXPECT_EQ(flagged, 0u);
 }
 
 /// Largest |SDM form at x + delta - exact d^2(x + delta)| over random band points x and offsets
