@@ -43,8 +43,7 @@ std::string formatPoint(const Eigen::Vector3d& p) {
 }
 
 openvdb::Coord roundToCoord(const Eigen::Vector3d& p) {
-  return openvdb::Coord(static_cast<int>(std::lround(p.x())), static_cast<int>(std::lround(p.y())),
-                        static_cast<int>(std::lround(p.z())));
+  return openvdb::Coord(nearestInt(p.x()), nearestInt(p.y()), nearestInt(p.z()));
 }
 
 void checkBandParameters(double voxelSize, double halfWidth, const char* what) {

@@ -20,7 +20,8 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+/// Codes per quadrant of the diamond angle (encodeAngle()).
+constexpr double kAngleSteps = 16384.0;
 
 constexpr double kSqrt3 = 1.7320508075688772935;
 /// Whether coarse level `level` is the top one: its reach (halfWidth voxels of 2^level band voxels)
@@ -217,7 +218,7 @@ std::array<std::int16_t, 2> encodeOctahedral(const Eigen::Vector3d& unit) {
     py = fy;
   }
   const auto quantise = [](double v) {
-    return static_cast<std::int16_t>(std::lround(std::clamp(v, -1.0, 1.0) * 32767.0));
+    return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
   };
   return {quantise(px), quantise(py)};
 }
@@ -243,15 +244,36 @@ std::array<Eigen::Vector3d, 2> tangentBasis(const Eigen::Vector3d& unit) {
 
 std::uint16_t encodeAngle(const Eigen::Vector3d& axis, const Eigen::Vector3d& direction) {
   const auto basis = tangentBasis(axis);
-  double angle = std::atan2(direction.dot(basis[1]), direction.dot(basis[0]));
-  if (angle < 0.0) angle += kTwoPi;
-  return static_cast<std::uint16_t>(std::lround(angle / kTwoPi * 65536.0) & 0xFFFF);
+  const double u = direction.dot(basis[0]), v = direction.dot(basis[1]);
+  const double l1 = std::abs(u) + std::abs(v);
+  if (!(l1 > 0.0)) return 0;
+  double diamond;  // [0, 4): quadrants 1 to 4 of the (u, v) plane
+  if (v >= 0.0) {
+    diamond = u >= 0.0 ? v / l1 : 1.0 - u / l1;
+  } else {
+    diamond = u <= 0.0 ? 2.0 - v / l1 : 3.0 + u / l1;
+  }
+  return static_cast<std::uint16_t>(nearestInt(diamond * kAngleSteps) & 0xFFFF);
 }
 
 Eigen::Vector3d decodeAngle(const Eigen::Vector3d& axis, std::uint16_t code) {
   const auto basis = tangentBasis(axis);
-  const double angle = code * (kTwoPi / 65536.0);
-  return std::cos(angle) * basis[0] + std::sin(angle) * basis[1];
+  const double diamond = code / kAngleSteps;
+  double u, v;
+  if (diamond < 1.0) {
+    u = 1.0 - diamond;
+    v = diamond;
+  } else if (diamond < 2.0) {
+    u = 1.0 - diamond;
+    v = 2.0 - diamond;
+  } else if (diamond < 3.0) {
+    u = diamond - 3.0;
+    v = 2.0 - diamond;
+  } else {
+    u = diamond - 3.0;
+    v = diamond - 4.0;
+  }
+  return (u * basis[0] + v * basis[1]).normalized();
 }
 
 std::uint16_t encodeHalf(double value) {
@@ -274,8 +296,8 @@ BandRecord FieldStorage::encode(const Approximant& a) const {
   const Eigen::Vector3d normal = decodeOctahedral(record.normal);
   if (kind == TargetKind::Points) return record;
   Eigen::Vector3d tangent = a.tangent - a.tangent.dot(normal) * normal;
-  if (tangent.norm() < 1e-9) tangent = tangentBasis(normal)[0];
-  record.angle = encodeAngle(normal, tangent.normalized());
+  if (tangent.squaredNorm() < 1e-18) tangent = tangentBasis(normal)[0];
+  record.angle = encodeAngle(normal, tangent);  // any length
   if (kind == TargetKind::Surface) {
     record.c0 = encodeHalf(a.k1 * voxelSize);
     record.c1 = encodeHalf(a.k2 * voxelSize);
@@ -284,8 +306,8 @@ BandRecord FieldStorage::encode(const Approximant& a) const {
     const Eigen::Vector3d decodedTangent = decodeAngle(normal, record.angle);
     Eigen::Vector3d principal =
         a.principalNormal - a.principalNormal.dot(decodedTangent) * decodedTangent;
-    if (principal.norm() < 1e-9) principal = tangentBasis(decodedTangent)[0];
-    record.c1 = encodeAngle(decodedTangent, principal.normalized());
+    if (principal.squaredNorm() < 1e-18) principal = tangentBasis(decodedTangent)[0];
+    record.c1 = encodeAngle(decodedTangent, principal);
   }
   return record;
 }
@@ -442,9 +464,7 @@ openvdb::MaskGrid::Ptr FieldStorage::candidateCells(int level,
   auto accessor = mask->getAccessor();
   for (const Eigen::Vector3f& footpoint : sampleFootpoints) {
     const Eigen::Vector3d c = footpoint.cast<double>() / scale;
-    accessor.setValueOn(openvdb::Coord(static_cast<int>(std::lround(c.x())),
-                                       static_cast<int>(std::lround(c.y())),
-                                       static_cast<int>(std::lround(c.z()))));
+    accessor.setValueOn(openvdb::Coord(nearestInt(c.x()), nearestInt(c.y()), nearestInt(c.z())));
   }
   const auto [cubeSteps, octahedronSteps] = dilationSteps(coarseHalfWidth + 0.5 * kSqrt3);
   openvdb::tools::dilateActiveValues(mask->tree(), octahedronSteps, openvdb::tools::NN_FACE,

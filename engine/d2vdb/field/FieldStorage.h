@@ -29,6 +29,14 @@ inline int countBits(std::uint64_t bits) {
   return static_cast<int>((bits * 0x0101010101010101ull) >> 56);
 }
 
+/// The integer nearest to `value` (ties toward +infinity), inline: std::lround is a library call
+/// on the x86-64 baseline. `value` must lie well inside the int range.
+inline int nearestInt(double value) {
+  const double shifted = value + 0.5;
+  const int truncated = static_cast<int>(shifted);
+  return truncated - (static_cast<double>(truncated) > shifted ? 1 : 0);
+}
+
 /// One 8^3 block of a sparse level: its origin (index space, multiples of 8), the active-voxel
 /// mask (bit (x & 7) * 64 + (y & 7) * 8 + (z & 7), OpenVDB's leaf order) and the index of its
 /// first record; records of the block's active voxels follow in mask order.
@@ -103,7 +111,7 @@ class LeafCursor {
 /// - normal: octahedral encoding of the unit normal (surface) or of the direction from the
 ///   footpoint toward the voxel (curves, points), two snorm16 values;
 /// - angle: e1 (surface) or the unit tangent (curve) as an angle about the normal from
-///   tangentBasis(normal), 2 pi / 65536 units;
+///   tangentBasis(normal) (encodeAngle());
 /// - c0, c1: surface: k1 h, k2 h as half floats (h = voxel size); curve: kappa h as a half float
 ///   and the principal normal's angle about the tangent (from tangentBasis(tangent)).
 struct BandRecord {
@@ -122,9 +130,14 @@ Eigen::Vector3d decodeOctahedral(const std::array<std::int16_t, 2>& code);
 
 /// A deterministic orthonormal pair (b1, b2) with b1 x b2 = unit, for angle encodings.
 std::array<Eigen::Vector3d, 2> tangentBasis(const Eigen::Vector3d& unit);
-/// Angle of `direction` (orthogonal to `axis`) about `axis` from tangentBasis(axis), quantised.
+/// The direction of `direction` (orthogonal to `axis`, any non-zero length; zero gives code 0)
+/// about `axis`, in the plane of tangentBasis(axis) = (b1, b2), as a 16-bit "diamond angle": with
+/// u, v its b1, b2 components, the point (u, v) / (|u| + |v|) on the square |u| + |v| = 1, measured
+/// counter-clockwise from b1 along the square's edges, one unit per quadrant, in 1/16384 units.
+/// Monotonic in the true angle, with steps of 0.004-0.007 degrees, and free of trigonometry both
+/// ways; decodeAngle(encodeAngle(d)) re-encodes to the same code.
 std::uint16_t encodeAngle(const Eigen::Vector3d& axis, const Eigen::Vector3d& direction);
-/// The unit vector at quantised angle `code` about `axis`.
+/// The unit vector with diamond-angle code `code` about `axis` (encodeAngle()).
 Eigen::Vector3d decodeAngle(const Eigen::Vector3d& axis, std::uint16_t code);
 
 /// IEEE half-float bits of a value (OpenVDB's half), and back.
