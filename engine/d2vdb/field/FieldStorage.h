@@ -213,6 +213,11 @@ struct FieldStorage {
   void ensureCoarseLevels(const ProgressCallback& progress);
   /// Whether ensureCoarseLevels() has completed.
   bool coarseLevelsBuilt() const { return coarseBuilt.load(std::memory_order_acquire); }
+  /// Domain from the options (or the active voxels' footpoint bounds padded).
+  void setDomain(const Eigen::AlignedBox3d& targetBounds, double padding,
+                 const std::optional<Eigen::AlignedBox3d>& explicitDomain);
+
+ private:
   /// Builds the coarse levels (ensureCoarseLevels() calls it once).
   void buildCoarseLevels(const ProgressCallback& progress);
   /// The cells coarse level `level` examines: every cell whose centre can lie within its reach
@@ -220,9 +225,6 @@ struct FieldStorage {
   /// (reach >= diagonal + voxel). Needs the samples.
   openvdb::MaskGrid::Ptr candidateCells(int level, const Eigen::AlignedBox3d& indexDomain,
                                         double diagonal) const;
-  /// Domain from the options (or the active voxels' footpoint bounds padded).
-  void setDomain(const Eigen::AlignedBox3d& targetBounds, double padding,
-                 const std::optional<Eigen::AlignedBox3d>& explicitDomain);
 };
 
 }  // namespace d2vdb
