@@ -154,7 +154,8 @@ StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
 
 /// Trilinear interpolation of pass-1 data at an index-space point, over the corners that have a
 /// Hessian. Looks voxels up through the 27 leaves around the current one (setLeaf), where every
-/// footpoint of a 3-voxel band lies, and through the band's hash elsewhere.
+/// footpoint of a 3-voxel band lies, and through the band's hash elsewhere; keeps the gathered
+/// corners of recent cells (3 in 4 interpolations on the bunny reuse them).
 class Interpolator {
  public:
   Interpolator(const FieldStorage& storage, const std::vector<StencilData>& stencils)
@@ -178,26 +179,23 @@ class Interpolator {
     double weight = 0.0;  ///< trilinear weight of the corners that contributed (1 = all)
   };
 
+  /// The interpolated data at `point` (index space); weight 0 when no corner has a Hessian.
   Result at(const Eigen::Vector3d& point) {
     const Eigen::Vector3d base = point.array().floor();
     const Eigen::Vector3d t = point - base;
     const openvdb::Coord corner0(static_cast<int>(base.x()), static_cast<int>(base.y()),
                                  static_cast<int>(base.z()));
-    // Sums in locals (weight, distance, gradient, Hessian xx yy zz xy xz yz), stored once.
+    const CellCorners& cell = cornersOf(corner0);
     std::array<double, 11> sum{};
     for (int corner = 0; corner < 8; ++corner) {
+      if (((cell.usable >> corner) & 1u) == 0) continue;
       const int cx = corner & 1, cy = (corner >> 1) & 1, cz = (corner >> 2) & 1;
       const double w =
           (cx ? t.x() : 1.0 - t.x()) * (cy ? t.y() : 1.0 - t.y()) * (cz ? t.z() : 1.0 - t.z());
       if (w <= 0.0) continue;
-      const std::int64_t record = cornerRecord(corner0, corner);
-      if (record < 0) continue;
-      const StencilData& data = stencils_[static_cast<std::size_t>(record)];
-      if (!data.hasHessian) continue;
+      const std::array<float, 10>& data = cell.data[static_cast<std::size_t>(corner)];
       sum[0] += w;
-      sum[1] += w * data.distance;
-      for (int k = 0; k < 3; ++k) sum[2 + k] += w * data.gradient[k];
-      for (int k = 0; k < 6; ++k) sum[5 + k] += w * data.hessian[k];
+      for (int k = 0; k < 10; ++k) sum[1 + k] += w * data[static_cast<std::size_t>(k)];
     }
     Result result;
     result.weight = sum[0];
@@ -212,21 +210,40 @@ class Interpolator {
   }
 
  private:
-  /// Record of corner `corner` (bits x, y, z) of the cell at `corner0`, or -1. The projection
-  /// rounds usually stay in one cell, so the last cell's corners are remembered (record indices
-  /// are global, so they stay valid across setLeaf()).
-  std::int64_t cornerRecord(const openvdb::Coord& corner0, int corner) {
-    if (corner0 != cachedCell_) {
-      cachedCell_ = corner0;
-      cachedRecords_.fill(kNotLookedUp);
+  /// The pass-1 data of a cell's eight corners (distance, gradient, Hessian), gathered once: the
+  /// footpoints of the voxels along one normal line share a cell.
+  struct CellCorners {
+    openvdb::Coord cell{std::numeric_limits<int>::min()};
+    std::uint8_t usable = 0;  ///< bit c: corner c is active and has a Hessian
+    std::array<std::array<float, 10>, 8> data{};
+  };
+
+  /// The cached corners of the cell at `corner0` (direct-mapped on the low three bits of each
+  /// coordinate, so the cells of one 8^3 window never evict each other).
+  const CellCorners& cornersOf(const openvdb::Coord& corner0) {
+    CellCorners& cell = cells_[static_cast<std::size_t>(
+        ((corner0.x() & 7) << 6) | ((corner0.y() & 7) << 3) | (corner0.z() & 7))];
+    if (cell.cell == corner0) return cell;
+    cell.cell = corner0;
+    cell.usable = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      const std::int64_t record =
+          find(corner0 + openvdb::Coord(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
+      if (record < 0) continue;
+      const StencilData& source = stencils_[static_cast<std::size_t>(record)];
+      if (!source.hasHessian) continue;
+      cell.usable = static_cast<std::uint8_t>(cell.usable | (1u << corner));
+      auto& data = cell.data[static_cast<std::size_t>(corner)];
+      data[0] = source.distance;
+      for (int k = 0; k < 3; ++k) data[1 + k] = source.gradient[k];
+      for (int k = 0; k < 6; ++k) data[4 + k] = source.hessian[k];
     }
-    std::int64_t& record = cachedRecords_[static_cast<std::size_t>(corner)];
-    if (record == kNotLookedUp) {
-      record = find(corner0 + openvdb::Coord(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
-    }
-    return record;
+    return cell;
   }
 
+  std::vector<CellCorners> cells_ = std::vector<CellCorners>(512);
+
+  /// Record index of voxel `ijk`, or -1 when it is not in the band.
   std::int64_t find(const openvdb::Coord& ijk) {
     if (hasLeaf_) {
       // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
@@ -248,9 +265,6 @@ class Interpolator {
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
-  static constexpr std::int64_t kNotLookedUp = -2;
-  openvdb::Coord cachedCell_{std::numeric_limits<int>::min()};
-  std::array<std::int64_t, 8> cachedRecords_{};
 };
 
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:
