@@ -381,7 +381,7 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
               degraded = degraded || at.weight < kDegradedWeight;
             }
             double k1 = 0.0, k2 = 0.0;
-            Eigen::Vector3d e1 = tangentBasis(normal)[0];
+            Eigen::Vector3d e1 = Eigen::Vector3d::UnitX();  // set below on every path
             if (ok) {
               principalCurvatures(at.hessian, normal, k1, k2, e1);
               if (1.0 + distance * k1 < kMinimumFocal || 1.0 + distance * k2 < kMinimumFocal) {
