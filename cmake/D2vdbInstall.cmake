@@ -1,4 +1,4 @@
-# `cmake --install`: headers, the module libraries, the d2vdb command and a CMake package config so
+# `cmake --install`: the public headers, the module libraries, the d2vdb command and a CMake package config so
 # that a downstream project can `find_package(d2vdb)` and link `d2vdb::engine`.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -7,8 +7,9 @@ get_property(d2vdb_modules GLOBAL PROPERTY D2VDB_MODULES)
 install(TARGETS ${d2vdb_modules} d2vdb_engine EXPORT d2vdbTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# Public headers only: every module's detail/ folder is internal and stays out of the install.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/engine/d2vdb DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-        FILES_MATCHING PATTERN "*.h")
+        FILES_MATCHING PATTERN "*.h" PATTERN "detail" EXCLUDE)
 install(FILES ${PROJECT_BINARY_DIR}/engine/generated/d2vdb/core/Version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/d2vdb/core)
 

@@ -4,9 +4,9 @@
 #include <map>
 #include <utility>
 
-#include "d2vdb/contour/CubeTables.h"
+#include "d2vdb/contour/detail/CubeTables.h"
 
-namespace d2vdb::contour {
+namespace d2vdb::detail {
 namespace {
 
 /// True when two cell edges lie on a common face.
@@ -90,4 +90,4 @@ TEST(CubeTables, AmbiguousFaceDecisionChangesTopology) {
 }
 
 }  // namespace
-}  // namespace d2vdb::contour
+}  // namespace d2vdb::detail

@@ -10,9 +10,9 @@
 
 #include "FieldTestSupport.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/NearestPointTree.h"
+#include "d2vdb/field/detail/NearestPointTree.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 /// The brute-force answer: smallest float squared distance (computed as the tree documents),
@@ -164,4 +164,4 @@ TEST(NearestPointTree, RejectsEmptyAndNonFiniteInput) {
 }
 
 }  // namespace
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

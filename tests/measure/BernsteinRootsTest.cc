@@ -6,12 +6,12 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/measure/BernsteinRoots.h"
+#include "d2vdb/measure/detail/BernsteinRoots.h"
 
 namespace {
 
 using d2vdb::BernsteinPolynomial;
-using d2vdb::findBernsteinRoots;
+using d2vdb::detail::findBernsteinRoots;
 
 // prod_i (t - roots[i]) in Bernstein form, from linear factors with coefficients {-r, 1 - r}.
 BernsteinPolynomial productOfLinearFactors(const std::vector<double>& roots) {
@@ -85,7 +85,7 @@ TEST(BernsteinRoots, NoRootsAndTheZeroPolynomial) {
 }
 
 TEST(BernsteinRoots, DepthLimitIsReportedNotHung) {
-  d2vdb::RootIsolationOptions options;
+  d2vdb::detail::RootIsolationOptions options;
   options.maxDepth = 2;
   const auto found = findBernsteinRoots(productOfLinearFactors({0.3, 0.3001, 0.7}), options);
   EXPECT_TRUE(found.depthLimitReached);
@@ -94,7 +94,7 @@ TEST(BernsteinRoots, DepthLimitIsReportedNotHung) {
 
 TEST(BernsteinRoots, InvalidOptionsAreRejected) {
   const BernsteinPolynomial f({-1.0, 1.0});
-  d2vdb::RootIsolationOptions options;
+  d2vdb::detail::RootIsolationOptions options;
   options.parameterTolerance = 0.0;
   EXPECT_THROW(findBernsteinRoots(f, options), d2vdb::InputError);
   options = {};

@@ -3,12 +3,12 @@
 
 #include <vector>
 
-#include "d2vdb/measure/SquaredDistanceTensor.h"
+#include "d2vdb/measure/detail/SquaredDistanceTensor.h"
 
 namespace {
 
 using d2vdb::BezierCurve;
-using d2vdb::SquaredDistanceTensor;
+using d2vdb::detail::SquaredDistanceTensor;
 
 TEST(SquaredDistanceTensor, MatchesDirectEvaluationAndBoundsIt) {
   const BezierCurve p(

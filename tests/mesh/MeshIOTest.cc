@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "d2vdb/mesh/MeshValidation.h"
-#include "d2vdb/mesh/ObjFormat.h"
-#include "d2vdb/mesh/PlyFormat.h"
-#include "d2vdb/mesh/StlFormat.h"
 #include "d2vdb/mesh/VertexNormals.h"
+#include "d2vdb/mesh/detail/ObjFormat.h"
+#include "d2vdb/mesh/detail/PlyFormat.h"
+#include "d2vdb/mesh/detail/StlFormat.h"
 #include "mesh/MeshTestSupport.h"
 
 namespace {
@@ -88,9 +88,9 @@ TEST_F(MeshIOTest, BinaryPlyUsesTheDeclaredByteOrder) {
   const TriangleMesh mesh = makeMesh({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2}});
   for (const bool bigEndian : {false, true}) {
     std::ostringstream out;
-    d2vdb::writePly(
-        out, mesh,
-        bigEndian ? d2vdb::PlyEncoding::BinaryBigEndian : d2vdb::PlyEncoding::BinaryLittleEndian);
+    d2vdb::detail::writePly(out, mesh,
+                            bigEndian ? d2vdb::detail::PlyEncoding::BinaryBigEndian
+                                      : d2vdb::detail::PlyEncoding::BinaryLittleEndian);
     const std::string bytes = out.str();
     const std::size_t body = bytes.find("end_header\n") + 11;
     // 1.0f is 3F 80 00 00; the face is uchar 3 then three uint32 indices.
@@ -142,7 +142,7 @@ TEST_F(MeshIOTest, StlWeldsSharedCornersOfAnyMesh) {
 TEST_F(MeshIOTest, BinaryStlLayoutAndFacetNormals) {
   const TriangleMesh mesh = makeMesh({{0, 0, 0}, {2, 0, 0}, {0, 3, 0}}, {{0, 1, 2}});
   std::ostringstream out;
-  d2vdb::writeStl(out, mesh, d2vdb::StlEncoding::Binary);
+  d2vdb::detail::writeStl(out, mesh, d2vdb::detail::StlEncoding::Binary);
   const std::string bytes = out.str();
   ASSERT_EQ(bytes.size(), 84u + 50u);
   EXPECT_NE(bytes.substr(0, 5), "solid");
@@ -151,7 +151,7 @@ TEST_F(MeshIOTest, BinaryStlLayoutAndFacetNormals) {
   EXPECT_EQ(bytes.substr(84, 12), std::string("\0\0\0\0\0\0\0\0\x00\x00\x80\x3F", 12));
 
   std::ostringstream text;
-  d2vdb::writeStl(text, mesh, d2vdb::StlEncoding::Ascii);
+  d2vdb::detail::writeStl(text, mesh, d2vdb::detail::StlEncoding::Ascii);
   EXPECT_NE(text.str().find("facet normal 0 0 1\n"), std::string::npos) << text.str();
   EXPECT_EQ(text.str().rfind("solid", 0), 0u);
 }
@@ -168,7 +168,7 @@ TEST_F(MeshIOTest, BinaryStlBeginningWithSolidIsReadAsBinary) {
     for (const auto& corner : facet) file.f32(corner[0]).f32(corner[1]).f32(corner[2]);
     file.u16(0);
   }
-  EXPECT_EQ(d2vdb::detectStlEncoding(file.bytes()), d2vdb::StlEncoding::Binary);
+  EXPECT_EQ(d2vdb::detail::detectStlEncoding(file.bytes()), d2vdb::detail::StlEncoding::Binary);
   const TriangleMesh mesh = d2vdb::readMesh(write("liar.stl", file.bytes()));
   ASSERT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.positions[0], Eigen::Vector3f(0, 0, 0));
@@ -186,7 +186,7 @@ TEST_F(MeshIOTest, AsciiStlWithSeveralSolidsAndMixedCase) {
       "      vertex 0 1 0\n    endloop\n  endfacet\nendsolid first part\n"
       "SOLID second\r\n FACET NORMAL nan nan nan\r\n OUTER LOOP\r\n VERTEX 1 0 0\r\n"
       " VERTEX -0 1 0\r\n VERTEX 1e0 1 0\r\n ENDLOOP\r\n ENDFACET\r\nENDSOLID second\r\n";
-  const TriangleMesh mesh = d2vdb::parseStl(text, "two.stl");
+  const TriangleMesh mesh = d2vdb::detail::parseStl(text, "two.stl");
   ASSERT_EQ(mesh.vertexCount(), 4u);  // -0 welds with 0; 1e0 with 1
   EXPECT_EQ(mesh.triangles, (std::vector<TriangleMesh::Triangle>{{0, 1, 2}, {1, 2, 3}}));
   EXPECT_EQ(mesh.positions[3], Eigen::Vector3f(1, 1, 0));
@@ -223,7 +223,7 @@ TEST_F(MeshIOTest, ObjCornerFormsNegativeIndicesAndIgnoredStatements) {
       "f -3//-1 -1//-1 -2//-1\r\n"
       "f 2/2 4/3 3/1\r\n"
       "l 1 2\r\n";
-  const TriangleMesh mesh = d2vdb::parseObj(text, "corners.obj");
+  const TriangleMesh mesh = d2vdb::detail::parseObj(text, "corners.obj");
   ASSERT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.positions[1], Eigen::Vector3f(1, 0, 0));
   EXPECT_EQ(mesh.positions[2], Eigen::Vector3f(0, 1, 0));
@@ -238,12 +238,12 @@ TEST_F(MeshIOTest, ObjNormalsFollowTheFaceCorners) {
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
       "vn 0 0 -1\nvn 0 0 1\nvn 0 0 1\n"
       "f 1//2 2//2 3//3\nf 2//3 4//2 3//2\n";
-  const TriangleMesh mesh = d2vdb::parseObj(text, "normals.obj");
+  const TriangleMesh mesh = d2vdb::detail::parseObj(text, "normals.obj");
   ASSERT_TRUE(mesh.hasNormals());
   for (const Eigen::Vector3f& normal : mesh.normals) EXPECT_EQ(normal, Eigen::Vector3f(0, 0, 1));
 
   // Vertex 2 named with two different normals: normals are dropped, the geometry is kept.
-  const TriangleMesh conflicting = d2vdb::parseObj(
+  const TriangleMesh conflicting = d2vdb::detail::parseObj(
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\nvn 1 0 0\nf 1//1 2//1 3//1\nf 2//2 4//2 "
       "3//2\n",
       "conflict.obj");
@@ -253,9 +253,9 @@ TEST_F(MeshIOTest, ObjNormalsFollowTheFaceCorners) {
 
 TEST_F(MeshIOTest, ByteOrderMarkIsSkipped) {
   const TriangleMesh obj =
-      d2vdb::parseObj("\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bom.obj");
+      d2vdb::detail::parseObj("\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bom.obj");
   EXPECT_EQ(obj.triangles, (std::vector<TriangleMesh::Triangle>{{0, 1, 2}}));
-  const TriangleMesh stl = d2vdb::parseStl(
+  const TriangleMesh stl = d2vdb::detail::parseStl(
       "\xEF\xBB\xBFsolid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
       "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n",
       "bom.stl");
@@ -263,7 +263,8 @@ TEST_F(MeshIOTest, ByteOrderMarkIsSkipped) {
 }
 
 TEST_F(MeshIOTest, ObjFacesMayReferToLaterVertices) {
-  const TriangleMesh mesh = d2vdb::parseObj("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "late.obj");
+  const TriangleMesh mesh =
+      d2vdb::detail::parseObj("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "late.obj");
   EXPECT_EQ(mesh.triangles, (std::vector<TriangleMesh::Triangle>{{0, 1, 2}}));
 }
 
@@ -297,7 +298,7 @@ TEST_F(MeshIOTest, AsciiPlyWithExtraPropertiesAndElements) {
       "0 3 0 2 3 0\n"
       "0 1\n"
       "\n";
-  const TriangleMesh mesh = d2vdb::parsePly(text, "extra.ply");
+  const TriangleMesh mesh = d2vdb::detail::parsePly(text, "extra.ply");
   ASSERT_EQ(mesh.vertexCount(), 4u);
   EXPECT_EQ(mesh.positions[0], Eigen::Vector3f(0, 0, 0));
   EXPECT_EQ(mesh.positions[1], Eigen::Vector3f(1.5f, 0, -3));
@@ -361,14 +362,14 @@ TEST_F(MeshIOTest, BinaryPlyWithExtraPropertiesAndElements) {
 TEST_F(MeshIOTest, StreamFunctionsMatchFileFunctions) {
   const TriangleMesh mesh = withNormals(awkwardMesh());
   std::stringstream obj;
-  d2vdb::writeObj(obj, mesh);
-  expectIdentical(d2vdb::readObj(obj, "stream.obj"), mesh);
+  d2vdb::detail::writeObj(obj, mesh);
+  expectIdentical(d2vdb::detail::readObj(obj, "stream.obj"), mesh);
   std::stringstream ply;
-  d2vdb::writePly(ply, mesh, d2vdb::PlyEncoding::BinaryBigEndian);
-  expectIdentical(d2vdb::readPly(ply, "stream.ply"), mesh);
+  d2vdb::detail::writePly(ply, mesh, d2vdb::detail::PlyEncoding::BinaryBigEndian);
+  expectIdentical(d2vdb::detail::readPly(ply, "stream.ply"), mesh);
   std::stringstream stl;
-  d2vdb::writeStl(stl, mesh, d2vdb::StlEncoding::Ascii);
-  expectIdentical(d2vdb::readStl(stl, "stream.stl"), awkwardMesh());
+  d2vdb::detail::writeStl(stl, mesh, d2vdb::detail::StlEncoding::Ascii);
+  expectIdentical(d2vdb::detail::readStl(stl, "stream.stl"), awkwardMesh());
 }
 
 TEST_F(MeshIOTest, LargeMeshRoundTripsThroughEveryFormat) {

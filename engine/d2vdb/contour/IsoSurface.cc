@@ -42,13 +42,13 @@
 
 #include <openvdb/math/Maps.h>
 
-#include "d2vdb/contour/CubeTables.h"
+#include "d2vdb/contour/detail/CubeTables.h"
 #include "d2vdb/core/Error.h"
 
 namespace d2vdb {
 namespace {
 
-using contour::CubeTables;
+using detail::CubeTables;
 using openvdb::Coord;
 
 constexpr int kBlockSize = 8;
@@ -337,12 +337,12 @@ std::uint8_t decideFaces(const Values& values, int x, int y, int z, int caseInde
                          std::uint8_t ambiguous, double iso) {
   static const std::array<std::array<int, 4>, 6> kFaceCorners = [] {
     std::array<std::array<int, 4>, 6> corners{};
-    for (int face = 0; face < 6; ++face) corners[face] = contour::faceCorners(face);
+    for (int face = 0; face < 6; ++face) corners[face] = detail::faceCorners(face);
     return corners;
   }();
   std::array<double, 8> relative{};
   for (int corner = 0; corner < 8; ++corner) {
-    const auto offset = contour::cornerOffset(corner);
+    const auto offset = detail::cornerOffset(corner);
     relative[corner] =
         static_cast<double>(values(x + offset[0], y + offset[1], z + offset[2])) - iso;
   }
@@ -359,12 +359,12 @@ std::uint8_t decideFaces(const Values& values, int x, int y, int z, int caseInde
 }
 
 /// Key offset, from the key of a cell's lowest corner, of each of the cell's 12 edges.
-const std::array<int, contour::kCubeEdges>& cellEdgeKeyOffsets() {
-  static const std::array<int, contour::kCubeEdges> offsets = [] {
-    std::array<int, contour::kCubeEdges> result{};
-    for (int edge = 0; edge < contour::kCubeEdges; ++edge) {
-      const auto start = contour::cornerOffset(contour::edgeStartCorner(edge));
-      result[edge] = edgeKey(start[0], start[1], start[2], contour::edgeAxis(edge));
+const std::array<int, detail::kCubeEdges>& cellEdgeKeyOffsets() {
+  static const std::array<int, detail::kCubeEdges> offsets = [] {
+    std::array<int, detail::kCubeEdges> result{};
+    for (int edge = 0; edge < detail::kCubeEdges; ++edge) {
+      const auto start = detail::cornerOffset(detail::edgeStartCorner(edge));
+      result[edge] = edgeKey(start[0], start[1], start[2], detail::edgeAxis(edge));
     }
     return result;
   }();
@@ -852,8 +852,8 @@ class Extractor {
   /// The triangulation of the cell at local (x, y, z) with case `caseIndex`; `values` (anything
   /// with operator()(x, y, z)) is asked for corner values only when the case has ambiguous faces.
   template <typename ValuesFn>
-  const contour::CellTriangulation& cellTriangulation(int x, int y, int z, int caseIndex,
-                                                      const ValuesFn& values) const {
+  const detail::CellTriangulation& cellTriangulation(int x, int y, int z, int caseIndex,
+                                                     const ValuesFn& values) const {
     const std::uint8_t ambiguous = tables_.ambiguousFaces(caseIndex);
     if (ambiguous == 0) return *plainCells_[caseIndex];
     return tables_.triangulation(
@@ -1019,8 +1019,8 @@ class Extractor {
           writeCentreVertex(map, *region, originIndex, x, y, z, cell.centreEdges, centre);
         }
         const auto vertexAt = [&](int edge) {
-          return edge == contour::kCellCentre ? centre
-                                              : vertexOfEdge[cellKey + cellEdgeOffsets[edge]];
+          return edge == detail::kCellCentre ? centre
+                                             : vertexOfEdge[cellKey + cellEdgeOffsets[edge]];
         };
         for (int i = 0; i < cell.triangleCount; ++i) {
           mesh_.triangles[nextTriangle++] = {vertexAt(cell.edges[3 * i]),
@@ -1056,12 +1056,12 @@ class Extractor {
                          std::uint16_t edges, TriangleMesh::Index vertex) {
     openvdb::Vec3d sum(0.0);
     int count = 0;
-    for (int edge = 0; edge < contour::kCubeEdges; ++edge) {
+    for (int edge = 0; edge < detail::kCubeEdges; ++edge) {
       if (((edges >> edge) & 1) == 0) continue;
-      const auto start = contour::cornerOffset(contour::edgeStartCorner(edge));
+      const auto start = detail::cornerOffset(detail::edgeStartCorner(edge));
       double t = 0.0;
       sum += localEdgePoint(region, x + start[0], y + start[1], z + start[2],
-                            contour::edgeAxis(edge), t);
+                            detail::edgeAxis(edge), t);
       ++count;
     }
     const openvdb::Vec3d local = sum / static_cast<double>(count);
@@ -1086,7 +1086,7 @@ class Extractor {
   const IsoSurfaceOptions& options_;
   const ProgressCallback& progress_;
   const CubeTables& tables_;
-  std::array<const contour::CellTriangulation*, 256> plainCells_{};  ///< cases without ambiguity
+  std::array<const detail::CellTriangulation*, 256> plainCells_{};  ///< cases without ambiguity
   BlockSet<typename GridT::TreeType::LeafNodeType> blocks_;
   std::vector<const ValueT*> leafData_;  ///< per block: its leaf's values, or null
   std::vector<ValueT> fillValue_;        ///< per block without a leaf: its tile/background value

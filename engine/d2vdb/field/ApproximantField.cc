@@ -18,11 +18,22 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/CurveTarget.h"
-#include "d2vdb/field/FieldStorage.h"
-#include "d2vdb/field/OpenVdbSetup.h"
-#include "d2vdb/field/SurfaceEstimator.h"
+#include "d2vdb/field/detail/FieldStorage.h"
+#include "d2vdb/field/detail/OpenVdbSetup.h"
+#include "d2vdb/field/detail/SurfaceEstimator.h"
 
 namespace d2vdb {
+
+using detail::BandRecord;
+using detail::CoarseLevel;
+using detail::ensureOpenVdbInitialized;
+using detail::estimateSurfaceRecords;
+using detail::FieldStorage;
+using detail::kSurfaceEstimator;
+using detail::LeafEntry;
+using detail::LeafTable;
+using detail::nearestInt;
+using detail::tangentBasis;
 namespace {
 
 constexpr int kFieldFormatVersion = 1;

@@ -19,7 +19,9 @@
 namespace d2vdb {
 
 class CurveTarget;
+namespace detail {
 struct FieldStorage;
+}
 
 /// Metadata keys of a field's grids on disk (see FieldFile.h).
 inline constexpr const char* kFieldKindMetadata = "d2vdb_field_kind";  ///< surface/curve/points
@@ -193,8 +195,8 @@ class ApproximantField final : public SquaredDistanceTarget {
                                     const ProgressCallback& progress = {});
 
  private:
-  explicit ApproximantField(std::unique_ptr<FieldStorage> storage);
-  std::unique_ptr<FieldStorage> storage_;
+  explicit ApproximantField(std::unique_ptr<detail::FieldStorage> storage);
+  std::unique_ptr<detail::FieldStorage> storage_;
 };
 
 }  // namespace d2vdb

@@ -11,10 +11,12 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/OpenVdbSetup.h"
+#include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 
 namespace d2vdb {
+
+using detail::ensureOpenVdbInitialized;
 namespace {
 
 constexpr const char* kStage = "mesh to level set";

@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/OpenVdbSetup.h"
+#include "d2vdb/field/detail/OpenVdbSetup.h"
 
 namespace d2vdb {
+
+using detail::ensureOpenVdbInitialized;
 namespace {
 
 using LeafNode = openvdb::FloatTree::LeafNodeType;

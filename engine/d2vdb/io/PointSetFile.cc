@@ -111,8 +111,7 @@ std::vector<Eigen::Vector3d> parseXyz(std::string_view text, const std::string& 
 
 std::vector<Eigen::Vector3d> readPointSet(const std::filesystem::path& file) {
   const std::string extension = lowerExtension(file);
-  if (extension == ".xyz")
-    return parseXyz(io_detail::readTextFile(file, "point file"), file.string());
+  if (extension == ".xyz") return parseXyz(detail::readTextFile(file, "point file"), file.string());
   if (extension == ".ply") {
     // The mesh reader is strict (line / byte positions) and rejects a file without vertices.
     const TriangleMesh mesh = readMesh(file);

@@ -10,9 +10,9 @@
 namespace d2vdb {
 namespace {
 
-using io_detail::elementPath;
-using io_detail::Json;
-using io_detail::memberPath;
+using detail::elementPath;
+using detail::Json;
+using detail::memberPath;
 
 constexpr int kFormatVersion = 1;
 constexpr const char* kPolylineType = "polyline";
@@ -23,7 +23,7 @@ std::size_t minimumPoints(bool closed) {
   return closed ? 3 : 2;
 }
 
-class Reader : public io_detail::JsonFieldReader {
+class Reader : public detail::JsonFieldReader {
  public:
   explicit Reader(std::string sourceName) : JsonFieldReader(kFileKind, std::move(sourceName)) {}
 
@@ -114,7 +114,7 @@ std::vector<Polyline> parsePolylines(const std::string& text, const std::string&
 }
 
 std::vector<Polyline> readPolylines(const std::filesystem::path& file) {
-  return parsePolylines(io_detail::readTextFile(file, kFileKind), file.string());
+  return parsePolylines(detail::readTextFile(file, kFileKind), file.string());
 }
 
 Polyline readPolyline(const std::filesystem::path& file) {
@@ -153,12 +153,12 @@ std::string polylineToJson(const Polyline& polyline) {
     }
     if (dimension == 2 && point.z() != 0.0) {
       throw InputError("cannot write polyline point " + std::to_string(i) +
-                       " of a 2D polyline: its z is " + io_detail::jsonNumberText(point.z()) +
+                       " of a 2D polyline: its z is " + detail::jsonNumberText(point.z()) +
                        ", not 0");
     }
     text += "    [";
     for (int axis = 0; axis < dimension; ++axis) {
-      text += (axis == 0 ? "" : ", ") + io_detail::jsonNumberText(point[axis]);
+      text += (axis == 0 ? "" : ", ") + detail::jsonNumberText(point[axis]);
     }
     text += i + 1 < polyline.points.size() ? "],\n" : "]\n";
   }

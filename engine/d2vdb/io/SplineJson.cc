@@ -17,7 +17,7 @@
 namespace d2vdb {
 namespace {
 
-using Json = io_detail::Json;
+using Json = detail::Json;
 
 constexpr int kFormatVersion = 1;
 constexpr const char* kCurveType = "bspline_curve";
@@ -25,7 +25,7 @@ constexpr const char* kSurfaceType = "bspline_surface";
 
 // Validates one parsed JSON document against the format, reporting errors with the source name
 // and the JSON path of the offending field.
-class Reader : public io_detail::JsonFieldReader {
+class Reader : public detail::JsonFieldReader {
  public:
   explicit Reader(std::string sourceName) : JsonFieldReader("spline file", std::move(sourceName)) {}
 
@@ -33,7 +33,7 @@ class Reader : public io_detail::JsonFieldReader {
   void checkHeader(const Json& root, const std::string& expectedType,
                    std::initializer_list<const char*> allowed) const {
     if (!root.is_object())
-      fail("", "expected a JSON object, got " + io_detail::describeJsonType(root));
+      fail("", "expected a JSON object, got " + detail::describeJsonType(root));
     const std::string type = string(root, "type");
     if (type != expectedType) {
       fail("type", "is \"" + type + "\", expected \"" + expectedType + "\"");
@@ -170,7 +170,7 @@ class Reader : public io_detail::JsonFieldReader {
 
   Spline spline(const Json& root) const {
     if (!root.is_object())
-      fail("", "expected a JSON object, got " + io_detail::describeJsonType(root));
+      fail("", "expected a JSON object, got " + detail::describeJsonType(root));
     const std::string type = string(root, "type");
     if (type == kCurveType) return curve(root);
     if (type == kSurfaceType) return surface(root);
@@ -180,11 +180,11 @@ class Reader : public io_detail::JsonFieldReader {
 };
 
 std::string readText(const std::filesystem::path& file) {
-  return io_detail::readTextFile(file, "spline file");
+  return detail::readTextFile(file, "spline file");
 }
 
 std::string number(double value) {
-  return io_detail::jsonNumberText(value);
+  return detail::jsonNumberText(value);
 }
 
 std::string pointText(const Eigen::Vector3d& point, int dimension) {

@@ -13,9 +13,11 @@
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
-#include "d2vdb/field/OpenVdbSetup.h"
+#include "d2vdb/field/detail/OpenVdbSetup.h"
 
 namespace d2vdb {
+
+using detail::ensureOpenVdbInitialized;
 namespace {
 
 // The first 8 bytes of every .vdb file: OPENVDB_MAGIC as a little-endian int64.

@@ -16,9 +16,11 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/measure/PointProjection.h"
-#include "d2vdb/measure/SquaredDistanceTensor.h"
+#include "d2vdb/measure/detail/SquaredDistanceTensor.h"
 
 namespace d2vdb {
+
+using detail::SquaredDistanceTensor;
 namespace {
 
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();

@@ -10,9 +10,11 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/measure/BernsteinRoots.h"
+#include "d2vdb/measure/detail/BernsteinRoots.h"
 
 namespace d2vdb {
+
+using detail::findBernsteinRoots;
 namespace {
 
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();

@@ -4,12 +4,21 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/MeshFileCommon.h"
-#include "d2vdb/mesh/ObjFormat.h"
-#include "d2vdb/mesh/PlyFormat.h"
-#include "d2vdb/mesh/StlFormat.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/ObjFormat.h"
+#include "d2vdb/mesh/detail/PlyFormat.h"
+#include "d2vdb/mesh/detail/StlFormat.h"
 
 namespace d2vdb {
+
+using detail::parseObj;
+using detail::parsePly;
+using detail::parseStl;
+using detail::PlyEncoding;
+using detail::StlEncoding;
+using detail::writeObj;
+using detail::writePly;
+using detail::writeStl;
 
 MeshFormat meshFormatFromPath(const std::filesystem::path& path) {
   const std::string extension = path.extension().string();
@@ -40,7 +49,7 @@ std::string meshFormatName(MeshFormat format) {
 
 TriangleMesh readMesh(const std::filesystem::path& path) {
   const MeshFormat format = meshFormatFromPath(path);
-  const std::string contents = mesh_detail::readFileContents(path);
+  const std::string contents = detail::readFileContents(path);
   const std::string name = path.string();
   switch (format) {
     case MeshFormat::Obj:
@@ -57,7 +66,7 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                const MeshWriteOptions& options) {
   const MeshFormat format = meshFormatFromPath(path);
   // Check the mesh first so that a mesh that cannot be written never touches the file system.
-  mesh_detail::checkMeshIsWritable(mesh, meshFormatName(format).c_str());
+  detail::checkMeshIsWritable(mesh, meshFormatName(format).c_str());
   writeStreamAtomically(path, [&](std::ostream& out) {
     switch (format) {
       case MeshFormat::Obj:

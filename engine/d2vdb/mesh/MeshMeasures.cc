@@ -6,14 +6,14 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/MeshIndexCheck.h"
+#include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
 namespace d2vdb {
 
 BoundingBox boundingBox(const TriangleMesh& mesh) {
   if (mesh.positions.empty())
     throw InputError("cannot take the bounding box of a mesh without vertices");
-  mesh_detail::checkTriangleIndices(mesh, "cannot take the bounding box of the mesh");
+  detail::checkTriangleIndices(mesh, "cannot take the bounding box of the mesh");
   Eigen::Vector3f low = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
   Eigen::Vector3f high = -low;
   const auto include = [&](const Eigen::Vector3f& point) {
@@ -39,7 +39,7 @@ BoundingBox boundingBox(const TriangleMesh& mesh) {
 }
 
 double surfaceArea(const TriangleMesh& mesh) {
-  mesh_detail::checkTriangleIndices(mesh, "cannot measure the surface area of the mesh");
+  detail::checkTriangleIndices(mesh, "cannot measure the surface area of the mesh");
   double area = 0.0;
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     const Eigen::Vector3d a = mesh.positions[triangle[0]].cast<double>();

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "d2vdb/mesh/MeshIndexCheck.h"
+#include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
 namespace d2vdb {
 namespace {
@@ -191,7 +191,7 @@ std::string MeshReport::problems() const {
 }
 
 MeshReport validateMesh(const TriangleMesh& mesh) {
-  mesh_detail::checkTriangleIndices(mesh, "cannot validate the mesh");
+  detail::checkTriangleIndices(mesh, "cannot validate the mesh");
   const std::size_t vertexCount = mesh.positions.size();
   const std::size_t triangleCount = mesh.triangles.size();
   MeshReport report;

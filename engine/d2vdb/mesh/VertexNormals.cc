@@ -5,12 +5,12 @@
 #include <cmath>
 #include <vector>
 
-#include "d2vdb/mesh/MeshIndexCheck.h"
+#include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
 namespace d2vdb {
 
 void computeVertexNormals(TriangleMesh& mesh) {
-  mesh_detail::checkTriangleIndices(mesh, "cannot compute vertex normals");
+  detail::checkTriangleIndices(mesh, "cannot compute vertex normals");
   std::vector<Eigen::Vector3d> sums(mesh.positions.size(), Eigen::Vector3d::Zero());
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     const Eigen::Vector3d a = mesh.positions[triangle[0]].cast<double>();

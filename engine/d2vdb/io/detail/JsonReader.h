@@ -10,7 +10,7 @@
 #include <initializer_list>
 #include <string>
 
-namespace d2vdb::io_detail {
+namespace d2vdb::detail {
 
 using Json = nlohmann::json;
 
@@ -80,4 +80,4 @@ class JsonFieldReader {
   std::string source_;
 };
 
-}  // namespace d2vdb::io_detail
+}  // namespace d2vdb::detail

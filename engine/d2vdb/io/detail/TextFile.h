@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <string>
 
-namespace d2vdb::io_detail {
+namespace d2vdb::detail {
 
 /// The whole content of `file`. `fileKind` names the file in messages ("point file"). Throws
 /// InputError "<fileKind> '<file>' does not exist" / "is a directory" / "cannot be read".
 std::string readTextFile(const std::filesystem::path& file, const std::string& fileKind);
 
-}  // namespace d2vdb::io_detail
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/mesh/TextScanner.h"
+#include "d2vdb/mesh/detail/TextScanner.h"
 
 #include <charconv>
 #include <cmath>
@@ -6,9 +6,9 @@
 #include <limits>
 #include <system_error>
 
-#include "d2vdb/mesh/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 namespace {
 
 /// The token without a leading '+' that is followed by a digit or a decimal point (from_chars
@@ -118,4 +118,4 @@ float parseFiniteFloat(std::string_view token, const std::string& fileName, std:
   return value;
 }
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

@@ -7,7 +7,7 @@
 
 #include "d2vdb/mesh/TriangleMesh.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// How an STL file is encoded.
 enum class StlEncoding { Ascii, Binary };
@@ -40,4 +40,4 @@ TriangleMesh readStl(std::istream& in, const std::string& nameForMessages);
 /// binary) and RuntimeFailure when the stream fails.
 void writeStl(std::ostream& out, const TriangleMesh& mesh, StlEncoding encoding);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

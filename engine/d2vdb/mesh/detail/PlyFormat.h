@@ -8,7 +8,7 @@
 
 #include "d2vdb/mesh/TriangleMesh.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// How the body of a PLY file is encoded.
 enum class PlyEncoding { Ascii, BinaryLittleEndian, BinaryBigEndian };
@@ -37,4 +37,4 @@ TriangleMesh readPly(std::istream& in, const std::string& nameForMessages);
 /// (see writeMesh) and RuntimeFailure when the stream fails.
 void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

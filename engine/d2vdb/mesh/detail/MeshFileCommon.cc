@@ -1,4 +1,4 @@
-#include "d2vdb/mesh/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
 
 #include <array>
 #include <charconv>
@@ -8,9 +8,9 @@
 #include <system_error>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/MeshIndexCheck.h"
+#include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 namespace {
 
 constexpr std::size_t kFlushThreshold = std::size_t{1} << 20;
@@ -101,7 +101,7 @@ std::string readStreamContents(std::istream& in, const std::string& nameForMessa
 void checkMeshIsWritable(const TriangleMesh& mesh, const char* formatName) {
   const std::string context = std::string("cannot write the mesh as ") + formatName + ": ";
   if (mesh.positions.empty()) throw InputError(context + "it has no vertices");
-  mesh_detail::checkTriangleIndices(mesh, context.substr(0, context.size() - 2).c_str());
+  detail::checkTriangleIndices(mesh, context.substr(0, context.size() - 2).c_str());
   const std::size_t vertexCount = mesh.positions.size();
   for (std::size_t v = 0; v < vertexCount; ++v) {
     if (!isFinite(mesh.positions[v])) {
@@ -137,4 +137,4 @@ void flushBuffer(std::string& buffer, std::ostream& out, bool force) {
   if (!out) throw RuntimeFailure("write error while writing a mesh (disk full?)");
 }
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

@@ -6,7 +6,7 @@
 
 #include "d2vdb/core/Error.h"
 
-namespace d2vdb::io_detail {
+namespace d2vdb::detail {
 
 std::string readTextFile(const std::filesystem::path& file, const std::string& fileKind) {
   std::error_code error;
@@ -23,4 +23,4 @@ std::string readTextFile(const std::filesystem::path& file, const std::string& f
   return text.str();
 }
 
-}  // namespace d2vdb::io_detail
+}  // namespace d2vdb::detail

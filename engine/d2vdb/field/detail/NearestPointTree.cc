@@ -1,5 +1,5 @@
 // Bounding-box hierarchy for exact nearest points (NearestPointTree.h).
-#include "d2vdb/field/NearestPointTree.h"
+#include "d2vdb/field/detail/NearestPointTree.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,7 +12,7 @@
 
 #include "d2vdb/core/Error.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 /// Points per leaf: a leaf's distances are computed together (vectorised), so leaves are wide.
@@ -234,4 +234,4 @@ NearestPointTree::Nearest NearestPointTree::nearest(const Eigen::Vector3f& query
   return best;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

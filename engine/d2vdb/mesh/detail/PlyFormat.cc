@@ -1,4 +1,4 @@
-#include "d2vdb/mesh/PlyFormat.h"
+#include "d2vdb/mesh/detail/PlyFormat.h"
 
 #include <algorithm>
 #include <array>
@@ -11,23 +11,23 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/ByteOrder.h"
-#include "d2vdb/mesh/MeshFileCommon.h"
-#include "d2vdb/mesh/TextScanner.h"
+#include "d2vdb/mesh/detail/ByteOrder.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/TextScanner.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
-using mesh_detail::ByteOrder;
-using mesh_detail::inQuotes;
-using mesh_detail::kMaxVertexCount;
-using mesh_detail::LineScanner;
-using mesh_detail::loadScalar;
-using mesh_detail::NumberStatus;
-using mesh_detail::throwAtByte;
-using mesh_detail::throwAtLine;
-using mesh_detail::throwInFile;
-using mesh_detail::TokenReader;
+using detail::ByteOrder;
+using detail::inQuotes;
+using detail::kMaxVertexCount;
+using detail::LineScanner;
+using detail::loadScalar;
+using detail::NumberStatus;
+using detail::throwAtByte;
+using detail::throwAtLine;
+using detail::throwInFile;
+using detail::TokenReader;
 
 // ---------------------------------------------------------------------------------------------
 // Scalar types
@@ -222,7 +222,7 @@ class HeaderParser {
     element.name = std::string(expectToken(tokens, lineNumber, "element name"));
     const std::string_view countText = expectToken(tokens, lineNumber, "element count");
     std::int64_t count = 0;
-    if (mesh_detail::parseInteger(countText, count) != NumberStatus::Ok || count < 0) {
+    if (detail::parseInteger(countText, count) != NumberStatus::Ok || count < 0) {
       throwAtLine(fileName_, lineNumber,
                   "element count " + inQuotes(countText) + " is not a non-negative integer");
     }
@@ -399,12 +399,12 @@ class AsciiBody {
   float readCoordinate(ScalarType type, const char* what) {
     const std::string_view token = nextToken(what);
     if (type == ScalarType::Float32) {
-      return mesh_detail::parseFiniteFloat(token, fileName_, lines_.lineNumber(), what);
+      return detail::parseFiniteFloat(token, fileName_, lines_.lineNumber(), what);
     }
     double value = 0.0;
     if (infoOf(type).integer) {
       value = static_cast<double>(integerValue(token, type, what));
-    } else if (mesh_detail::parseDouble(token, value) != NumberStatus::Ok) {
+    } else if (detail::parseDouble(token, value) != NumberStatus::Ok) {
       fail(std::string(what) + " " + inQuotes(token) + " is not a number");
     }
     if (!std::isfinite(value)) fail(std::string(what) + " " + inQuotes(token) + " is not finite");
@@ -425,7 +425,7 @@ class AsciiBody {
       return;
     }
     double ignored = 0.0;
-    if (mesh_detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
+    if (detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
       fail(std::string(what) + " " + inQuotes(token) + " is not a number");
     }
   }
@@ -437,7 +437,7 @@ class AsciiBody {
  private:
   static bool isBlank(std::string_view line) {
     for (const char c : line) {
-      if (!mesh_detail::isSpace(c)) return false;
+      if (!detail::isSpace(c)) return false;
     }
     return true;
   }
@@ -452,7 +452,7 @@ class AsciiBody {
 
   std::int64_t integerValue(std::string_view token, ScalarType type, const char* what) const {
     std::int64_t value = 0;
-    const NumberStatus status = mesh_detail::parseInteger(token, value);
+    const NumberStatus status = detail::parseInteger(token, value);
     if (status == NumberStatus::NotANumber) {
       fail(std::string(what) + " " + inQuotes(token) + " is not an integer");
     }
@@ -717,11 +717,11 @@ std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding) {
       break;
   }
   header += " 1.0\ncomment written by d2vdb\nelement vertex ";
-  mesh_detail::appendUnsigned(header, mesh.positions.size());
+  detail::appendUnsigned(header, mesh.positions.size());
   header += "\nproperty float x\nproperty float y\nproperty float z\n";
   if (mesh.hasNormals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
   header += "element face ";
-  mesh_detail::appendUnsigned(header, mesh.triangles.size());
+  detail::appendUnsigned(header, mesh.triangles.size());
   header += "\nproperty list uchar uint vertex_indices\nend_header\n";
   return header;
 }
@@ -731,25 +731,25 @@ void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh&
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     for (int axis = 0; axis < 3; ++axis) {
       if (axis > 0) buffer += ' ';
-      mesh_detail::appendFloat(buffer, mesh.positions[v][axis]);
+      detail::appendFloat(buffer, mesh.positions[v][axis]);
     }
     if (withNormals) {
       for (int axis = 0; axis < 3; ++axis) {
         buffer += ' ';
-        mesh_detail::appendFloat(buffer, mesh.normals[v][axis]);
+        detail::appendFloat(buffer, mesh.normals[v][axis]);
       }
     }
     buffer += '\n';
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     buffer += '3';
     for (const TriangleMesh::Index index : triangle) {
       buffer += ' ';
-      mesh_detail::appendUnsigned(buffer, index);
+      detail::appendUnsigned(buffer, index);
     }
     buffer += '\n';
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
 }
 
@@ -758,21 +758,21 @@ void appendBinaryBody(std::string& buffer, std::ostream& out, const TriangleMesh
   const bool withNormals = mesh.hasNormals();
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     for (int axis = 0; axis < 3; ++axis) {
-      mesh_detail::appendScalar(buffer, mesh.positions[v][axis], order);
+      detail::appendScalar(buffer, mesh.positions[v][axis], order);
     }
     if (withNormals) {
       for (int axis = 0; axis < 3; ++axis) {
-        mesh_detail::appendScalar(buffer, mesh.normals[v][axis], order);
+        detail::appendScalar(buffer, mesh.normals[v][axis], order);
       }
     }
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
-    mesh_detail::appendScalar(buffer, std::uint8_t{3}, order);
+    detail::appendScalar(buffer, std::uint8_t{3}, order);
     for (const TriangleMesh::Index index : triangle) {
-      mesh_detail::appendScalar(buffer, std::uint32_t{index}, order);
+      detail::appendScalar(buffer, std::uint32_t{index}, order);
     }
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
 }
 
@@ -789,12 +789,12 @@ TriangleMesh parsePly(std::string_view contents, const std::string& nameForMessa
 }
 
 TriangleMesh readPly(std::istream& in, const std::string& nameForMessages) {
-  const std::string contents = mesh_detail::readStreamContents(in, nameForMessages);
+  const std::string contents = detail::readStreamContents(in, nameForMessages);
   return parsePly(contents, nameForMessages);
 }
 
 void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding) {
-  mesh_detail::checkMeshIsWritable(mesh, "PLY");
+  detail::checkMeshIsWritable(mesh, "PLY");
   std::string buffer = headerText(mesh, encoding);
   switch (encoding) {
     case PlyEncoding::Ascii:
@@ -807,7 +807,7 @@ void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding)
       appendBinaryBody(buffer, out, mesh, ByteOrder::Big);
       break;
   }
-  mesh_detail::flushBuffer(buffer, out, true);
+  detail::flushBuffer(buffer, out, true);
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -5,7 +5,7 @@
 
 #include "d2vdb/spline/Bernstein.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Controls of findBernsteinRoots().
 struct RootIsolationOptions {
@@ -41,4 +41,4 @@ struct BernsteinRootSet {
 BernsteinRootSet findBernsteinRoots(const BernsteinPolynomial& f,
                                     const RootIsolationOptions& options = {});
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 
 /// Walks through text one line at a time. Lines end at '\n'; a '\r' before it is dropped, so LF
 /// and CRLF files read alike. A final line without a terminator is still a line.
@@ -98,4 +98,4 @@ NumberStatus parseInteger(std::string_view token, std::int64_t& value);
 float parseFiniteFloat(std::string_view token, const std::string& fileName, std::size_t lineNumber,
                        const char* what);
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

@@ -12,7 +12,7 @@
 
 #include "d2vdb/mesh/TriangleMesh.h"
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 
 /// Throws InputError "<fileName>: <problem>" (for problems with the file as a whole).
 [[noreturn]] void throwInFile(const std::string& fileName, const std::string& problem);
@@ -54,4 +54,4 @@ void flushBuffer(std::string& buffer, std::ostream& out, bool force = false);
 /// TriangleMesh::Index.
 inline constexpr std::uint64_t kMaxVertexCount = 0xFFFFFFFFull;
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

@@ -1,5 +1,5 @@
 // Generation of the marching-cubes tables from the face rule described in CubeTables.h.
-#include "d2vdb/contour/CubeTables.h"
+#include "d2vdb/contour/detail/CubeTables.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace d2vdb::contour {
+namespace d2vdb::detail {
 namespace {
 
 /// The two axes other than `axis`, in increasing order.
@@ -233,4 +233,4 @@ const CubeTables& CubeTables::instance() {
   return tables;
 }
 
-}  // namespace d2vdb::contour
+}  // namespace d2vdb::detail

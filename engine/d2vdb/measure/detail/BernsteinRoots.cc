@@ -1,4 +1,4 @@
-#include "d2vdb/measure/BernsteinRoots.h"
+#include "d2vdb/measure/detail/BernsteinRoots.h"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 
 #include "d2vdb/core/Error.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
@@ -235,4 +235,4 @@ BernsteinRootSet findBernsteinRoots(const BernsteinPolynomial& f,
   return result;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

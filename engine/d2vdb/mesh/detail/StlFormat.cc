@@ -1,4 +1,4 @@
-#include "d2vdb/mesh/StlFormat.h"
+#include "d2vdb/mesh/detail/StlFormat.h"
 
 #include <Eigen/Geometry>
 
@@ -11,21 +11,21 @@
 #include <unordered_map>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/ByteOrder.h"
-#include "d2vdb/mesh/MeshFileCommon.h"
-#include "d2vdb/mesh/TextScanner.h"
+#include "d2vdb/mesh/detail/ByteOrder.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/TextScanner.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
-using mesh_detail::ByteOrder;
-using mesh_detail::inQuotes;
-using mesh_detail::LineScanner;
-using mesh_detail::NumberStatus;
-using mesh_detail::throwAtByte;
-using mesh_detail::throwAtLine;
-using mesh_detail::throwInFile;
-using mesh_detail::TokenReader;
+using detail::ByteOrder;
+using detail::inQuotes;
+using detail::LineScanner;
+using detail::NumberStatus;
+using detail::throwAtByte;
+using detail::throwAtLine;
+using detail::throwInFile;
+using detail::TokenReader;
 
 constexpr std::size_t kBinaryHeaderSize = 80;
 constexpr std::size_t kBinaryPreambleSize = 84;  // header + uint32 triangle count
@@ -42,7 +42,7 @@ bool equalsIgnoringCase(std::string_view text, std::string_view lowerCaseWord) {
 }
 
 bool startsWithSolid(std::string_view contents) {
-  TokenReader tokens(mesh_detail::withoutByteOrderMark(contents).substr(0, 256));
+  TokenReader tokens(detail::withoutByteOrderMark(contents).substr(0, 256));
   std::string_view first;
   return tokens.next(first) && equalsIgnoringCase(first, "solid");
 }
@@ -90,8 +90,8 @@ TriangleMesh parseBinary(std::string_view contents, const std::string& fileName)
                               " bytes: too short for a binary STL (84 bytes at least), and it "
                               "does not start with 'solid' as an ASCII STL does");
   }
-  const auto triangleCount = mesh_detail::loadScalar<std::uint32_t>(
-      contents.data() + kBinaryHeaderSize, ByteOrder::Little);
+  const auto triangleCount =
+      detail::loadScalar<std::uint32_t>(contents.data() + kBinaryHeaderSize, ByteOrder::Little);
   const std::uint64_t expectedSize =
       kBinaryPreambleSize + std::uint64_t{kBinaryFacetSize} * triangleCount;
   if (expectedSize != contents.size()) {
@@ -113,8 +113,7 @@ TriangleMesh parseBinary(std::string_view contents, const std::string& fileName)
       Eigen::Vector3f position;
       for (std::size_t axis = 0; axis < 3; ++axis) {
         const std::size_t offset = facetStart + 12 + 12 * corner + 4 * axis;
-        const float value =
-            mesh_detail::loadScalar<float>(contents.data() + offset, ByteOrder::Little);
+        const float value = detail::loadScalar<float>(contents.data() + offset, ByteOrder::Little);
         if (!std::isfinite(value)) {
           throwAtByte(fileName, offset,
                       "a vertex coordinate of triangle " + std::to_string(t) + " is not finite");
@@ -131,8 +130,7 @@ TriangleMesh parseBinary(std::string_view contents, const std::string& fileName)
 /// Tokens of an ASCII STL, read across line breaks, remembering the line of the last one.
 class StlTokens {
  public:
-  explicit StlTokens(std::string_view contents)
-      : lines_(mesh_detail::withoutByteOrderMark(contents)) {}
+  explicit StlTokens(std::string_view contents) : lines_(detail::withoutByteOrderMark(contents)) {}
 
   bool next(std::string_view& token) {
     while (!tokens_.next(token)) {
@@ -215,7 +213,7 @@ class AsciiStlParser {
       // which some exporters write for degenerate facets) are only checked to be numbers.
       const std::string_view token = nextToken("a facet normal component");
       double ignored = 0.0;
-      if (mesh_detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
+      if (detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
         fail("facet normal component " + inQuotes(token) + " is not a number");
       }
     }
@@ -236,8 +234,7 @@ class AsciiStlParser {
       for (int axis = 0; axis < 3; ++axis) {
         const char* const name = kNames[static_cast<std::size_t>(axis)];
         const std::string_view value = nextToken(name);
-        position[axis] =
-            mesh_detail::parseFiniteFloat(value, fileName_, tokens_.lineNumber(), name);
+        position[axis] = detail::parseFiniteFloat(value, fileName_, tokens_.lineNumber(), name);
       }
       triangle[corner] = welder_.indexOf(position);
     }
@@ -268,22 +265,22 @@ Eigen::Vector3f facetNormal(const TriangleMesh& mesh, const TriangleMesh::Triang
 void writeBinary(std::ostream& out, const TriangleMesh& mesh) {
   std::string buffer = "binary STL written by d2vdb";
   buffer.resize(kBinaryHeaderSize, '\0');
-  mesh_detail::appendScalar(buffer, static_cast<std::uint32_t>(mesh.triangles.size()),
-                            ByteOrder::Little);
+  detail::appendScalar(buffer, static_cast<std::uint32_t>(mesh.triangles.size()),
+                       ByteOrder::Little);
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     const Eigen::Vector3f normal = facetNormal(mesh, triangle);
     for (int axis = 0; axis < 3; ++axis) {
-      mesh_detail::appendScalar(buffer, normal[axis], ByteOrder::Little);
+      detail::appendScalar(buffer, normal[axis], ByteOrder::Little);
     }
     for (const TriangleMesh::Index index : triangle) {
       for (int axis = 0; axis < 3; ++axis) {
-        mesh_detail::appendScalar(buffer, mesh.positions[index][axis], ByteOrder::Little);
+        detail::appendScalar(buffer, mesh.positions[index][axis], ByteOrder::Little);
       }
     }
-    mesh_detail::appendScalar(buffer, std::uint16_t{0}, ByteOrder::Little);
-    mesh_detail::flushBuffer(buffer, out);
+    detail::appendScalar(buffer, std::uint16_t{0}, ByteOrder::Little);
+    detail::flushBuffer(buffer, out);
   }
-  mesh_detail::flushBuffer(buffer, out, true);
+  detail::flushBuffer(buffer, out, true);
 }
 
 void writeAscii(std::ostream& out, const TriangleMesh& mesh) {
@@ -291,7 +288,7 @@ void writeAscii(std::ostream& out, const TriangleMesh& mesh) {
   const auto appendVector = [&buffer](const Eigen::Vector3f& vector) {
     for (int axis = 0; axis < 3; ++axis) {
       buffer += ' ';
-      mesh_detail::appendFloat(buffer, vector[axis]);
+      detail::appendFloat(buffer, vector[axis]);
     }
     buffer += '\n';
   };
@@ -304,18 +301,18 @@ void writeAscii(std::ostream& out, const TriangleMesh& mesh) {
       appendVector(mesh.positions[index]);
     }
     buffer += "    endloop\n  endfacet\n";
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
   buffer += "endsolid d2vdb\n";
-  mesh_detail::flushBuffer(buffer, out, true);
+  detail::flushBuffer(buffer, out, true);
 }
 
 }  // namespace
 
 StlEncoding detectStlEncoding(std::string_view contents) {
   if (contents.size() >= kBinaryPreambleSize) {
-    const auto triangleCount = mesh_detail::loadScalar<std::uint32_t>(
-        contents.data() + kBinaryHeaderSize, ByteOrder::Little);
+    const auto triangleCount =
+        detail::loadScalar<std::uint32_t>(contents.data() + kBinaryHeaderSize, ByteOrder::Little);
     if (kBinaryPreambleSize + std::uint64_t{kBinaryFacetSize} * triangleCount == contents.size()) {
       return StlEncoding::Binary;
     }
@@ -334,12 +331,12 @@ TriangleMesh parseStl(std::string_view contents, const std::string& nameForMessa
 }
 
 TriangleMesh readStl(std::istream& in, const std::string& nameForMessages) {
-  const std::string contents = mesh_detail::readStreamContents(in, nameForMessages);
+  const std::string contents = detail::readStreamContents(in, nameForMessages);
   return parseStl(contents, nameForMessages);
 }
 
 void writeStl(std::ostream& out, const TriangleMesh& mesh, StlEncoding encoding) {
-  mesh_detail::checkMeshIsWritable(mesh, "STL");
+  detail::checkMeshIsWritable(mesh, "STL");
   if (mesh.triangles.empty()) {
     throw InputError("cannot write the mesh as STL: it has no triangles (STL stores only facets)");
   }
@@ -353,4 +350,4 @@ void writeStl(std::ostream& out, const TriangleMesh& mesh, StlEncoding encoding)
   }
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

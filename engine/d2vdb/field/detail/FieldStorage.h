@@ -18,7 +18,7 @@
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/field/Approximant.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Number of set bits of `bits`, inline (the portable x86-64 baseline has no popcount instruction,
 /// and __builtin_popcountll then becomes a library call on every voxel look-up).
@@ -227,4 +227,4 @@ struct FieldStorage {
                                         double diagonal) const;
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

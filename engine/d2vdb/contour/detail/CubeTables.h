@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace d2vdb::contour {
+namespace d2vdb::detail {
 
 /// Geometry conventions of a unit cell (shared by the tables and the extractor):
 /// - corner c (0..7) sits at offset (c & 1, (c >> 1) & 1, (c >> 2) & 1);
@@ -98,4 +98,4 @@ class CubeTables {
   std::vector<CellTriangulation> entries_;
 };
 
-}  // namespace d2vdb::contour
+}  // namespace d2vdb::detail

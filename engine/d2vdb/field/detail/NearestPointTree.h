@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// A k-d tree over a fixed set of points (any units; float coordinates), answering exact
 /// nearest-point queries, made for queries far from a surface-like point set (the field's
@@ -72,4 +72,4 @@ class NearestPointTree {
   std::vector<Node> nodes_;
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -6,9 +6,9 @@
 #include <vector>
 
 #include "d2vdb/core/Progress.h"
-#include "d2vdb/field/FieldStorage.h"
+#include "d2vdb/field/detail/FieldStorage.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// One line naming the method, stored as metadata and shown by `d2vdb info`.
 inline constexpr const char* kSurfaceEstimator =
@@ -44,4 +44,4 @@ void estimateSurfaceRecords(
     const std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*>& leaves,
     const ProgressCallback& progress);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/measure/SquaredDistanceTensor.h"
+#include "d2vdb/measure/detail/SquaredDistanceTensor.h"
 
 #include <array>
 #include <limits>
@@ -6,7 +6,7 @@
 
 #include "d2vdb/core/Error.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 // Binomial coefficient C(n, k) for n <= 2 kMaxSplineDegree, exact in double.
@@ -79,4 +79,4 @@ double SquaredDistanceTensor::evaluate(double u, double v) const {
   return basisU.dot(coefficients_ * basisV);
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

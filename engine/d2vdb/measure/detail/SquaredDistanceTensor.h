@@ -5,7 +5,7 @@
 
 #include "d2vdb/spline/BezierCurve.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// The squared distance S(u, v) = |P(u) - Q(v)|^2, (u, v) in [0, 1]^2, between a point of the
 /// Bézier curve P (degree n) and a point of Q (degree m), written as
@@ -45,4 +45,4 @@ class SquaredDistanceTensor {
   double roundingBound_ = 0.0;
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -8,7 +8,7 @@
 #include <string>
 #include <type_traits>
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 
 /// Byte order of a binary file's scalars.
 enum class ByteOrder { Little, Big };
@@ -50,4 +50,4 @@ void appendScalar(std::string& out, T value, ByteOrder order) {
   }
 }
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

@@ -1,10 +1,10 @@
-#include "d2vdb/mesh/MeshIndexCheck.h"
+#include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
 #include <string>
 
 #include "d2vdb/core/Error.h"
 
-namespace d2vdb::mesh_detail {
+namespace d2vdb::detail {
 
 void checkTriangleIndices(const TriangleMesh& mesh, const char* operation) {
   const std::size_t vertexCount = mesh.positions.size();
@@ -19,4 +19,4 @@ void checkTriangleIndices(const TriangleMesh& mesh, const char* operation) {
   }
 }
 
-}  // namespace d2vdb::mesh_detail
+}  // namespace d2vdb::detail

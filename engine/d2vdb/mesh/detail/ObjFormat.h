@@ -7,7 +7,7 @@
 
 #include "d2vdb/mesh/TriangleMesh.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Parses OBJ text. Reads `v x y z` (an optional w and vertex colours after xyz are checked to be
 /// numbers and ignored), `vn x y z`, and `f` with corners `i`, `i/t`, `i//n` or `i/t/n`, where
@@ -33,4 +33,4 @@ TriangleMesh readObj(std::istream& in, const std::string& nameForMessages);
 /// writeMesh) and RuntimeFailure when the stream fails.
 void writeObj(std::ostream& out, const TriangleMesh& mesh);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

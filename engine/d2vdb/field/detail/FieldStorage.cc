@@ -1,6 +1,6 @@
 // Compact records, leaf tables, decoding and the coarse levels of ApproximantField
 // (FieldStorage.h).
-#include "d2vdb/field/FieldStorage.h"
+#include "d2vdb/field/detail/FieldStorage.h"
 
 #include <openvdb/math/Half.h>
 #include <openvdb/tools/Morphology.h>
@@ -15,9 +15,9 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/NearestPointTree.h"
+#include "d2vdb/field/detail/NearestPointTree.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 /// Codes per quadrant of the diamond angle (encodeAngle()).
@@ -617,4 +617,4 @@ void FieldStorage::buildCoarseLevels(const ProgressCallback& progress) {
   }
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/mesh/ObjFormat.h"
+#include "d2vdb/mesh/detail/ObjFormat.h"
 
 #include <algorithm>
 #include <array>
@@ -9,20 +9,20 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/MeshFileCommon.h"
-#include "d2vdb/mesh/TextScanner.h"
+#include "d2vdb/mesh/detail/MeshFileCommon.h"
+#include "d2vdb/mesh/detail/TextScanner.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
-using mesh_detail::inQuotes;
-using mesh_detail::kMaxVertexCount;
-using mesh_detail::LineScanner;
-using mesh_detail::NumberStatus;
-using mesh_detail::parseFiniteFloat;
-using mesh_detail::throwAtLine;
-using mesh_detail::throwInFile;
-using mesh_detail::TokenReader;
+using detail::inQuotes;
+using detail::kMaxVertexCount;
+using detail::LineScanner;
+using detail::NumberStatus;
+using detail::parseFiniteFloat;
+using detail::throwAtLine;
+using detail::throwInFile;
+using detail::TokenReader;
 
 constexpr std::uint32_t kNoNormal = 0xFFFFFFFFu;
 
@@ -54,7 +54,7 @@ class IndexResolver {
   std::uint64_t resolve(std::string_view token, std::uint64_t definedSoFar,
                         const std::string& fileName, std::size_t lineNumber) {
     std::int64_t index = 0;
-    const NumberStatus status = mesh_detail::parseInteger(token, index);
+    const NumberStatus status = detail::parseInteger(token, index);
     if (status == NumberStatus::NotANumber) {
       throwAtLine(fileName, lineNumber, inQuotes(token) + " is not a valid " + kind_ + " index");
     }
@@ -109,7 +109,7 @@ class ObjParser {
 
   TriangleMesh parse() {
     if (text_.empty()) throwInFile(fileName_, "the file is empty");
-    LineScanner lines(mesh_detail::withoutByteOrderMark(text_));
+    LineScanner lines(detail::withoutByteOrderMark(text_));
     std::string_view line;
     while (lines.next(line)) parseStatement(line, lines.lineNumber());
     if (mesh_.positions.empty()) {
@@ -179,7 +179,7 @@ class ObjParser {
     std::string_view token;
     while (tokens.next(token)) {
       double ignored = 0.0;
-      if (mesh_detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
+      if (detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
         throwAtLine(fileName_, lineNumber, inQuotes(token) + " is not a number");
       }
     }
@@ -290,51 +290,51 @@ TriangleMesh parseObj(std::string_view text, const std::string& nameForMessages)
 }
 
 TriangleMesh readObj(std::istream& in, const std::string& nameForMessages) {
-  const std::string contents = mesh_detail::readStreamContents(in, nameForMessages);
+  const std::string contents = detail::readStreamContents(in, nameForMessages);
   return parseObj(contents, nameForMessages);
 }
 
 void writeObj(std::ostream& out, const TriangleMesh& mesh) {
-  mesh_detail::checkMeshIsWritable(mesh, "OBJ");
+  detail::checkMeshIsWritable(mesh, "OBJ");
   const bool withNormals = mesh.hasNormals();
   std::string buffer;
   buffer += "# OBJ written by d2vdb: ";
-  mesh_detail::appendUnsigned(buffer, mesh.positions.size());
+  detail::appendUnsigned(buffer, mesh.positions.size());
   buffer += " vertices, ";
-  mesh_detail::appendUnsigned(buffer, mesh.triangles.size());
+  detail::appendUnsigned(buffer, mesh.triangles.size());
   buffer += " triangles\n";
   const auto appendVector = [&buffer](const char* keyword, const Eigen::Vector3f& vector) {
     buffer += keyword;
     for (int axis = 0; axis < 3; ++axis) {
       buffer += ' ';
-      mesh_detail::appendFloat(buffer, vector[axis]);
+      detail::appendFloat(buffer, vector[axis]);
     }
     buffer += '\n';
   };
   for (const Eigen::Vector3f& position : mesh.positions) {
     appendVector("v", position);
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
   if (withNormals) {
     for (const Eigen::Vector3f& normal : mesh.normals) {
       appendVector("vn", normal);
-      mesh_detail::flushBuffer(buffer, out);
+      detail::flushBuffer(buffer, out);
     }
   }
   for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     buffer += 'f';
     for (const TriangleMesh::Index index : triangle) {
       buffer += ' ';
-      mesh_detail::appendUnsigned(buffer, std::uint64_t{index} + 1);
+      detail::appendUnsigned(buffer, std::uint64_t{index} + 1);
       if (withNormals) {
         buffer += "//";
-        mesh_detail::appendUnsigned(buffer, std::uint64_t{index} + 1);
+        detail::appendUnsigned(buffer, std::uint64_t{index} + 1);
       }
     }
     buffer += '\n';
-    mesh_detail::flushBuffer(buffer, out);
+    detail::flushBuffer(buffer, out);
   }
-  mesh_detail::flushBuffer(buffer, out, true);
+  detail::flushBuffer(buffer, out, true);
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -4,7 +4,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/io/detail/JsonReader.h"
 
-namespace d2vdb::io_detail {
+namespace d2vdb::detail {
 
 std::string describeJsonType(const Json& value) {
   switch (value.type()) {
@@ -151,4 +151,4 @@ Eigen::Vector3d JsonFieldReader::point(const Json& value, const std::string& pat
   return point;
 }
 
-}  // namespace d2vdb::io_detail
+}  // namespace d2vdb::detail

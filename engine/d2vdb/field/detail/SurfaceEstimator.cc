@@ -1,5 +1,5 @@
 // Surface approximants from a narrow-band level set (SurfaceEstimator.h).
-#include "d2vdb/field/SurfaceEstimator.h"
+#include "d2vdb/field/detail/SurfaceEstimator.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 using LeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
@@ -417,4 +417,4 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
   if (progress) progress("field: approximants", 1.0);
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail
