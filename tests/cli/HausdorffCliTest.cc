@@ -1,5 +1,5 @@
-// End-to-end tests of 'd2vdb project' and 'd2vdb hausdorff': the seed's examples through the
-// command line, JSON keys, the SVG drawing, exit codes.
+// End-to-end tests of 'd2vdb project' and 'd2vdb hausdorff': the worked examples of Chen et al.
+// (2010) through the command line, JSON keys, the SVG drawing, exit codes.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,5 +1,6 @@
 // Analytic shapes: hand-computed distances, brute-force distances to densely sampled surfaces,
-// and curvatures checked against a finite-difference Hessian of the distance (DESIGN.md §1.1).
+// and curvatures checked against a finite-difference Hessian of the distance (engine/README.md,
+// "Conventions").
 #include "d2vdb/field/AnalyticShapes.h"
 
 #include <gtest/gtest.h>
@@ -65,7 +66,7 @@ Eigen::Matrix3d distanceHessian(const AnalyticShape& shape, const Eigen::Vector3
   return hessian;
 }
 
-// Hessian(d)(p) = sum_i k_i / (1 + d k_i) e_i e_i^T (DESIGN.md §1.1), checked against finite
+// Hessian(d)(p) = sum_i k_i / (1 + d k_i) e_i e_i^T (engine/README.md), checked against finite
 // differences; also the frame and footpoint of the SurfacePoint.
 void expectConsistentSurfacePoint(const AnalyticShape& shape, const SurfacePoint& s,
                                   const Eigen::Vector3d& p) {

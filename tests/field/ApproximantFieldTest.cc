@@ -1,4 +1,4 @@
-// The squared-distance approximant field against analytic references (issue 3): curvature,
+// The squared-distance approximant field against analytic references: curvature,
 // footpoints and frames on a sphere and a torus, curve fields of a circle and a helix, the
 // PDM/TDM/SDM forms against the exact d^2 and its Hessian, answers beyond the band, determinism
 // across thread counts, and the exact round trip through standard grids.

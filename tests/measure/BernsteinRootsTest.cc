@@ -30,7 +30,8 @@ TEST(BernsteinRoots, FindsSimpleRootsToFullPrecision) {
 }
 
 TEST(BernsteinRoots, SeedProjectionPolynomialHasTheExactRoots) {
-  // (C - p) . C' of the seed's quadratic Bézier and p = (0, 0): 2 (2t - 1)(8t^2 - 8t + 1).
+  // (C - p) . C' of the worked example's quadratic Bézier and p = (0, 0): 2 (2t - 1)(8t^2 - 8t +
+  // 1).
   const BernsteinPolynomial f({-2.0, 14.0 / 3.0, -14.0 / 3.0, 2.0});
   const auto found = findBernsteinRoots(f);
   ASSERT_EQ(found.roots.size(), 3u);

@@ -1,4 +1,5 @@
-// Hausdorff distance between B-spline curves: the seed's example, a dozen curve pairs of every
+// Hausdorff distance between B-spline curves: the worked example of Chen et al. (2010) as taught
+// in Shtain's lecture on it, a dozen curve pairs of every
 // kind against the brute-force reference (1e-9 relative), degenerate inputs, the certified
 // bracket, the depth and interval bounds, and thread-count independence.
 #include <gtest/gtest.h>
@@ -78,8 +79,8 @@ HausdorffDistance expectMatchesBruteForce(const BSplineCurve& a, const BSplineCu
 TEST(CurveHausdorff, SeedCubicBeziers) {
   const BSplineCurve a = d2vdb::test::seedCurveA();
   const BSplineCurve b = d2vdb::test::seedCurveB();
-  const HausdorffDistance result = expectMatchesBruteForce(a, b, "seed");
-  // The seed's 261.9 with the pair (0.0685, 0) is h(B -> A): B's start point B(0) = (258, 481)
+  const HausdorffDistance result = expectMatchesBruteForce(a, b, "lecture example");
+  // The lecture's 261.9 with the pair (0.0685, 0) is h(B -> A): B's start point B(0) = (258, 481)
   // and its nearest point A(0.0685...) on A.
   EXPECT_NEAR(result.bToA.distance, 261.9, 0.05);
   EXPECT_EQ(result.bToA.fromParameter, 0.0);
@@ -140,7 +141,7 @@ TEST(CurveHausdorff, BisectorCaseUnderAnArch) {
 }
 
 TEST(CurveHausdorff, BisectorBetweenTwoEndPoints) {
-  // Below the seed's arch, the segment's middle (0, -3) is equidistant from the arch's two end
+  // Below the example's arch, the segment's middle (0, -3) is equidistant from the arch's two end
   // points, which are its nearest points: h = sqrt(10) at u = 1/2, case 4 with fixed feet.
   const BSplineCurve segment = BSplineCurve::clamped(1, {xy(-0.5, -3), xy(0.5, -3)}, 2);
   const HausdorffDistance result =

@@ -17,7 +17,7 @@ inline Eigen::Vector3d xy(double x, double y) {
   return {x, y, 0.0};
 }
 
-/// The two cubic Béziers of seed 001 (slide 33).
+/// The two cubic Béziers of the worked example in Shtain's lecture on Chen et al. (2010).
 inline BSplineCurve seedCurveA() {
   return BSplineCurve::clamped(3, {xy(193, 226), xy(227, 230), xy(297, 134), xy(421, 135)}, 2);
 }
@@ -25,7 +25,7 @@ inline BSplineCurve seedCurveB() {
   return BSplineCurve::clamped(3, {xy(258, 481), xy(294, 438), xy(302, 268), xy(435, 213)}, 2);
 }
 
-/// The seed's quadratic Bézier (-1, 0), (0, 2), (1, 0).
+/// The worked example's quadratic Bézier (-1, 0), (0, 2), (1, 0).
 inline BSplineCurve seedQuadratic() {
   return BSplineCurve::clamped(2, {xy(-1, 0), xy(0, 2), xy(1, 0)}, 2);
 }

@@ -1,5 +1,5 @@
-// Point–curve projection: the seed's worked example with exact values, agreement with the
-// brute-force reference on many curves and points, the extrema list, batch and threading.
+// Point–curve projection: the worked example of engine/README.md with exact values, agreement with
+// the brute-force reference on many curves and points, the extrema list, batch and threading.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -22,7 +22,7 @@ using d2vdb::test::xy;
 
 TEST(PointProjection, SeedQuadraticExampleHasTheExactRootsAndDistance) {
   const BSplineCurve curve = d2vdb::test::seedQuadratic();
-  // The projection polynomial's Bernstein coefficients (DESIGN.md 1.3): -2, 14/3, -14/3, 2.
+  // The projection polynomial's Bernstein coefficients (engine/README.md): -2, 14/3, -14/3, 2.
   const d2vdb::BezierCurve bezier = curve.toBezierSegments().front().curve;
   const d2vdb::BernsteinPolynomial condition =
       d2vdb::dot(bezier.translated(Eigen::Vector3d::Zero()), bezier.derivative());

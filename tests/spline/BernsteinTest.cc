@@ -151,9 +151,9 @@ TEST(Bernstein, ProductSumAndDifferenceMatchPointwiseArithmetic) {
                d2vdb::InputError);
 }
 
-// DESIGN.md 1.3: for the quadratic Bézier (-1,0),(0,2),(1,0) and p = (0,0), (C - p) . C' is the
-// cubic 2 (2t - 1)(8t^2 - 8t + 1). Its Bernstein coefficients come from the power form:
-// 32 t^3 - 48 t^2 + 20 t - 2.
+// engine/README.md's worked example: for the quadratic Bézier (-1,0),(0,2),(1,0) and p = (0,0), (C
+// - p) . C' is the cubic 2 (2t - 1)(8t^2 - 8t + 1). Its Bernstein coefficients come from the power
+// form: 32 t^3 - 48 t^2 + 20 t - 2.
 TEST(Bernstein, ProjectionConditionOfTheDesignExampleAsScalarProducts) {
   const BernsteinPolynomial x{-1.0, 0.0, 1.0};
   const BernsteinPolynomial y{0.0, 2.0, 0.0};

@@ -93,8 +93,9 @@ TEST(BezierCurve, BoundsCoordinatesAndTranslation) {
   EXPECT_THROW(curve.coordinate(3), d2vdb::InputError);
 }
 
-// DESIGN.md 1.3 / seed 001: quadratic Bézier (-1,0),(0,2),(1,0), p = (0,0). (C - p) . C' has the
-// cubic Bernstein coefficients -2, 14/3, -14/3, 2; roots 1/2 and 1/2 -+ sqrt(2)/4, whose points
+// engine/README.md's worked example: quadratic Bézier (-1,0),(0,2),(1,0), p = (0,0). (C - p) . C'
+// has the cubic Bernstein coefficients -2, 14/3, -14/3, 2; roots 1/2 and 1/2 -+ sqrt(2)/4, whose
+// points
 // (-+sqrt(2)/2, 1/2) are the closest points at distance sqrt(3)/2.
 TEST(BezierCurve, DotProductGivesTheProjectionConditionOfTheDesignExample) {
   const BezierCurve curve(std::vector<Vector3d>{{-1, 0, 0}, {0, 2, 0}, {1, 0, 0}});

@@ -1,4 +1,4 @@
-// Marching-cubes benchmarks (issue 4, section 5): d2vdb::extractIsoSurface next to
+// Marching-cubes benchmarks: d2vdb::extractIsoSurface next to
 // openvdb::tools::volumeToMesh (adaptivity 0) on the same level sets in the same run: the bunny
 // at resolution 512 and a sphere of radius 400 voxels, with 1 and 2 threads.
 // Counters: active voxels, active voxels per second per thread, output sizes, and the peak heap

@@ -1,4 +1,4 @@
-// Approximant-field benchmarks (issue 3, section 5), each next to its reference in the same run:
+// Approximant-field benchmarks, each next to its reference in the same run:
 //  (a) building the field from the bunny level set at resolution 512, next to
 //      openvdb::tools::meshToLevelSet making that level set;
 //  (b) one approximant query next to one openvdb::tools::BoxSampler sample of the FloatGrid at

@@ -1,4 +1,4 @@
-// Curve fitting benchmarks (issue 5, section 5).
+// Curve fitting benchmarks.
 //  - BM_FitIteration/sensors/controlPoints/threads: one fitting iteration (sensor queries,
 //    assembly, solve, line-search evaluations) of a closed 2D cubic fitted to a 20000-vertex
 //    polyline target, at 2k sensors / 100 control points and 20k / 1000; 1 and 2 threads

@@ -1,4 +1,4 @@
-// Curve Hausdorff benchmarks (issue 6, section 5): d2vdb::hausdorffDistance on two cubic
+// Curve Hausdorff benchmarks: d2vdb::hausdorffDistance on two cubic
 // B-spline curves with 1, 10 and 100 knot spans, next to the brute-force reference (dense
 // sampling plus golden-section refinement, tests/measure/BruteForceReference.h) run in the same
 // process to the same 1e-9 accuracy. Arguments: spans, threads (tbb::global_control).

@@ -1,4 +1,4 @@
-// Level-set benchmarks (issue 2, section 8):
+// Level-set benchmarks:
 //  - mesh to level set on the bunny at resolutions 256 and 512: d2vdb::meshToLevelSet next to a
 //    direct openvdb::tools::meshToLevelSet call, so the wrapper's overhead shows as a ratio;
 //  - .vdb write and read with and without Blosc.

@@ -1,5 +1,5 @@
 // d2vdb fit-curve: fits a B-spline curve to a curve, an offset of a curve, a point cloud or a
-// distance field by squared distance minimisation (PDM, TDM, SDM, TDM+PDM; issue 5), printing
+// distance field by squared distance minimisation (PDM, TDM, SDM, TDM+PDM), printing
 // the iteration history and optionally drawing the iterates and the convergence as SVG.
 #include <algorithm>
 #include <cctype>

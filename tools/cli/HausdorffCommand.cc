@@ -125,7 +125,7 @@ void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions
       "Exact Hausdorff distance between two B-spline curves (.json, 2D or 3D, any degree): "
       "H(A, B) = max(h(A -> B), h(B -> A)) with h(A -> B) = max over A of the distance to B. "
       "Reports both one-sided distances, the Hausdorff pairs (parameters and points), which of the "
-      "seed's four cases each pair is, and the certified bracket [lower, upper].\n"
+      "four cases of Chen et al. (2010) each pair is, and the certified bracket [lower, upper].\n"
       "Example: d2vdb hausdorff a.json b.json --svg pair.svg --json");
   command->add_option("a", args->a, "First curve (.json)")->required();
   command->add_option("b", args->b, "Second curve (.json)")->required();

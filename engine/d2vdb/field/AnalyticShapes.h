@@ -10,9 +10,10 @@
 namespace d2vdb {
 
 /// The closest surface point of a smooth analytic shape and the differential geometry there.
-/// Conventions (DESIGN.md §1.1): `normal` is the outward unit normal; principal curvatures are
-/// positive where the surface bends away from the normal (a sphere of radius R has k1 = k2 = 1/R);
-/// e1, e2 are unit principal directions with e1 x e2 = normal; curvatures in 1/world units.
+/// Conventions (engine/README.md, "Conventions"): `normal` is the outward unit normal; principal
+/// curvatures are positive where the surface bends away from the normal (a sphere of radius R has
+/// k1 = k2 = 1/R); e1, e2 are unit principal directions with e1 x e2 = normal; curvatures in
+/// 1/world units.
 struct SurfacePoint {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< closest point on the surface (world)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< outward unit normal at `point`

@@ -1,6 +1,7 @@
-// Local quadratic approximants of the squared distance function (DESIGN.md sections 1.1, 1.2;
-// seed 000) and the PDM / TDM / SDM quadratic forms the fitting solvers minimise. Eigen only: no
-// OpenVDB, so fitters and tests include it cheaply.
+// Local quadratic approximants of the squared distance function (Pottmann and Hofer, "Geometry of
+// the squared distance function to curves and surfaces", 2003; engine/README.md) and the PDM / TDM
+// / SDM quadratic forms the fitting solvers minimise. Eigen only: no OpenVDB, so fitters and tests
+// include it cheaply.
 #pragma once
 
 #include <Eigen/Core>
@@ -19,7 +20,7 @@ enum class TargetKind : std::uint8_t {
 /// Name of a target kind: "surface", "curve", "points".
 const char* targetKindName(TargetKind kind);
 
-/// The error term of a fitting method (DESIGN.md section 1.2).
+/// The error term of a fitting method (engine/README.md, "The squared-distance approximant").
 enum class ErrorTerm : std::uint8_t {
   PDM = 0,  ///< point distance: |x - s|^2
   TDM = 1,  ///< tangent distance: squared distance to the tangent plane (surface) or tangent line
@@ -101,7 +102,7 @@ struct Approximant {
   /// (positive when the curve bends away from origin).
   double tangentCurvature() const;
 
-  /// The SDM weights (w_tangent, w_bitangent, w_normal) of DESIGN.md section 1.2:
+  /// The SDM weights (w_tangent, w_bitangent, w_normal) (engine/README.md):
   /// w_i = max(0, d k_i / (1 + d k_i)) = max(0, d / (d - rho_i)) with rho_i = -1 / k_i, for the
   /// curvatures along tangent and bitangent (surfaces: k1, k2; curves: tangentCurvature() and 0,
   /// i.e. weight 1 in the whole normal plane; points: 1, 1, 1), and 1 along the normal. Where

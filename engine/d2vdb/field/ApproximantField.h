@@ -1,5 +1,6 @@
-// The squared-distance approximant field (DESIGN.md section 2.1; seed 000: "an adaptive data
-// structure whose cells carry local quadratic approximants of the squared distance function").
+// The squared-distance approximant field: an adaptive data structure whose cells carry local
+// quadratic approximants of the squared distance function (Pottmann and Hofer 2003;
+// engine/README.md, "The squared-distance approximant").
 #pragma once
 
 #include <openvdb/openvdb.h>

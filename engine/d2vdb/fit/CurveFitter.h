@@ -1,5 +1,6 @@
 // SDM I: fitting a B-spline curve to a target whose squared-distance approximants are known (a
-// curve target, an offset, a surface level set through the approximant field) — seed 000.
+// curve target, an offset, a surface level set through the approximant field): Pottmann,
+// Leopoldseder and Hofer, "Approximation with active B-spline curves and surfaces", 2002.
 #pragma once
 
 #include "d2vdb/field/SquaredDistanceTarget.h"

@@ -1,4 +1,5 @@
-// The fitting methods of the squared-distance-minimisation curve fitters (DESIGN.md section 1.2).
+// The fitting methods of the squared-distance-minimisation fitters (engine/README.md, "The
+// squared-distance approximant").
 #pragma once
 
 #include <cstdint>
@@ -13,7 +14,7 @@ enum class FitMethod : std::uint8_t {
   PDM = 0,         ///< point distance |x - s|^2: linear convergence
   TDM = 1,         ///< tangent distance: Gauss-Newton, with Levenberg-Marquardt damping
   SDM = 2,         ///< squared distance (curvature-aware, clamped): Newton-like
-  TDMPlusPDM = 3,  ///< TDM + pdmWeight * PDM (the seed's "TDM regularised with a PDM term")
+  TDMPlusPDM = 3,  ///< TDM + pdmWeight * PDM (TDM regularised by a PDM term)
 };
 
 /// "pdm", "tdm", "sdm" or "tdm+pdm".

@@ -1,5 +1,5 @@
 // The level set d = r of a curve target as a fitting target: fitting to the offset of a curve
-// (the seed's offset-approximation example).
+// (the offset-approximation example of Pottmann, Leopoldseder and Hofer 2002).
 #pragma once
 
 #include <string>

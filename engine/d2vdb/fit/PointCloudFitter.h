@@ -13,13 +13,13 @@
 namespace d2vdb {
 
 /// The approximant of the squared distance from `dataPoint` to the active curve, attached to the
-/// curve at the data point's footpoint C(t) (DESIGN.md 1.2, SDM II): kind Curve, footpoint C(t),
-/// tangent and curvature vector of the curve at t, normal toward the data point (in 2D the
-/// in-plane normal when the point lies on the curve), distance |dataPoint - C(t)|; the ends of an
-/// open curve get kFlagEndPoint. Its form(term), read with the roles of footpoint and data point
-/// exchanged, is the error term of the seed: for SDM d/(d + rho) ((C - X).T)^2 + ((C - X).N)^2 on
-/// the convex side and ((C - X).N)^2 on the concave side. Throws InputError for t outside an
-/// open curve's domain.
+/// curve at the data point's footpoint C(t) (SDM II of Wang, Pottmann and Liu 2006): kind Curve,
+/// footpoint C(t), tangent and curvature vector of the curve at t, normal toward the data point (in
+/// 2D the in-plane normal when the point lies on the curve), distance |dataPoint - C(t)|; the ends
+/// of an open curve get kFlagEndPoint. Its form(term), read with the roles of footpoint and data
+/// point exchanged, is the error term of Wang, Pottmann and Liu: for SDM d/(d + rho) ((C - X).T)^2
+/// + ((C - X).N)^2 on the convex side and ((C - X).N)^2 on the concave side. Throws InputError for
+/// t outside an open curve's domain.
 Approximant curveApproximantAt(const BSplineCurve& curve, double t,
                                const Eigen::Vector3d& dataPoint);
 

@@ -523,7 +523,7 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
                               formatBracket(result.lowerBound, result.upperBound));
   }
 
-  // Which of the seed's four cases the pair is.
+  // Which of Chen et al.'s four cases the pair is.
   const bool fromEnd = isCorner(from, best.fromSegment, best.fromLocal);
   const bool toEnd =
       isCorner(to, best.nearest.location.segment, best.nearest.location.segmentParameter);

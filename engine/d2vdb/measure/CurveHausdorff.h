@@ -1,5 +1,6 @@
-// Exact Hausdorff distance between two B-spline curves (Chen et al. 2010; seed 001; DESIGN.md
-// section 1.3), with a certified bracket.
+// Exact Hausdorff distance between two B-spline curves (Chen, Ma, Xu and Paul, "Computing the
+// Hausdorff distance between two B-spline curves", Computer-Aided Design 2010; engine/README.md),
+// with a certified bracket.
 #pragma once
 
 #include <Eigen/Core>
@@ -25,8 +26,8 @@ struct HausdorffOptions {
   std::size_t maxIntervals = 1000000;
 };
 
-/// Where the Hausdorff pair lies (the four cases of seed 001). An "end point" is an end of an
-/// open curve or a knot where the tangent direction jumps (a C1 discontinuity).
+/// Where the Hausdorff pair lies (the four cases of Chen et al. 2010). An "end point" is an end of
+/// an open curve or a knot where the tangent direction jumps (a C1 discontinuity).
 enum class HausdorffCase {
   EndPoints = 1,            ///< case 1: an end point of each curve
   EndPointAndInterior = 2,  ///< case 2: an end point of one curve, an interior point of the other
@@ -68,7 +69,7 @@ struct HausdorffDistance {
 
 /// h(from -> to) to within HausdorffOptions::relativeTolerance of the pair's size.
 ///
-/// Method (Chen et al. 2010, seed 001). Work items are sub-intervals L of the knot spans of
+/// Method (Chen et al. 2010). Work items are sub-intervals L of the knot spans of
 /// `from`, each with the list of `to` spans that can hold a nearest point for some u in L and the
 /// nearest points ("feet") of its two ends.
 ///  - Lower bound: exact values of d(u) = min_v |from(u) - to(v)| (CurveProjector::nearest) at
@@ -79,7 +80,7 @@ struct HausdorffDistance {
 ///  - Upper bound of max_{u in L} d(u)^2: the largest Bernstein coefficient of
 ///    S(u, phi(u)) = |from(u) - to(phi(u))|^2, valid for any phi since d(u)^2 <= S(u, v); the
 ///    smallest of three: phi constant at the centre's foot, phi the first-order (derivative-based)
-///    model of the nearest-point map v(u) at the centre (the seed's "v(u) as piecewise linear
+///    model of the nearest-point map v(u) at the centre (Chen et al.'s "v(u) as piecewise linear
 ///    functions"), and phi interpolating the two end feet (exact at the ends of L).
 ///  - Elimination: L is dropped when its upper bound does not exceed the best lower bound; `to`
 ///    spans are dropped from L's list when the smallest coefficient of the tensor-product

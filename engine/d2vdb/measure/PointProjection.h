@@ -1,5 +1,6 @@
 // Point–curve projection: every local extremum of the distance from a point to a B-spline curve,
-// and the nearest point, by Bézier root isolation (seed 001, DESIGN.md section 1.3).
+// and the nearest point, by Bézier root isolation (Chen, Ma, Xu and Paul, "Computing the Hausdorff
+// distance between two B-spline curves", 2010; engine/README.md).
 #pragma once
 
 #include <Eigen/Core>
@@ -55,8 +56,8 @@ struct NearestPoint {
 /// A B-spline curve prepared for repeated projections: its Bézier segments (one per non-empty
 /// knot span), their first and second hodographs and control-point bounding boxes.
 ///
-/// Method (seed 001): on every segment the projection condition f(s) = (B(s) - p) . B'(s) is
-/// written in Bernstein form (degree 2n - 1) and its roots are isolated by findBernsteinRoots()
+/// Method (Chen et al. 2010): on every segment the projection condition f(s) = (B(s) - p) . B'(s)
+/// is written in Bernstein form (degree 2n - 1) and its roots are isolated by findBernsteinRoots()
 /// (convex-hull pruning, subdivision, Newton polish). Knots and the ends of open curves are
 /// examined as well, so corner extrema are found. Immutable after construction; all members are
 /// thread-safe.

@@ -68,8 +68,8 @@ class BezierCurve {
 };
 
 /// The scalar polynomial A(t) . B(t) in Bernstein form, degree n_A + n_B; e.g.
-/// dot(C.translated(-p), C.derivative()) is the projection condition (C - p) . C' of seed 001.
-/// Throws InputError when the degree would exceed kMaxBernsteinDegree.
+/// dot(C.translated(-p), C.derivative()) is the projection condition (C - p) . C' of a point p onto
+/// C. Throws InputError when the degree would exceed kMaxBernsteinDegree.
 BernsteinPolynomial dot(const BezierCurve& a, const BezierCurve& b);
 
 }  // namespace d2vdb

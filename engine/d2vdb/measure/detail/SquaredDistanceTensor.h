@@ -9,7 +9,7 @@ namespace d2vdb::detail {
 
 /// The squared distance S(u, v) = |P(u) - Q(v)|^2, (u, v) in [0, 1]^2, between a point of the
 /// Bézier curve P (degree n) and a point of Q (degree m), written as
-/// S(u, v) = sum_{r, k} F_{r, k} B_{r, 2n}(u) B_{k, 2m}(v) (Chen et al. 2010; seed 001).
+/// S(u, v) = sum_{r, k} F_{r, k} B_{r, 2n}(u) B_{k, 2m}(v) (Chen, Ma, Xu and Paul 2010).
 /// The coefficients are formed from the differences P_i - Q_j of the control points (no
 /// cancellation between large coordinates), so min/max of the coefficients bound S on the unit
 /// square to within rounding. Immutable value type; requires 2n, 2m <= kMaxBernsteinDegree.
