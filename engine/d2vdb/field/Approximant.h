@@ -62,8 +62,9 @@ enum ApproximantFlag : std::uint16_t {
   /// Answered by a coarse level of the field, beyond the narrow band (error bound:
   /// ApproximantField.h).
   kFlagFarField = 1u << 3,
-  /// The footpoint is an end point of an open curve (or a corner of a polyline): the distance
-  /// there is to a point, so the SDM and TDM forms are the PDM form.
+  /// The footpoint is an end point of an open curve (or a corner of a polyline), or lies on the
+  /// boundary of an open surface: the distance there is to a point, so the SDM and TDM forms are
+  /// the PDM form.
   kFlagEndPoint = 1u << 4,
 };
 
