@@ -41,7 +41,7 @@ void QuadraticModel::setStepRegularizer(Eigen::SparseMatrix<double> regularizer,
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::solve(
-    const SensorBasis& basis, const std::vector<QuadraticForm>& forms,
+    const SensorMap& basis, const std::vector<QuadraticForm>& forms,
     const std::vector<Eigen::Vector3d>& controlPoints, double damping) {
   const int d = dimension_;
   const int order = basis.order();

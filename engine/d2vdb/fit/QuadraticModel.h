@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
-#include "d2vdb/fit/SensorBasis.h"
+#include "d2vdb/fit/SensorMap.h"
 
 namespace d2vdb {
 
@@ -17,15 +17,17 @@ namespace d2vdb {
 ///   m(c) = (1/N) sum_k Q_k(x_k(P + c)) + sum_a (P + c)_a^T S (P + c)_a + mu * m0 * |c|^2
 ///          (+ the optional step regulariser, setStepRegularizer())
 /// where Q_k are the sensors' quadratic forms (QuadraticForm: Q(x) = x^T A x - 2 b.x + c, world
-/// units), x_k(P) the sensor positions of a SensorBasis, S the smoothing matrix (n x n, e.g.
-/// lambda2 G2 + lambda1 G1 of SmoothingMatrix.h), mu the relative damping and m0 the mean
-/// diagonal of the undamped system (so mu is dimensionless). A ridge of 1e-12 m0 keeps the system
+/// units), x_k(P) the sensor positions of a SensorMap (curve or surface sensors), S the smoothing
+/// matrix (n x n, e.g. lambda2 G2 + lambda1 G1 of SmoothingMatrix.h, or a surface's thin-plate
+/// matrix), mu the relative damping and m0 the mean diagonal of the undamped system (so mu is
+/// dimensionless). A ridge of 1e-12 m0 keeps the system
 /// definite where no sensor and no smoothing acts. In 2D (dimension 2) only the xy blocks of the
 /// forms enter and z stays 0.
 ///
-/// Assembly runs in parallel over knot spans; each span's sensors are summed in index order and
-/// the spans in span order, so results are bitwise identical for any thread count. Solved with
-/// Eigen's SimplicialLDLT. The system's sparsity pattern (control points sharing a knot span,
+/// Assembly runs in parallel over the sensor groups (knot spans of a curve, knot cells of a
+/// surface); each group's sensors are summed in index order and the groups in group order, so
+/// results are bitwise identical for any thread count. Solved with
+/// Eigen's SimplicialLDLT. The system's sparsity pattern (control points sharing a sensor group,
 /// plus the smoothing and regulariser patterns) is kept between solves, and with it the
 /// fill-reducing ordering and symbolic factorisation: a solve whose sensors couple no new pair of
 /// control points only scatters its blocks into the stored pattern and refactorises numerically.
@@ -38,7 +40,7 @@ class QuadraticModel {
   /// The minimising displacement c, one vector per control point (z = 0 in 2D). `forms` has one
   /// entry per sensor of `basis`. Throws RuntimeFailure if the factorisation fails (a non-finite
   /// form).
-  std::vector<Eigen::Vector3d> solve(const SensorBasis& basis,
+  std::vector<Eigen::Vector3d> solve(const SensorMap& basis,
                                      const std::vector<QuadraticForm>& forms,
                                      const std::vector<Eigen::Vector3d>& controlPoints,
                                      double damping);
