@@ -1,0 +1,158 @@
+// Surface sensors and the quadratic model over a surface: sensor positions against direct surface
+// evaluation, the cell grouping, and one model solve against a dense solve whose Jacobian comes
+// from evaluating the surface with unit control points (independent of the basis tables).
+#include "d2vdb/fit/SurfaceSensorBasis.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+#include <set>
+
+#include "FitTestSupport.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/fit/QuadraticModel.h"
+#include "d2vdb/fit/ThinPlateMatrix.h"
+
+namespace d2vdb {
+namespace {
+
+BSplineSurface randomSurface(unsigned seed, int p, int q, int nu, int nv, bool closedU,
+                             bool closedV) {
+  std::mt19937 engine(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < nu * nv; ++i) {
+    points.emplace_back(uniform(engine), uniform(engine), uniform(engine));
+  }
+  KnotVector knotsU = closedU ? KnotVector::periodic(p, nu, {0.0, 3.0}) : KnotVector(p, [&] {
+    // Clamped with uneven interior knots.
+    std::vector<double> knots(static_cast<std::size_t>(p + 1), 0.0);
+    for (int i = 1; i < nu - p; ++i) {
+      knots.push_back(3.0 * std::pow(double(i) / (nu - p), 1.3));
+    }
+    knots.insert(knots.end(), static_cast<std::size_t>(p + 1), 3.0);
+    return knots;
+  }());
+  KnotVector knotsV =
+      closedV ? KnotVector::periodic(q, nv, {-1.0, 1.0}) : KnotVector::clamped(q, nv, {-1.0, 1.0});
+  return BSplineSurface(std::move(knotsU), std::move(knotsV), points, closedU, closedV);
+}
+
+TEST(SurfaceSensorBasis, PositionsMatchTheSurfaceAndCellsShareControlPoints) {
+  for (const auto& [p, q, closedU, closedV] :
+       {std::tuple{3, 3, false, false}, std::tuple{3, 3, true, true}, std::tuple{1, 3, false, true},
+        std::tuple{2, 3, true, false}}) {
+    const BSplineSurface surface = randomSurface(4, p, q, 7, 6, closedU, closedV);
+    const std::vector<Eigen::Vector2d> parameters = uniformSurfaceSensorParameters(surface, 3);
+    const int valuesU = 3 * (closedU ? 7 : 7 - p) + (closedU ? 0 : 2);
+    const int valuesV = 3 * (closedV ? 6 : 6 - q) + (closedV ? 0 : 2);
+    ASSERT_EQ(static_cast<int>(parameters.size()), valuesU * valuesV);
+    const SurfaceSensorBasis basis(surface, parameters);
+    EXPECT_EQ(basis.order(), (p + 1) * (q + 1));
+    const std::vector<Eigen::Vector3d> positions = basis.positions(surface.controlPoints());
+    for (int k = 0; k < basis.sensorCount(); ++k) {
+      const Eigen::Vector3d expected = surface.evaluate(
+          parameters[static_cast<std::size_t>(k)].x(), parameters[static_cast<std::size_t>(k)].y());
+      EXPECT_LT((positions[static_cast<std::size_t>(k)] - expected).norm(), 1e-13);
+      double sum = 0.0;
+      for (int j = 0; j < basis.order(); ++j) sum += basis.weight(k, j);
+      EXPECT_NEAR(sum, 1.0, 1e-14);
+    }
+    // Every group's sensors use the same control points; groups are disjoint and cover all.
+    std::set<int> seen;
+    for (std::size_t g = 0; g + 1 < basis.spanBegin().size(); ++g) {
+      const int first = basis.spanOrder()[static_cast<std::size_t>(basis.spanBegin()[g])];
+      for (int i = basis.spanBegin()[g]; i < basis.spanBegin()[g + 1]; ++i) {
+        const int k = basis.spanOrder()[static_cast<std::size_t>(i)];
+        EXPECT_TRUE(seen.insert(k).second);
+        for (int j = 0; j < basis.order(); ++j) EXPECT_EQ(basis.index(k, j), basis.index(first, j));
+      }
+    }
+    EXPECT_EQ(static_cast<int>(seen.size()), basis.sensorCount());
+  }
+}
+
+TEST(SurfaceSensorBasis, BadParametersAreRejected) {
+  const BSplineSurface surface = randomSurface(5, 3, 3, 5, 5, false, true);
+  EXPECT_THROW(SurfaceSensorBasis(surface, {Eigen::Vector2d(3.5, 0.0)}), InputError);
+  EXPECT_THROW(SurfaceSensorBasis(surface, {Eigen::Vector2d(1.0, std::nan(""))}), InputError);
+  EXPECT_NO_THROW(SurfaceSensorBasis(surface, {Eigen::Vector2d(1.0, 7.3)}));  // closed in v: wraps
+  EXPECT_THROW(uniformSurfaceSensorParameters(surface, 0), InputError);
+}
+
+TEST(SurfaceSensorBasis, ModelSolveMatchesADenseSolve) {
+  const BSplineSurface surface = randomSurface(6, 3, 2, 6, 5, true, false);
+  const int n = surface.countU() * surface.countV();
+  const SurfaceSensorBasis basis(surface, uniformSurfaceSensorParameters(surface, 2));
+  std::mt19937 engine(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<QuadraticForm> forms(static_cast<std::size_t>(basis.sensorCount()));
+  for (QuadraticForm& form : forms) {
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 9; ++i) m(i / 3, i % 3) = uniform(engine);
+    form.A = m.transpose() * m + 0.05 * Eigen::Matrix3d::Identity();
+    form.b = Eigen::Vector3d(uniform(engine), uniform(engine), uniform(engine));
+  }
+  const Eigen::SparseMatrix<double> smoothing = 1e-3 * thinPlateMatrix(surface);
+  QuadraticModel model(n, 3, smoothing);
+  const std::vector<Eigen::Vector3d>& points = surface.controlPoints();
+  const std::vector<Eigen::Vector3d> step = model.solve(basis, forms, points, 0.0);
+
+  // Dense: the Jacobian column of control point m is the surface evaluated with P = e_m.
+  Eigen::MatrixXd basisValues(basis.sensorCount(), n);
+  for (int m = 0; m < n; ++m) {
+    std::vector<Eigen::Vector3d> unit(static_cast<std::size_t>(n), Eigen::Vector3d::Zero());
+    unit[static_cast<std::size_t>(m)] = Eigen::Vector3d::Ones();
+    BSplineSurface indicator = surface;
+    indicator.setControlPoints(unit);
+    for (int k = 0; k < basis.sensorCount(); ++k) {
+      basisValues(k, m) = indicator.evaluate(basis.parameter(k).x(), basis.parameter(k).y()).x();
+    }
+  }
+  Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  Eigen::VectorXd right = Eigen::VectorXd::Zero(3 * n);
+  for (int k = 0; k < basis.sensorCount(); ++k) {
+    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(3, 3 * n);
+    for (int m = 0; m < n; ++m) {
+      jacobian.middleCols(3 * m, 3) = basisValues(k, m) * Eigen::Matrix3d::Identity();
+    }
+    hessian += jacobian.transpose() * forms[static_cast<std::size_t>(k)].A * jacobian /
+               basis.sensorCount();
+    right += jacobian.transpose() * forms[static_cast<std::size_t>(k)].b / basis.sensorCount();
+  }
+  const Eigen::MatrixXd dense(smoothing);
+  Eigen::VectorXd current(3 * n);
+  for (int i = 0; i < n; ++i) {
+    current.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
+    for (int j = 0; j < n; ++j) {
+      hessian.block<3, 3>(3 * i, 3 * j) += dense(i, j) * Eigen::Matrix3d::Identity();
+    }
+  }
+  const Eigen::VectorXd target = hessian.ldlt().solve(right);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_LT(
+        (step[static_cast<std::size_t>(i)] - (target.segment<3>(3 * i) - current.segment<3>(3 * i)))
+            .norm(),
+        1e-9);
+  }
+}
+
+TEST(SurfaceSensorBasis, SameSensorsWithOneAndTwoThreads) {
+  const BSplineSurface surface = randomSurface(8, 3, 3, 12, 10, true, true);
+  const auto parameters = uniformSurfaceSensorParameters(surface, 5);
+  const SurfaceSensorBasis one =
+      test::withThreads(1, [&] { return SurfaceSensorBasis(surface, parameters); });
+  const SurfaceSensorBasis two =
+      test::withThreads(2, [&] { return SurfaceSensorBasis(surface, parameters); });
+  for (int k = 0; k < one.sensorCount(); ++k) {
+    for (int j = 0; j < one.order(); ++j) {
+      EXPECT_EQ(one.weight(k, j), two.weight(k, j));
+      EXPECT_EQ(one.index(k, j), two.index(k, j));
+    }
+  }
+  EXPECT_EQ(one.spanOrder(), two.spanOrder());
+}
+
+}  // namespace
+}  // namespace d2vdb
