@@ -64,19 +64,26 @@ TriangleMesh readMesh(const std::filesystem::path& path) {
 
 void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                const MeshWriteOptions& options) {
+  writeMesh(path, mesh, VertexAttributes{}, options);
+}
+
+void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+               const VertexAttributes& attributes, const MeshWriteOptions& options) {
   const MeshFormat format = meshFormatFromPath(path);
   // Check the mesh first so that a mesh that cannot be written never touches the file system.
   detail::checkMeshIsWritable(mesh, meshFormatName(format).c_str());
+  detail::checkVertexAttributes(mesh, attributes);
   writeStreamAtomically(path, [&](std::ostream& out) {
     switch (format) {
       case MeshFormat::Obj:
-        writeObj(out, mesh);
+        writeObj(out, mesh, &attributes);
         break;
       case MeshFormat::Ply:
         writePly(out, mesh,
                  !options.binary     ? PlyEncoding::Ascii
                  : options.bigEndian ? PlyEncoding::BinaryBigEndian
-                                     : PlyEncoding::BinaryLittleEndian);
+                                     : PlyEncoding::BinaryLittleEndian,
+                 &attributes);
         break;
       case MeshFormat::Stl:
         writeStl(out, mesh, options.binary ? StlEncoding::Binary : StlEncoding::Ascii);

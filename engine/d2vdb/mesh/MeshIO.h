@@ -1,8 +1,11 @@
 // Reading and writing triangle meshes as OBJ, PLY and STL files, chosen by file extension.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "d2vdb/mesh/TriangleMesh.h"
 
@@ -31,6 +34,17 @@ struct MeshWriteOptions {
   bool bigEndian = false;  ///< binary PLY only: binary_big_endian instead of binary_little_endian
 };
 
+/// Optional per-vertex data written beside the positions. PLY: the scalar as "property float
+/// <scalarName>" and the colours as "property uchar red/green/blue" (MeshLab, Blender and Houdini
+/// read both); OBJ: the colours as "v x y z r g b" with r, g, b in [0, 1] (the common extension
+/// MeshLab and Blender read), no scalar; STL: neither. Each list is empty (not written) or holds
+/// one entry per vertex.
+struct VertexAttributes {
+  std::string scalarName;                            ///< e.g. "distance"; a PLY identifier
+  std::vector<float> scalars;                        ///< one per vertex, finite
+  std::vector<std::array<std::uint8_t, 3>> colours;  ///< RGB, one per vertex
+};
+
 /// Writes `mesh` to `path` in the format of its extension, atomically (a failure leaves an existing
 /// file untouched). Coordinates are written so that they read back bit for bit; per-vertex normals
 /// are written to OBJ and PLY when the mesh has them, STL gets facet normals computed from the
@@ -39,5 +53,11 @@ struct MeshWriteOptions {
 /// cannot be written.
 void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                const MeshWriteOptions& options = {});
+
+/// writeMesh() with per-vertex attributes. InputError as writeMesh(), and for attribute lists
+/// whose size is not the vertex count, a non-finite scalar, or a scalar name that is empty or not
+/// a plain identifier (letters, digits, '_') while scalars are given.
+void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
+               const VertexAttributes& attributes, const MeshWriteOptions& options = {});
 
 }  // namespace d2vdb

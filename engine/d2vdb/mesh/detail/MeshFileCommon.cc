@@ -1,7 +1,10 @@
 #include "d2vdb/mesh/detail/MeshFileCommon.h"
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <istream>
 #include <ostream>
@@ -115,6 +118,34 @@ void checkMeshIsWritable(const TriangleMesh& mesh, const char* formatName) {
                          " has a non-finite component");
       }
     }
+  }
+}
+
+void checkVertexAttributes(const TriangleMesh& mesh, const VertexAttributes& attributes) {
+  const std::size_t count = mesh.positions.size();
+  if (!attributes.scalars.empty()) {
+    if (attributes.scalars.size() != count) {
+      throw InputError("cannot write the mesh: " + std::to_string(attributes.scalars.size()) +
+                       " vertex scalars for " + std::to_string(count) + " vertices");
+    }
+    const std::string& name = attributes.scalarName;
+    const bool identifier = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+    });
+    if (!identifier) {
+      throw InputError("cannot write the mesh: the vertex scalar name '" + name +
+                       "' is not a plain identifier");
+    }
+    for (std::size_t v = 0; v < count; ++v) {
+      if (!std::isfinite(attributes.scalars[v])) {
+        throw InputError("cannot write the mesh: the " + name + " of vertex " + std::to_string(v) +
+                         " is not finite");
+      }
+    }
+  }
+  if (!attributes.colours.empty() && attributes.colours.size() != count) {
+    throw InputError("cannot write the mesh: " + std::to_string(attributes.colours.size()) +
+                     " vertex colours for " + std::to_string(count) + " vertices");
   }
 }
 

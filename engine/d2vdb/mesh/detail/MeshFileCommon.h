@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::detail {
@@ -42,6 +43,11 @@ void checkMeshIsWritable(const TriangleMesh& mesh, const char* formatName);
 
 /// Appends the shortest decimal text that reads back as exactly `value` (std::to_chars).
 void appendFloat(std::string& out, float value);
+
+/// Throws InputError unless every non-empty attribute list of `attributes` has one entry per
+/// vertex of `mesh`, the scalars are finite and, when scalars are given, the scalar name is a
+/// plain identifier.
+void checkVertexAttributes(const TriangleMesh& mesh, const VertexAttributes& attributes);
 
 /// Appends `value` in decimal.
 void appendUnsigned(std::string& out, std::uint64_t value);

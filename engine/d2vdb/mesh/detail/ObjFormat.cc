@@ -294,8 +294,10 @@ TriangleMesh readObj(std::istream& in, const std::string& nameForMessages) {
   return parseObj(contents, nameForMessages);
 }
 
-void writeObj(std::ostream& out, const TriangleMesh& mesh) {
+void writeObj(std::ostream& out, const TriangleMesh& mesh, const VertexAttributes* attributes) {
   detail::checkMeshIsWritable(mesh, "OBJ");
+  if (attributes != nullptr) detail::checkVertexAttributes(mesh, *attributes);
+  const bool withColours = attributes != nullptr && !attributes->colours.empty();
   const bool withNormals = mesh.hasNormals();
   std::string buffer;
   buffer += "# OBJ written by d2vdb: ";
@@ -311,8 +313,16 @@ void writeObj(std::ostream& out, const TriangleMesh& mesh) {
     }
     buffer += '\n';
   };
-  for (const Eigen::Vector3f& position : mesh.positions) {
-    appendVector("v", position);
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    appendVector("v", mesh.positions[v]);
+    if (withColours) {  // "v x y z r g b", channels in [0, 1]
+      buffer.pop_back();
+      for (const std::uint8_t channel : attributes->colours[v]) {
+        buffer += ' ';
+        detail::appendFloat(buffer, static_cast<float>(channel) / 255.0f);
+      }
+      buffer += '\n';
+    }
     detail::flushBuffer(buffer, out);
   }
   if (withNormals) {

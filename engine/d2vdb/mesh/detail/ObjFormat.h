@@ -5,6 +5,7 @@
 #include <string>
 #include <string_view>
 
+#include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::detail {
@@ -29,8 +30,10 @@ TriangleMesh readObj(std::istream& in, const std::string& nameForMessages);
 
 /// Writes `mesh` as OBJ: `v` lines, `vn` lines when the mesh has normals, and one `f a b c` (or
 /// `f a//a b//b c//c`) per triangle. Coordinates use the shortest text that reads back exactly.
+/// With attributes holding colours, vertices are written "v x y z r g b" (r, g, b in [0, 1]).
 /// Throws InputError (before writing anything) when the mesh cannot be written (see
 /// writeMesh) and RuntimeFailure when the stream fails.
-void writeObj(std::ostream& out, const TriangleMesh& mesh);
+void writeObj(std::ostream& out, const TriangleMesh& mesh,
+              const VertexAttributes* attributes = nullptr);
 
 }  // namespace d2vdb::detail

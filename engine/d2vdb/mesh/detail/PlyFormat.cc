@@ -703,7 +703,16 @@ TriangleMesh readBody(Body& body, const PlyHeader& header, std::size_t contentSi
 // ---------------------------------------------------------------------------------------------
 // Writing
 
-std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding) {
+bool hasScalars(const VertexAttributes* attributes) {
+  return attributes != nullptr && !attributes->scalars.empty();
+}
+
+bool hasColours(const VertexAttributes* attributes) {
+  return attributes != nullptr && !attributes->colours.empty();
+}
+
+std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding,
+                       const VertexAttributes* attributes) {
   std::string header = "ply\nformat ";
   switch (encoding) {
     case PlyEncoding::Ascii:
@@ -720,13 +729,18 @@ std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding) {
   detail::appendUnsigned(header, mesh.positions.size());
   header += "\nproperty float x\nproperty float y\nproperty float z\n";
   if (mesh.hasNormals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (hasScalars(attributes)) header += "property float " + attributes->scalarName + "\n";
+  if (hasColours(attributes)) {
+    header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  }
   header += "element face ";
   detail::appendUnsigned(header, mesh.triangles.size());
   header += "\nproperty list uchar uint vertex_indices\nend_header\n";
   return header;
 }
 
-void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh& mesh) {
+void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh& mesh,
+                     const VertexAttributes* attributes) {
   const bool withNormals = mesh.hasNormals();
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     for (int axis = 0; axis < 3; ++axis) {
@@ -737,6 +751,16 @@ void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh&
       for (int axis = 0; axis < 3; ++axis) {
         buffer += ' ';
         detail::appendFloat(buffer, mesh.normals[v][axis]);
+      }
+    }
+    if (hasScalars(attributes)) {
+      buffer += ' ';
+      detail::appendFloat(buffer, attributes->scalars[v]);
+    }
+    if (hasColours(attributes)) {
+      for (const std::uint8_t channel : attributes->colours[v]) {
+        buffer += ' ';
+        detail::appendUnsigned(buffer, channel);
       }
     }
     buffer += '\n';
@@ -754,7 +778,7 @@ void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh&
 }
 
 void appendBinaryBody(std::string& buffer, std::ostream& out, const TriangleMesh& mesh,
-                      ByteOrder order) {
+                      ByteOrder order, const VertexAttributes* attributes) {
   const bool withNormals = mesh.hasNormals();
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     for (int axis = 0; axis < 3; ++axis) {
@@ -763,6 +787,12 @@ void appendBinaryBody(std::string& buffer, std::ostream& out, const TriangleMesh
     if (withNormals) {
       for (int axis = 0; axis < 3; ++axis) {
         detail::appendScalar(buffer, mesh.normals[v][axis], order);
+      }
+    }
+    if (hasScalars(attributes)) detail::appendScalar(buffer, attributes->scalars[v], order);
+    if (hasColours(attributes)) {
+      for (const std::uint8_t channel : attributes->colours[v]) {
+        detail::appendScalar(buffer, channel, order);
       }
     }
     detail::flushBuffer(buffer, out);
@@ -793,18 +823,20 @@ TriangleMesh readPly(std::istream& in, const std::string& nameForMessages) {
   return parsePly(contents, nameForMessages);
 }
 
-void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding) {
+void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding,
+              const VertexAttributes* attributes) {
   detail::checkMeshIsWritable(mesh, "PLY");
-  std::string buffer = headerText(mesh, encoding);
+  if (attributes != nullptr) detail::checkVertexAttributes(mesh, *attributes);
+  std::string buffer = headerText(mesh, encoding, attributes);
   switch (encoding) {
     case PlyEncoding::Ascii:
-      appendAsciiBody(buffer, out, mesh);
+      appendAsciiBody(buffer, out, mesh, attributes);
       break;
     case PlyEncoding::BinaryLittleEndian:
-      appendBinaryBody(buffer, out, mesh, ByteOrder::Little);
+      appendBinaryBody(buffer, out, mesh, ByteOrder::Little, attributes);
       break;
     case PlyEncoding::BinaryBigEndian:
-      appendBinaryBody(buffer, out, mesh, ByteOrder::Big);
+      appendBinaryBody(buffer, out, mesh, ByteOrder::Big, attributes);
       break;
   }
   detail::flushBuffer(buffer, out, true);

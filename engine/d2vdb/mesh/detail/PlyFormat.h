@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::detail {
@@ -33,8 +34,10 @@ TriangleMesh readPly(std::istream& in, const std::string& nameForMessages);
 
 /// Writes `mesh` as PLY in `encoding`: float x y z (and nx ny nz when the mesh has normals) and a
 /// face list of uchar count and uint indices. ASCII coordinates use the shortest text that reads
-/// back exactly. Throws InputError (before writing anything) when the mesh cannot be written
+/// back exactly. `attributes` (optional) add a float scalar property and uchar red, green, blue
+/// after them. Throws InputError (before writing anything) when the mesh cannot be written
 /// (see writeMesh) and RuntimeFailure when the stream fails.
-void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding);
+void writePly(std::ostream& out, const TriangleMesh& mesh, PlyEncoding encoding,
+              const VertexAttributes* attributes = nullptr);
 
 }  // namespace d2vdb::detail
