@@ -1,4 +1,5 @@
-// The iteration shared by CurveFitter and PointCloudFitter (detail/FitLoop.h).
+// The iteration shared by the curve fitters (CurveFitter, PointCloudFitter) and the surface
+// fitters (SurfaceFitter) (detail/FitLoop.h).
 #include "d2vdb/fit/detail/FitLoop.h"
 
 #include <Eigen/Geometry>
@@ -6,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -15,6 +16,8 @@
 #include "d2vdb/fit/QuadraticModel.h"
 #include "d2vdb/fit/SensorBasis.h"
 #include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/ThinPlateMatrix.h"
 
 namespace d2vdb {
 
@@ -57,7 +60,10 @@ double largestMove(const std::vector<Eigen::Vector3d>& displacement) {
 
 }  // namespace
 
-void validateFitOptions(const CurveFitOptions& options) {
+namespace {
+
+template <typename Options>
+void validateOptions(const Options& options) {
   const auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InputError(message);
   };
@@ -81,16 +87,39 @@ void validateFitOptions(const CurveFitOptions& options) {
           "the initial damping must be finite and non-negative");
 }
 
-void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
+}  // namespace
+
+void validateFitOptions(const CurveFitOptions& options) {
+  validateOptions(options);
+}
+
+void validateFitOptions(const SurfaceFitOptions& options) {
+  validateOptions(options);
+}
+
+namespace {
+
+template <typename Spline>
+void requireDistinctControlPoints(const Spline& curve, const char* what) {
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& point : curve.controlPoints()) box.extend(point);
   const double magnitude =
       std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
   if (box.sizes().maxCoeff() <= 1e-12 * std::max(magnitude, 1e-300)) {
     throw InputError(std::string(what) +
-                     " is degenerate: all its control points coincide; give an initial curve "
-                     "with distinct control points (or let d2vdb generate one)");
+                     " is degenerate: all its control points coincide; give one with distinct "
+                     "control points (or let d2vdb generate one)");
   }
+}
+
+}  // namespace
+
+void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
+  requireDistinctControlPoints(curve, what);
+}
+
+void requireNonDegenerate(const BSplineSurface& surface, const char* what) {
+  requireDistinctControlPoints(surface, what);
 }
 
 namespace {
@@ -103,6 +132,10 @@ constexpr double kResolvedFraction = 0.01;
 constexpr double kCoarseObjectiveTolerance = 1e-5;
 /// Smallest relative objective decrease that keeps the automatic refinement phase going.
 constexpr double kRefineObjectiveTolerance = 1e-6;
+/// Smallest relative objective decrease that keeps a surface's first automatic phase going.
+constexpr double kSurfaceCoarseObjectiveTolerance = 1e-4;
+/// The relative step-regulariser weight of a surface's unsmoothed automatic phase.
+constexpr double kSurfaceRefineStepSmoothness = 1e-3;
 
 /// `progress` for one of two equal halves of the work, the one starting at `start` (0 or 0.5);
 /// empty when `progress` is.
@@ -113,28 +146,100 @@ ProgressCallback progressPart(const ProgressCallback& progress, double start) {
   };
 }
 
-/// One fit with a fixed bending weight `smoothness` (options.smoothness is ignored).
-CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& options,
-                           double smoothness, FitProblem& problem) {
+// What the loop needs to know about the spline type: its smoothing and step-regulariser
+// matrices, dimension, name, sensor basis and where the result keeps it.
+
+Eigen::SparseMatrix<double> smoothingMatrix(const BSplineCurve& initial, double smoothness,
+                                            const CurveFitOptions& options) {
   const int n = initial.controlPointCount();
   const int p = initial.degree();
   Eigen::SparseMatrix<double> smoothing(n, n);
   if (smoothness > 0.0 && p >= 2) smoothing += smoothness * derivativeGramMatrix(initial, 2);
   if (options.stretch > 0.0) smoothing += options.stretch * derivativeGramMatrix(initial, 1);
-  QuadraticModel model(n, initial.dimension(), std::move(smoothing));
+  return smoothing;
+}
+
+Eigen::SparseMatrix<double> smoothingMatrix(const BSplineSurface& initial, double smoothness,
+                                            const SurfaceFitOptions& options) {
+  const int n = initial.countU() * initial.countV();
+  Eigen::SparseMatrix<double> smoothing(n, n);
+  if (smoothness > 0.0) smoothing += smoothness * thinPlateMatrix(initial);
+  if (options.stretch > 0.0) smoothing += options.stretch * membraneMatrix(initial);
+  return smoothing;
+}
+
+Eigen::SparseMatrix<double> regularizerMatrix(const BSplineCurve& initial) {
+  return derivativeGramMatrix(initial, std::min(initial.degree(), 2));
+}
+
+Eigen::SparseMatrix<double> regularizerMatrix(const BSplineSurface& initial) {
+  // Degree (1, 1) has no thin-plate energy of its own (only the twist): use the membrane's.
+  if (initial.degreeU() < 2 && initial.degreeV() < 2) return membraneMatrix(initial);
+  return thinPlateMatrix(initial);
+}
+
+int dimensionOf(const BSplineCurve& curve) {
+  return curve.dimension();
+}
+int dimensionOf(const BSplineSurface&) {
+  return 3;
+}
+
+int controlPointCountOf(const BSplineCurve& curve) {
+  return curve.controlPointCount();
+}
+int controlPointCountOf(const BSplineSurface& surface) {
+  return surface.countU() * surface.countV();
+}
+
+const char* splineName(const BSplineCurve&) {
+  return "curve";
+}
+const char* splineName(const BSplineSurface&) {
+  return "surface";
+}
+
+std::unique_ptr<SensorMap> makeBasis(const BSplineCurve& curve,
+                                     const std::vector<double>& parameters) {
+  return std::make_unique<SensorBasis>(curve, parameters);
+}
+std::unique_ptr<SensorMap> makeBasis(const BSplineSurface& surface,
+                                     const std::vector<Eigen::Vector2d>& parameters) {
+  return std::make_unique<SurfaceSensorBasis>(surface, parameters);
+}
+
+BSplineCurve& splineOf(CurveFitResult& result) {
+  return result.curve;
+}
+BSplineSurface& splineOf(SurfaceFitResult& result) {
+  return result.surface;
+}
+
+/// One fit with a fixed bending (curves) or thin-plate (surfaces) weight `smoothness`
+/// (options.smoothness is ignored).
+template <typename Spline>
+typename FitTypes<Spline>::Result runFitPhase(const Spline& initial,
+                                              const typename FitTypes<Spline>::Options& options,
+                                              double smoothness, FitProblemFor<Spline>& problem) {
+  using Result = typename FitTypes<Spline>::Result;
+  using Parameter = typename FitTypes<Spline>::Parameter;
+  const int n = controlPointCountOf(initial);
+  QuadraticModel model(n, dimensionOf(initial), smoothingMatrix(initial, smoothness, options));
   if (options.stepSmoothness > 0.0) {
-    model.setStepRegularizer(derivativeGramMatrix(initial, std::min(p, 2)), options.stepSmoothness);
+    model.setStepRegularizer(regularizerMatrix(initial), options.stepSmoothness);
   }
 
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& point : initial.controlPoints()) box.extend(point);
   const double size = box.sizes().maxCoeff();
 
-  CurveFitResult result{initial, FitStatus::IterationCap, "", {}, {}};
+  Result result{initial, FitStatus::IterationCap, "", {}, {}};
+  Spline& current = splineOf(result);
   std::vector<Eigen::Vector3d> points = initial.controlPoints();
   const DataError initialError = problem.measure(initial);
   if (!initialError.valid) {
-    throw InputError("the initial curve is not inside the region where the target answers");
+    throw InputError(std::string("the initial ") + splineName(initial) +
+                     " is not inside the region where the target answers");
   }
   problem.accept();
   double objective = objectiveOf(initialError, model.smoothingEnergy(points));
@@ -143,17 +248,17 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
   if (options.keepIterates) result.iterates.push_back(initial);
 
   double damping = usesDamping(options.method) ? options.initialDamping : 0.0;
-  std::vector<double> parameters;
+  std::vector<Parameter> parameters;
   std::vector<QuadraticForm> forms;
   bool stopped = false;
   for (int iteration = 1; iteration <= options.maxIterations && !stopped; ++iteration) {
     if (options.progress) {
       options.progress("fit", static_cast<double>(iteration - 1) / options.maxIterations);
     }
-    problem.linearize(result.curve, options, parameters, forms);
-    std::optional<SensorBasis> ownBasis;
-    const SensorBasis* basis = problem.fixedBasis();
-    if (basis == nullptr) basis = &ownBasis.emplace(result.curve, parameters);
+    problem.linearize(current, options, parameters, forms);
+    std::unique_ptr<SensorMap> ownBasis;
+    const SensorMap* basis = problem.fixedBasis();
+    if (basis == nullptr) basis = (ownBasis = makeBasis(current, parameters)).get();
 
     // Step control: TDM raises the damping until a full step lowers E; the other methods halve
     // the step (a line search on the true squared distances).
@@ -173,7 +278,7 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
       scale = 1.0;
       for (int h = 0; h < halvings; ++h, scale *= 0.5) {
         std::vector<Eigen::Vector3d> candidatePoints = moved(points, step, scale);
-        BSplineCurve candidate = result.curve;
+        Spline candidate = current;
         candidate.setControlPoints(candidatePoints);
         const DataError error = problem.measure(candidate);
         const double value = objectiveOf(error, model.smoothingEnergy(candidatePoints));
@@ -219,12 +324,12 @@ CurveFitResult runFitPhase(const BSplineCurve& initial, const CurveFitOptions& o
     }
     const double relativeDecrease = (objective - acceptedObjective) / objective;
     points = std::move(acceptedPoints);
-    result.curve.setControlPoints(points);
+    current.setControlPoints(points);
     objective = acceptedObjective;
     const double rms = std::sqrt(acceptedError.sum / acceptedError.count);
     result.history.push_back({iteration, objective, rms, std::sqrt(acceptedError.maxSquared),
                               stepLength, scale, usedDamping});
-    if (options.keepIterates) result.iterates.push_back(result.curve);
+    if (options.keepIterates) result.iterates.push_back(current);
     if (usesDamping(options.method) && scale == 1.0) damping = std::max(damping / 3.0, 1e-9);
 
     if (stepLength <= options.stepTolerance * size) {
@@ -296,6 +401,51 @@ CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& op
     result.iterates.push_back(std::move(refined.iterates[i]));
   }
   result.curve = std::move(refined.curve);
+  result.status = refined.status;
+  result.reason = refined.reason;
+  return result;
+}
+
+SurfaceFitResult runFitLoop(const BSplineSurface& initial, const SurfaceFitOptions& options,
+                            SurfaceFitProblem& problem) {
+  validateFitOptions(options);
+  requireNonDegenerate(initial, "the initial surface");
+  if (options.smoothness >= 0.0) {
+    return runFitPhase(initial, options, options.smoothness, problem);
+  }
+  // Automatic: converge roughly with the thin-plate weight kAutoSurfaceSmoothness, which fixes the
+  // parametrisation (the tangential freedom of the sensors), then continue without smoothing, the
+  // steps damped by the thin-plate energy of the displacement only: that damping vanishes at a
+  // fixed point, so the result is not biased by the smoothing.
+  SurfaceFitOptions coarseOptions = options;
+  coarseOptions.objectiveTolerance =
+      std::max(options.objectiveTolerance, kSurfaceCoarseObjectiveTolerance);
+  coarseOptions.progress = progressPart(options.progress, 0.0);
+  SurfaceFitResult result = runFitPhase(initial, coarseOptions, kAutoSurfaceSmoothness, problem);
+  const int remaining = options.maxIterations - result.iterations();
+  const bool reachedTolerance = options.distanceTolerance > 0.0 &&
+                                result.history.back().rmsDistance <= options.distanceTolerance;
+  if (result.status == FitStatus::IterationCap || reachedTolerance || remaining <= 0) {
+    if (options.progress) options.progress("fit", 1.0);
+    return result;
+  }
+  SurfaceFitOptions refineOptions = options;
+  refineOptions.maxIterations = remaining;
+  if (!(refineOptions.stepSmoothness > 0.0)) {
+    refineOptions.stepSmoothness = kSurfaceRefineStepSmoothness;
+  }
+  refineOptions.progress = progressPart(options.progress, 0.5);
+  SurfaceFitResult refined = runFitPhase(result.surface, refineOptions, 0.0, problem);
+  const int offset = result.iterations();
+  for (std::size_t row = 1; row < refined.history.size(); ++row) {
+    FitIteration iteration = refined.history[row];
+    iteration.iteration += offset;
+    result.history.push_back(iteration);
+  }
+  for (std::size_t i = 1; i < refined.iterates.size(); ++i) {
+    result.iterates.push_back(std::move(refined.iterates[i]));
+  }
+  result.surface = std::move(refined.surface);
   result.status = refined.status;
   result.reason = refined.reason;
   return result;
