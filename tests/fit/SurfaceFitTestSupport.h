@@ -64,7 +64,8 @@ class ExactCylinderTarget final : public SquaredDistanceTarget {
   Approximant approximantAt(const Eigen::Vector3d& point) const override {
     const Eigen::Vector2d radial = point.head<2>();
     const double rho = radial.norm();
-    const Eigen::Vector2d direction = rho > 0 ? Eigen::Vector2d(radial / rho) : Eigen::Vector2d(1, 0);
+    const Eigen::Vector2d direction =
+        rho > 0 ? Eigen::Vector2d(radial / rho) : Eigen::Vector2d(1, 0);
     SurfacePoint s;
     s.point = Eigen::Vector3d(radius_ * direction.x(), radius_ * direction.y(), point.z());
     s.normal = Eigen::Vector3d(direction.x(), direction.y(), 0.0);
@@ -83,12 +84,14 @@ class ExactCylinderTarget final : public SquaredDistanceTarget {
   double halfHeight_;
 };
 
-/// The one-sheeted hyperboloid x^2 + y^2 - z^2 = 1 (all of it), as an exact target: the closest
-/// point in the meridian half-plane of the query, (rho, z) on rho^2 - z^2 = 1, by Newton on the
-/// parametrisation (cosh t, sinh t) from the best of a dense search; normal outward from the axis
-/// (grad of x^2 + y^2 - z^2), curvatures of the surface of revolution there.
+/// The one-sheeted hyperboloid x^2 + y^2 - z^2 = 1 for |z| <= zMax, as an exact target: the
+/// closest point in the meridian half-plane of the query, (rho, z) on rho^2 - z^2 = 1, by Newton on
+/// the parametrisation (cosh t, sinh t) from the best of a dense search, clamped to the patch
+/// (a clamped footpoint lies on a rim circle: a point distance, kFlagEndPoint); normal outward from
+/// the axis (grad of x^2 + y^2 - z^2), curvatures of the surface of revolution there.
 class ExactHyperboloidTarget final : public SquaredDistanceTarget {
  public:
+  explicit ExactHyperboloidTarget(double zMax = 1.0) : tMax_(std::asinh(zMax)) {}
   TargetKind kind() const override { return TargetKind::Surface; }
   Eigen::AlignedBox3d domain() const override {
     return Eigen::AlignedBox3d(Eigen::Vector3d(-4, -4, -3), Eigen::Vector3d(4, 4, 3));
@@ -118,14 +121,28 @@ class ExactHyperboloidTarget final : public SquaredDistanceTarget {
     const double rho = point.head<2>().norm();
     const Eigen::Vector2d direction =
         rho > 0 ? Eigen::Vector2d(point.head<2>() / rho) : Eigen::Vector2d(1, 0);
-    const double t = nearestMeridianParameter(rho, point.z());
+    const double unclamped = nearestMeridianParameter(rho, point.z());
+    const double t = std::clamp(unclamped, -tMax_, tMax_);
     const double c = std::cosh(t), s = std::sinh(t);
+    if (t != unclamped) {  // the rim: a point distance
+      Approximant a;
+      a.kind = TargetKind::Surface;
+      a.origin = point;
+      a.footpoint = Eigen::Vector3d(c * direction.x(), c * direction.y(), s);
+      a.flags |= kFlagEndPoint;
+      a.distance = (point - a.footpoint).norm();
+      a.normal = a.distance > 0 ? Eigen::Vector3d((point - a.footpoint) / a.distance)
+                                : Eigen::Vector3d::UnitZ();
+      a.tangent = a.normal.unitOrthogonal();
+      return a;
+    }
     SurfacePoint sp;
     sp.point = Eigen::Vector3d(c * direction.x(), c * direction.y(), s);
     // Meridian tangent (s, c) in (rho, z); outward normal (c, -s) / |.|.
     const double length = std::hypot(c, s);
     const Eigen::Vector2d normal2(c / length, -s / length);
-    sp.normal = Eigen::Vector3d(normal2.x() * direction.x(), normal2.x() * direction.y(), normal2.y());
+    sp.normal =
+        Eigen::Vector3d(normal2.x() * direction.x(), normal2.x() * direction.y(), normal2.y());
     // Parallel circle: normal curvature 1/rho projected: k = normal_rho / rho = c / (length c).
     const double kParallel = normal2.x() / c;
     // Meridian curve (cosh t, sinh t): curvature (x' y'' - y' x'') / (x'^2 + y'^2)^(3/2) with
@@ -147,12 +164,15 @@ class ExactHyperboloidTarget final : public SquaredDistanceTarget {
     return approximantFrom(sp, point);
   }
   std::string describe() const override { return "exact hyperboloid"; }
-  /// Exact distance to the whole hyperboloid.
-  static double distance(const Eigen::Vector3d& p) {
+  /// Exact distance to the patch |z| <= zMax.
+  double distance(const Eigen::Vector3d& p) const {
     const double rho = p.head<2>().norm();
-    const double t = nearestMeridianParameter(rho, p.z());
+    const double t = std::clamp(nearestMeridianParameter(rho, p.z()), -tMax_, tMax_);
     return std::hypot(std::cosh(t) - rho, std::sinh(t) - p.z());
   }
+
+ private:
+  double tMax_;
 };
 
 }  // namespace d2vdb::test

@@ -8,8 +8,18 @@
 
 namespace d2vdb {
 
-/// Squared-distance approximants of the offset {x : d(x) = r} of a curve target `base`.
+/// Squared-distance approximants of the offset {x : d(x) = r} of a curve or surface target `base`.
 ///
+/// Surface targets (signed distance d, outward normal n, principal curvatures k1, k2 at the
+/// footpoint s): the offset's footpoint is s + r n, its signed distance d - r, its normal n and its
+/// principal curvatures k_i / (1 + r k_i) (the centres of curvature are the base's), so the SDM
+/// weights are (d - r) k_i / (1 + d k_i) clamped at 0. r may be negative (inward) as long as the
+/// offset has not passed a centre of curvature: where 1 + r k_i <= 1e-6 the curvature is clamped
+/// and the approximant flagged kFlagCutLocus. A field answers beyond its narrow band only
+/// approximately (ApproximantField.h), so an offset larger than the band is fitted to that
+/// accuracy. Boundary (kFlagEndPoint) answers stay point distances, moved by r along their normal.
+///
+/// Curve targets:
 /// At a query point x with base approximant (footpoint s, unit normal n toward x, tangent t,
 /// distance d, tangential curvature k_t seen from x), the offset's nearest point is s + r n and
 /// its distance |d - r|. The answer is a Surface-kind approximant (the offset of a space curve is
@@ -25,7 +35,8 @@ namespace d2vdb {
 /// The base must outlive this object. Domain and thread-safety are the base's.
 class OffsetTarget final : public SquaredDistanceTarget {
  public:
-  /// Throws InputError when `base` is not a curve target or r is not finite and positive.
+  /// Throws InputError when `base` is a point-set target, r is not finite, or r is not positive
+  /// for a curve target (a tube has no inward offset) or zero.
   OffsetTarget(const SquaredDistanceTarget& base, double r);
 
   TargetKind kind() const override { return TargetKind::Surface; }
