@@ -82,6 +82,7 @@ void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 

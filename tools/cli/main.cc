@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   addProjectCommand(app, registry, options);
   addHausdorffCommand(app, registry, options);
   addFitCurveCommand(app, registry, options);
+  addFitSurfaceCommand(app, registry, options);
   addFieldCommand(app, registry, options);
   addQueryCommand(app, registry, options);
 

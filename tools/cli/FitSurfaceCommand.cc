@@ -1,0 +1,459 @@
+// d2vdb fit-surface: fits a tensor-product B-spline surface to a distance field (.vdb), an exact
+// B-spline surface (.json) or a point cloud (.xyz/.ply) by squared distance minimisation (PDM,
+// TDM, SDM, TDM+PDM; Pottmann, Leopoldseder and Hofer 2002), optionally a ruled surface or an
+// offset, and writes the surface, a tessellated mesh coloured by the distance, the rulings and
+// the convergence plot.
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "Command.h"
+#include "ConvergencePlot.h"
+#include "d2vdb/core/AtomicFile.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/SurfaceTarget.h"
+#include "d2vdb/fit/InitialSurface.h"
+#include "d2vdb/fit/OffsetTarget.h"
+#include "d2vdb/fit/RuledSurface.h"
+#include "d2vdb/fit/SurfaceFitter.h"
+#include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/SplineJson.h"
+#include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/mesh/SurfaceTessellation.h"
+
+namespace d2vdb::cli {
+namespace {
+
+std::string lowerExtension(const std::string& file) {
+  std::string extension = std::filesystem::path(file).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+/// Nearest-point distances to a point cloud through a uniform hash grid (exact: the search grows
+/// ring by ring until no closer point can exist).
+class CloudDistance {
+ public:
+  explicit CloudDistance(const std::vector<Eigen::Vector3d>& points) : points_(points) {
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : points) box.extend(p);
+    const double volume = std::max(box.sizes().prod(), 1e-30);
+    cell_ = std::max(std::cbrt(volume / std::max<double>(1.0, points.size() / 4.0)),
+                     1e-9 * std::max(box.sizes().maxCoeff(), 1e-300));
+    for (std::size_t i = 0; i < points.size(); ++i) grid_[key(cellOf(points[i]))].push_back(i);
+  }
+  double operator()(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3i centre = cellOf(x);
+    double best = std::numeric_limits<double>::infinity();
+    for (int ring = 0; ring < 1 << 20; ++ring) {
+      for (int i = -ring; i <= ring; ++i) {
+        for (int j = -ring; j <= ring; ++j) {
+          for (int k = -ring; k <= ring; ++k) {
+            if (std::max({std::abs(i), std::abs(j), std::abs(k)}) != ring) continue;
+            const auto found = grid_.find(key(centre + Eigen::Vector3i(i, j, k)));
+            if (found == grid_.end()) continue;
+            for (const std::size_t index : found->second) {
+              best = std::min(best, (points_[index] - x).squaredNorm());
+            }
+          }
+        }
+      }
+      // Every point outside the searched cube is at least `ring` cells away.
+      if (best <= std::pow(ring * cell_, 2)) break;
+    }
+    return std::sqrt(best);
+  }
+
+ private:
+  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const {
+    return (p / cell_).array().floor().cast<int>();
+  }
+  static std::int64_t key(const Eigen::Vector3i& c) {
+    return (static_cast<std::int64_t>(c.x()) * 73856093) ^
+           (static_cast<std::int64_t>(c.y()) * 19349663) ^
+           (static_cast<std::int64_t>(c.z()) * 83492791);
+  }
+  const std::vector<Eigen::Vector3d>& points_;
+  double cell_ = 1.0;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
+};
+
+// What --target named, loaded.
+struct LoadedTarget {
+  std::string kind;  // "field", "surface", "points"
+  std::unique_ptr<SquaredDistanceTarget> target;
+  std::unique_ptr<OffsetTarget> offset;
+  std::vector<Eigen::Vector3d> points;  // the cloud, or samples of the target's surface
+
+  const SquaredDistanceTarget& fitTarget() const {
+    return offset ? static_cast<const SquaredDistanceTarget&>(*offset) : *target;
+  }
+};
+
+/// Samples of a field's zero level set: footpoints of the band voxels within half a voxel of
+/// it, at most about `limit` of them (every k-th voxel).
+std::vector<Eigen::Vector3d> fieldSurfaceSamples(const ApproximantField& field, std::size_t limit) {
+  const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
+  const double h = field.voxelSize();
+  std::vector<Eigen::Vector3d> centres;
+  for (auto it = grid->cbeginValueOn(); it; ++it) {
+    if (std::abs(*it) > 0.5 * h) continue;
+    const openvdb::Vec3d p = grid->indexToWorld(it.getCoord());
+    centres.emplace_back(p.x(), p.y(), p.z());
+  }
+  const std::size_t stride = std::max<std::size_t>(1, centres.size() / limit);
+  std::vector<Eigen::Vector3d> samples;
+  for (std::size_t i = 0; i < centres.size(); i += stride) {
+    samples.push_back(field.approximantAt(centres[i]).footpoint);
+  }
+  return samples;
+}
+
+LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
+  LoadedTarget loaded;
+  const std::string extension = lowerExtension(file);
+  if (extension == ".vdb") {
+    loaded.kind = "field";
+    auto field = std::make_unique<ApproximantField>(
+        readField(file, ApproximantFieldOptions{}, makeProgressPrinter(options)));
+    if (field->statistics().kind != TargetKind::Surface) {
+      throw InputError("target file '" + file +
+                       "' is not the field of a surface (a level set); fit-surface fits surfaces "
+                       "to level sets, B-spline surfaces and point clouds");
+    }
+    loaded.points = fieldSurfaceSamples(*field, 200000);
+    if (loaded.points.empty()) {
+      throw InputError("target file '" + file + "' has no voxels on its zero level set");
+    }
+    loaded.target = std::move(field);
+  } else if (extension == ".json") {
+    loaded.kind = "surface";
+    const BSplineSurface surface = readSurfaceJson(file);
+    auto target = std::make_unique<SurfaceTarget>(surface);
+    target->setLabel(file);
+    loaded.points = target->samplePoints(101, 101);
+    loaded.target = std::move(target);
+  } else if (extension == ".xyz" || extension == ".ply") {
+    loaded.kind = "points";
+    loaded.points = readPointSet(file);
+  } else {
+    throw InputError("target file '" + file +
+                     "' has an unsupported extension; use a level-set or field .vdb (meshes: "
+                     "d2vdb mesh2sdf first), a B-spline surface .json or a point cloud .xyz/.ply");
+  }
+  if (offset != 0.0) {
+    if (!loaded.target) {
+      throw InputError("--offset needs a field or B-spline surface target, not a point cloud");
+    }
+    loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
+  }
+  return loaded;
+}
+
+struct Arguments {
+  std::string target, init = "plane", method = "sdm", out, mesh, plot, rulings;
+  std::vector<int> degree{3, 3};
+  std::vector<int> controlPoints{8, 8};
+  bool closedU = false, closedV = false, ruled = false;
+  double offset = 0.0;
+  int meshSamples = 8;
+  int rulingSamples = 4;
+  SurfaceFitOptions fit;
+};
+
+BSplineSurface initialSurface(const Arguments& args, const LoadedTarget& target, bool& ruled) {
+  if (args.init != "plane" && args.init != "cylinder" && args.init != "torus") {
+    const BSplineSurface surface = readSurfaceJson(args.init);
+    ruled = surface.degreeU() == 1;
+    return surface;
+  }
+  InitialSurfaceOptions placement;
+  SurfaceLayout& layout = placement.layout;
+  layout.degreeU = args.ruled ? 1 : args.degree[0];
+  layout.degreeV = args.degree[1];
+  layout.countU = args.controlPoints[0];
+  layout.countV = args.controlPoints[1];
+  layout.closedU = args.closedU;
+  layout.closedV = args.closedV;
+  if (args.init == "plane") {
+    placement.shape = InitialSurfaceShape::Plane;
+  } else if (args.init == "cylinder") {
+    placement.shape = InitialSurfaceShape::Cylinder;
+    // Around the axis: u by default, v for a ruled surface (its rulings run along u).
+    if (!layout.closedU && !layout.closedV) (args.ruled ? layout.closedV : layout.closedU) = true;
+  } else {
+    placement.shape = InitialSurfaceShape::Torus;
+    layout.closedU = layout.closedV = true;
+  }
+  if (args.offset != 0.0 && placement.shape != InitialSurfaceShape::Plane) {
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : target.points) box.extend(p);
+    placement.scale = 1.0 + 2.0 * std::abs(args.offset) / std::max(box.sizes().maxCoeff(), 1e-300);
+  }
+  ruled = layout.degreeU == 1;
+  return initialSurfaceAround(target.points, placement);
+}
+
+nlohmann::json historyJson(const SurfaceFitResult& result) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const FitIteration& row : result.history) {
+    rows.push_back({{"iteration", row.iteration},
+                    {"objective", row.objective},
+                    {"rms_distance", row.rmsDistance},
+                    {"max_distance", row.maxDistance},
+                    {"step_length", row.stepLength},
+                    {"step_scale", row.stepScale},
+                    {"damping", row.damping}});
+  }
+  return rows;
+}
+
+/// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings.
+std::function<double(const Eigen::Vector3d&)> distanceFunction(
+    const LoadedTarget& target, std::unique_ptr<CloudDistance>& cloud) {
+  if (target.kind == "points") {
+    cloud = std::make_unique<CloudDistance>(target.points);
+    const CloudDistance* measure = cloud.get();
+    return [measure](const Eigen::Vector3d& x) { return (*measure)(x); };
+  }
+  const SquaredDistanceTarget& fitTarget = target.fitTarget();
+  const Eigen::AlignedBox3d domain = fitTarget.domain();
+  return [&fitTarget, domain](const Eigen::Vector3d& x) {
+    if (!domain.contains(x)) return std::numeric_limits<double>::quiet_NaN();
+    const Approximant a = fitTarget.approximantAt(x);
+    return a.kind == TargetKind::Surface ? a.distance : std::sqrt(a.form(ErrorTerm::SDM)(x));
+  };
+}
+
+/// Blue (negative) - white (0) - red (positive) by distance / scale, clamped.
+std::array<std::uint8_t, 3> distanceColour(double distance, double scale) {
+  const double t = std::clamp(distance / scale, -1.0, 1.0);
+  const auto channel = [](double value) {
+    return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(value, 0.0, 1.0)));
+  };
+  return t >= 0.0 ? std::array<std::uint8_t, 3>{255, channel(1.0 - t), channel(1.0 - t)}
+                  : std::array<std::uint8_t, 3>{channel(1.0 + t), channel(1.0 + t), 255};
+}
+
+nlohmann::json writeSurfaceMesh(const std::string& file, const BSplineSurface& surface, int samples,
+                                const std::function<double(const Eigen::Vector3d&)>& distance) {
+  const int samplesU = std::max(surface.isClosedU() ? 3 : 2, samples * surface.countU());
+  const int samplesV = std::max(surface.isClosedV() ? 3 : 2, samples * surface.countV());
+  const TriangleMesh mesh = tessellate(surface, samplesU, samplesV);
+  VertexAttributes attributes;
+  attributes.scalarName = "distance";
+  double largest = 0.0;
+  for (const Eigen::Vector3f& p : mesh.positions) {
+    double d = distance(p.cast<double>());
+    if (!std::isfinite(d)) d = 0.0;  // outside the target's domain (not expected)
+    attributes.scalars.push_back(static_cast<float>(d));
+    largest = std::max(largest, std::abs(d));
+  }
+  const double scale = largest > 0.0 ? largest : 1.0;
+  for (const float d : attributes.scalars) attributes.colours.push_back(distanceColour(d, scale));
+  writeMesh(file, mesh, attributes);
+  return {{"file", file},
+          {"vertices", mesh.vertexCount()},
+          {"triangles", mesh.triangleCount()},
+          {"max_distance", largest}};
+}
+
+nlohmann::json writeRulings(const std::string& file, const BSplineSurface& surface, int samples,
+                            const std::function<double(const Eigen::Vector3d&)>& distance) {
+  const std::vector<Ruling> rulings = surfaceRulings(surface, samples);
+  nlohmann::json list = nlohmann::json::array();
+  double worst = 0.0;
+  for (const Ruling& ruling : rulings) {
+    double largest = 0.0;
+    for (int i = 0; i <= 64; ++i) {
+      const double d = distance(ruling.start + (ruling.end - ruling.start) * (i / 64.0));
+      if (std::isfinite(d)) largest = std::max(largest, std::abs(d));
+    }
+    worst = std::max(worst, largest);
+    list.push_back({{"v", ruling.v},
+                    {"piece", ruling.piece},
+                    {"start", {ruling.start.x(), ruling.start.y(), ruling.start.z()}},
+                    {"end", {ruling.end.x(), ruling.end.y(), ruling.end.z()}},
+                    {"max_distance", largest}});
+  }
+  const nlohmann::json document = {{"type", "rulings"},
+                                   {"version", 1},
+                                   {"samples_per_span", samples},
+                                   {"max_distance", worst},
+                                   {"rulings", list}};
+  writeStreamAtomically(file, [&](std::ostream& out) { out << document.dump(1) << '\n'; });
+  return {{"file", file}, {"count", rulings.size()}, {"max_distance", worst}};
+}
+
+}  // namespace
+
+void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
+  auto args = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "fit-surface",
+      "Fit a tensor-product B-spline surface (knots fixed; open or closed in u and v; ruled with "
+      "--ruled) to a level set / field .vdb (SDM I), a B-spline surface .json (exact, SDM I) or a "
+      "point cloud .xyz/.ply (SDM II: errors orthogonal to the active surface). Prints the "
+      "iteration history and why it stopped.\n"
+      "Example: d2vdb fit-surface --target volumes/torus.vdb --init torus --ctrl 12,8 "
+      "--out torus.json --mesh torus.ply --plot conv.svg");
+  command
+      ->add_option("--target", args->target,
+                   "Target: .vdb level set or field, surface .json, "
+                   ".xyz/.ply point cloud")
+      ->required();
+  command
+      ->add_option("--init", args->init,
+                   "Initial surface: plane (sheet over the target's principal plane), cylinder "
+                   "(closed around its axis), torus (closed in both), or a surface .json")
+      ->capture_default_str();
+  command->add_option("--method", args->method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
+  command->add_option("--degree", args->degree, "Degrees p,q of a generated initial surface")
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str();
+  command->add_option("--ctrl", args->controlPoints, "Control points m,n of a generated surface")
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str();
+  command->add_flag("--closed-u", args->closedU, "Closed (periodic) in u");
+  command->add_flag("--closed-v", args->closedV, "Closed (periodic) in v");
+  command->add_flag("--ruled", args->ruled,
+                    "Ruled surface: degree 1 in u (straight rulings along u), degree q in v");
+  command->add_option(
+      "--offset", args->offset,
+      "Fit the offset at this distance (negative: inward; field or surface target)");
+  command->add_option("--out", args->out, "Write the fitted surface (.json)")->required();
+  command->add_option("--mesh", args->mesh,
+                      "Write a tessellation (.obj/.ply; PLY with a per-vertex 'distance' and "
+                      "colours: blue inside, white on, red outside the target)");
+  command->add_option("--mesh-samples", args->meshSamples, "Mesh vertices per control point")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  command->add_option("--rulings", args->rulings,
+                      "With a ruled surface: write its rulings (.json) with their distances");
+  command
+      ->add_option("--ruling-samples", args->rulingSamples,
+                   "Rulings per knot span besides "
+                   "the knots")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
+  command->add_option("--plot", args->plot, "Plot the RMS distance per iteration (SVG)");
+  command->add_option("--iterations", args->fit.maxIterations, "Iteration cap")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  command
+      ->add_option("--sensors", args->fit.sensorsPerSpan,
+                   "Sensors per knot span and direction (SDM I)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  command
+      ->add_option("--smoothness", args->fit.smoothness,
+                   "Thin-plate weight (dimensionless; default: automatic, see README)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--stretch", args->fit.stretch, "Membrane weight (dimensionless)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--step-smoothness", args->fit.stepSmoothness,
+                   "Damping of rough and tangential control-point moves (relative; no bias)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--tolerance", args->fit.distanceTolerance,
+                   "Stop when the RMS distance reaches this (world units; 0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--step-tolerance", args->fit.stepTolerance,
+                   "Stop when no control point moves more than this fraction of the size")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--json", options.json, "Print one JSON document on stdout");
+
+  registry.add(command, [args, &options]() {
+    const Stopwatch clock;
+    const FitMethod method = parseFitMethod(args->method);
+    if (!std::isfinite(args->offset)) throw InputError("--offset must be a finite number");
+    const LoadedTarget target = loadTarget(args->target, args->offset, options);
+    bool ruled = false;
+    const BSplineSurface initial = initialSurface(*args, target, ruled);
+    if (!args->rulings.empty() && !ruled) {
+      throw InputError(
+          "--rulings needs a ruled surface (--ruled, or an initial surface of degree "
+          "1 in u)");
+    }
+    SurfaceFitOptions fit = args->fit;
+    fit.method = method;
+    fit.progress = makeProgressPrinter(options);
+    const SurfaceFitResult result = target.kind == "points"
+                                        ? fitSurfaceToPoints(initial, target.points, fit)
+                                        : fitSurface(initial, target.fitTarget(), fit);
+    std::unique_ptr<CloudDistance> cloud;
+    const auto distance = distanceFunction(target, cloud);
+    writeSurfaceJson(args->out, result.surface);
+
+    nlohmann::json report = {{"method", fitMethodName(method)},
+                             {"status", fitStatusName(result.status)},
+                             {"reason", result.reason},
+                             {"iterations", result.iterations()},
+                             {"rms_distance", result.history.back().rmsDistance},
+                             {"max_distance", result.history.back().maxDistance},
+                             {"history", historyJson(result)},
+                             {"target", args->target},
+                             {"target_kind", target.kind},
+                             {"offset", args->offset},
+                             {"dimension", 3},
+                             {"degree", {initial.degreeU(), initial.degreeV()}},
+                             {"control_points", {initial.countU(), initial.countV()}},
+                             {"closed", {initial.isClosedU(), initial.isClosedV()}},
+                             {"ruled", ruled},
+                             {"output", args->out}};
+    if (!args->mesh.empty()) {
+      report["mesh"] = writeSurfaceMesh(args->mesh, result.surface, args->meshSamples, distance);
+    }
+    if (!args->rulings.empty()) {
+      report["rulings"] =
+          writeRulings(args->rulings, result.surface, args->rulingSamples, distance);
+    }
+    if (!args->plot.empty()) {
+      writeConvergencePlot(args->plot,
+                           {{method, &result.history, result.iterations(), result.status}},
+                           "fit-surface");
+      report["plot"] = args->plot;
+    }
+    report["seconds"] = clock.seconds();
+    if (options.json) {
+      printJson(report);
+      return kSuccess;
+    }
+    std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
+                fitStatusName(result.status), result.iterations(), result.reason.c_str());
+    std::printf("%5s %14s %12s %12s %12s %7s %9s\n", "iter", "objective", "rms", "max", "step",
+                "scale", "damping");
+    for (const FitIteration& row : result.history) {
+      std::printf("%5d %14.6e %12.5e %12.5e %12.5e %7.4f %9.2e\n", row.iteration, row.objective,
+                  row.rmsDistance, row.maxDistance, row.stepLength, row.stepScale, row.damping);
+    }
+    status(options, "wrote " + args->out);
+    return kSuccess;
+  });
+}
+
+}  // namespace d2vdb::cli
