@@ -1,7 +1,7 @@
 // The squared-distance approximant field against analytic references: curvature,
 // footpoints and frames on a sphere and a torus, curve fields of a circle and a helix, the
-// PDM/TDM/SDM forms against the exact d^2 and its Hessian, answers beyond the band, determinism
-// across thread counts, and the exact round trip through standard grids.
+// PDM/TDM/SDM forms against the exact d^2 and its Hessian, answers beyond the band, and determinism
+// across thread counts.
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
@@ -13,6 +13,7 @@
 #include <random>
 #include <vector>
 
+#include "ApproximantFieldTestSupport.h"
 #include "FieldTestSupport.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/AnalyticShapes.h"
@@ -24,34 +25,12 @@
 namespace d2vdb {
 namespace {
 
+using test::bandCentres;
+using test::expectSameAnswers;
+using test::randomPoints;
 using test::withThreads;
 
 constexpr double kPi = 3.14159265358979323846;
-
-/// Every active voxel centre of the field's band (world).
-std::vector<Eigen::Vector3d> bandCentres(const ApproximantField& field) {
-  std::vector<Eigen::Vector3d> centres;
-  const auto& grid = *field.distanceGrid();
-  for (auto voxel = grid.cbeginValueOn(); voxel; ++voxel) {
-    const openvdb::Vec3d w = grid.indexToWorld(voxel.getCoord());
-    centres.emplace_back(w.x(), w.y(), w.z());
-  }
-  return centres;
-}
-
-/// `count` points uniformly distributed in `box`, from a generator seeded with `seed`.
-std::vector<Eigen::Vector3d> randomPoints(const Eigen::AlignedBox3d& box, int count,
-                                          unsigned seed = 17) {
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < count; ++i) {
-    points.push_back(
-        box.min() +
-        (box.sizes().array() * Eigen::Array3d(unit(random), unit(random), unit(random))).matrix());
-  }
-  return points;
-}
 
 /// Angle in degrees between two lines (directions up to sign).
 double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -550,27 +529,7 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
   EXPECT_GT(finerChecked, 300);
 }
 
-/// Every approximant at the band's voxel centres and at `extra` points, compared field by field.
-void expectSameAnswers(const ApproximantField& a, const ApproximantField& b,
-                       const std::vector<Eigen::Vector3d>& extra) {
-  auto points = bandCentres(a);
-  points.insert(points.end(), extra.begin(), extra.end());
-  const auto answersA = a.approximantsAt(points);
-  const auto answersB = b.approximantsAt(points);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Approximant &x = answersA[i], &y = answersB[i];
-    ASSERT_TRUE(x.flags == y.flags && x.distance == y.distance && x.footpoint == y.footpoint &&
-                x.normal == y.normal && x.tangent == y.tangent && x.k1 == y.k1 && x.k2 == y.k2 &&
-                x.principalNormal == y.principalNormal)
-        << "different answers at point " << i << ": flags " << x.flags << "/" << y.flags << " d "
-        << x.distance << "/" << y.distance << " foot " << x.footpoint.transpose() << " / "
-        << y.footpoint.transpose() << " n " << x.normal.transpose() << " / " << y.normal.transpose()
-        << " t " << x.tangent.transpose() << " / " << y.tangent.transpose() << " k " << x.k1 << ","
-        << x.k2 << " / " << y.k1 << "," << y.k2;
-  }
-}
-
-TEST(ApproximantField, SameFieldForOneAndTwoThreadsAndExactRoundTrip) {
+TEST(ApproximantField, SameFieldForOneAndTwoThreads) {
   const double h = 0.03;
   const Torus torus(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 0.35);
   const auto grid = primitiveLevelSet(torus, {h, 3.0});
@@ -602,67 +561,12 @@ TEST(ApproximantField, SameFieldForOneAndTwoThreadsAndExactRoundTrip) {
     ASSERT_EQ(batchOne[i].footpoint, batchTwo[i].footpoint);
     ASSERT_EQ(batchOne[i].distance, batchTwo[i].distance);
   }
-  // Round trip through standard grids (what a .vdb file holds).
-  const openvdb::GridPtrVec grids = one.toGrids();
-  const ApproximantField loaded = ApproximantField::fromGrids(grids, "test grids");
-  expectSameAnswers(one, loaded, extra);
-
-  // Curve and point fields too.
-  const CurveTarget circle(circlePolyline(Eigen::Vector3d::Zero(), 0.6, 500));
-  const ApproximantField curve = ApproximantField::fromCurve(circle, 0.03, 3.0);
-  expectSameAnswers(curve, ApproximantField::fromGrids(curve.toGrids(), "curve grids"),
-                    randomPoints(curve.domain(), 2000));
-  const ApproximantField points = ApproximantField::fromPoints(
-      randomPoints(Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1)), 200),
-      0.05, 2.0);
-  expectSameAnswers(points, ApproximantField::fromGrids(points.toGrids(), "point grids"),
-                    randomPoints(points.domain(), 2000));
+  // The round trip through standard grids and files: tests/io/FieldGridsTest.cc.
 }
 
-TEST(ApproximantField, RejectsBadGridsWithClearErrors) {
+TEST(ApproximantField, RejectsBadLevelSetsAndBandParameters) {
   const double h = 0.05;
   const Sphere sphere(Eigen::Vector3d::Zero(), 0.6);
-  const ApproximantField field =
-      ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}));
-  const openvdb::GridPtrVec grids = field.toGrids();
-  const auto expectError = [](const openvdb::GridPtrVec& input, const std::string& fragment) {
-    try {
-      ApproximantField::fromGrids(input, "bad.vdb");
-      ADD_FAILURE() << "accepted grids that should fail with '" << fragment << "'";
-    } catch (const InputError& error) {
-      EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
-    }
-  };
-  // A missing companion grid.
-  openvdb::GridPtrVec missing;
-  for (const auto& grid : grids) {
-    if (grid->getName() != "k1") missing.push_back(grid);
-  }
-  expectError(missing, "'k1' is missing");
-  // A companion grid with another topology.
-  openvdb::GridPtrVec mismatched;
-  for (const auto& grid : grids) {
-    if (grid->getName() == "k2") {
-      auto copy = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->deepCopy();
-      copy->tree().setValueOn(openvdb::Coord(1000, 0, 0), 0.0f);
-      mismatched.push_back(copy);
-    } else {
-      mismatched.push_back(grid);
-    }
-  }
-  expectError(mismatched, "does not share");
-  // NaN in a companion grid.
-  openvdb::GridPtrVec poisoned;
-  for (const auto& grid : grids) {
-    if (grid->getName() == "k1") {
-      auto copy = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->deepCopy();
-      copy->tree().setValueOnly(copy->cbeginValueOn().getCoord(), std::nanf(""));
-      poisoned.push_back(copy);
-    } else {
-      poisoned.push_back(grid);
-    }
-  }
-  expectError(poisoned, "non-finite");
   // An empty band, a band too narrow for the estimator.
   auto empty = openvdb::FloatGrid::create(0.15f);
   empty->setGridClass(openvdb::GRID_LEVEL_SET);

@@ -90,8 +90,7 @@ BuiltField buildField(const Arguments& args, const ApproximantFieldOptions& fiel
     if (isFieldFile(grids)) {
       // What readField() does, without reading the file a second time.
       built.inputKind = "field";
-      built.field.emplace(
-          ApproximantField::fromGrids(grids, input.string(), fieldOptions, progress));
+      built.field.emplace(fieldFromGrids(grids, input.string(), fieldOptions, progress));
     } else {
       built.inputKind = "level set";
       built.field.emplace(

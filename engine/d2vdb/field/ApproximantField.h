@@ -15,21 +15,15 @@
 #include <vector>
 
 #include "d2vdb/core/Progress.h"
+#include "d2vdb/field/FieldBand.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
 
 namespace d2vdb {
 
 class CurveTarget;
 namespace detail {
-struct FieldStorage;
+class FieldStorage;
 }
-
-/// Metadata keys of a field's grids on disk (see FieldFile.h).
-inline constexpr const char* kFieldKindMetadata = "d2vdb_field_kind";  ///< surface/curve/points
-inline constexpr const char* kFieldEstimatorMetadata = "d2vdb_field_estimator";
-inline constexpr const char* kFieldVersionMetadata = "d2vdb_field_version";  ///< int, 1
-inline constexpr const char* kFieldDomainMinMetadata = "d2vdb_domain_min";   ///< vec3d, world
-inline constexpr const char* kFieldDomainMaxMetadata = "d2vdb_domain_max";   ///< vec3d, world
 
 /// Options shared by every way of building a field.
 struct ApproximantFieldOptions {
@@ -84,24 +78,43 @@ struct FieldStatistics {
 /// footpoint is nearest to the voxel centre, found exactly (NearestPointTree over the samples);
 /// level-1 voxels whose every query the band answers are left out. The
 /// top level covers the whole working domain. A query at x uses the finest level whose stored
-/// voxel nearest to x is active and returns that voxel's approximant (Taylor expansion of d^2
-/// about the voxel centre). Error bound beyond the band: see coarseDistanceErrorBound().
+/// voxel nearest to x is active: in the band, that voxel's approximant moved to x to first order;
+/// beyond it, the approximant of the voxel's sample seen from x (its footpoint and curvatures,
+/// the normal along x - footpoint). Error bound beyond the band: see coarseDistanceErrorBound().
 ///
 /// Construction computes the band; the coarse levels are built on the first query beyond it (or
-/// by buildCoarseLevels()), with the same result. Queries are thread-safe; Accessor caches the
-/// last leaf per thread. Building is parallel (TBB) and the result is bitwise identical for any
-/// thread count.
+/// by buildCoarseLevels()), with the same result. Every factory ends in the same assembly, which
+/// checks the band and derives everything else from it; fromBand() is the general one (any target
+/// that gives the approximant at a voxel centre), the others are shorthands for the targets d2vdb
+/// knows. Queries are thread-safe; Accessor caches the last leaf per thread. Building is parallel
+/// (TBB) and the result is bitwise identical for any thread count. The field's grids as standard
+/// OpenVDB grids and files: io/FieldGrids.h, io/FieldFile.h.
 class ApproximantField final : public SquaredDistanceTarget {
  public:
   /// Builds the field of a signed level set (any FloatGrid of class level set, from d2vdb or any
-  /// OpenVDB tool: d < 0 inside, world units, uniform voxels, band half-width >= 2 voxels).
-  /// Estimator: see kSurfaceEstimator in the .cc; documented in the README. The grid is shared,
-  /// not modified. Throws InputError for a grid that is not a
-  /// level set, has non-uniform or non-linear voxels, an empty band, a band narrower than 2
-  /// voxels, non-finite values, or an estimated size above options.maxActiveVoxels.
+  /// OpenVDB tool: d < 0 inside, world units, uniform voxels, band half-width >= 2 voxels). The
+  /// band is the grid's active voxels; their approximants come from the level set's values
+  /// (footpoint interpolation of least-squares quadric fits, described in the README; the one-line
+  /// summary stored with the field is kSurfaceEstimator in field/detail/SurfaceEstimator.h). The
+  /// grid is shared, not modified. Throws InputError for a grid that is not a level set, has
+  /// non-uniform or non-linear voxels, an empty band, a band narrower than 2 voxels, non-finite
+  /// values, or an estimated size above options.maxActiveVoxels.
   static ApproximantField fromLevelSet(openvdb::FloatGrid::ConstPtr levelSet,
                                        const ApproximantFieldOptions& options = {},
                                        const ProgressCallback& progress = {});
+
+  /// Builds the field of a band of voxels whose approximants are given (FieldBand.h): the general
+  /// factory, for stored fields and any target with an exact approximant at a point. The working
+  /// domain follows options (padding the band's target bounds, or options.domain, which must
+  /// contain them); options.coarseHalfWidth (at least 2) sets the coarse levels. Throws InputError
+  /// for bad band parameters (see FieldBand), a grid the field cannot use (non-uniform, sheared or
+  /// mirrored voxels, active tiles, no active voxel), no approximant function, an approximant with
+  /// non-finite values or a normal that is not a unit vector, a nearSeeds() band with more
+  /// candidate voxels than options.maxActiveVoxels, a band with no voxel within sqrt(3)/2 voxel of
+  /// the target, or a bad domain; rethrows what the approximant function throws.
+  static ApproximantField fromBand(const FieldBand& band,
+                                   const ApproximantFieldOptions& options = {},
+                                   const ProgressCallback& progress = {});
 
   /// Builds the field of a curve: every voxel within halfWidth voxels of the curve gets the
   /// exact approximant of CurveTarget at its centre. Throws InputError for a non-positive voxel
@@ -138,6 +151,10 @@ class ApproximantField final : public SquaredDistanceTarget {
     explicit Accessor(const ApproximantField& field);
     /// As ApproximantField::approximantAt().
     Approximant approximantAt(const Eigen::Vector3d& point);
+    /// The approximant stored for band voxel `ijk` (index coordinates of distanceGrid()), taken
+    /// at the voxel's centre and not transported (origin = the centre), or std::nullopt when
+    /// `ijk` is not a band voxel. What the field's grids (io/FieldGrids.h) hold.
+    std::optional<Approximant> bandApproximant(const openvdb::Coord& ijk);
     /// The level that answered the last successful query (0 = the band).
     int lastLevel() const { return lastLevel_; }
 
@@ -178,22 +195,8 @@ class ApproximantField final : public SquaredDistanceTarget {
   double sampleError() const;
   /// Sizes and counts; the coarse levels only once built (statistics() does not build them).
   FieldStatistics statistics() const;
-
-  /// The band's data as standard OpenVDB grids sharing the distance grid's topology, for
-  /// writing: the distance grid itself, then surfaces: "normal" (Vec3s), "k1", "k2" (float),
-  /// "e1" (Vec3s); curves: "direction" (Vec3s, footpoint toward voxel), "tangent" (Vec3s),
-  /// "curvature" (float), "principal_normal" (Vec3s); points: "direction" (Vec3s); and "flags"
-  /// (Int32, only voxels with flags set are active). Metadata on the distance grid: kind,
-  /// estimator, version, domain. Coarse levels are not stored (they are rebuilt on load).
-  openvdb::GridPtrVec toGrids() const;
-
-  /// Rebuilds a field from grids written by toGrids() (any order, extra grids ignored), or from a
-  /// level set alone (approximants computed now, as fromLevelSet does). `source` names the file in
-  /// messages. Throws InputError for a missing or mismatched companion grid (different topology or
-  /// transform), non-finite values, a wrong grid type, or an unknown field kind/version.
-  static ApproximantField fromGrids(const openvdb::GridPtrVec& grids, const std::string& source,
-                                    const ApproximantFieldOptions& options = {},
-                                    const ProgressCallback& progress = {});
+  /// How the band's approximants were obtained (one line, as statistics().estimator).
+  const std::string& estimator() const;
 
  private:
   explicit ApproximantField(std::unique_ptr<detail::FieldStorage> storage);

@@ -1,16 +1,17 @@
+// Field .vdb files (FieldFile.h).
 #include "d2vdb/io/FieldFile.h"
 
 namespace d2vdb {
 
 void writeField(const std::filesystem::path& path, const ApproximantField& field,
                 const VdbWriteOptions& options) {
-  writeVdb(path, field.toGrids(), options);
+  writeVdb(path, fieldToGrids(field), options);
 }
 
 ApproximantField readField(const std::filesystem::path& path,
                            const ApproximantFieldOptions& options,
                            const ProgressCallback& progress) {
-  return ApproximantField::fromGrids(readAllGrids(path), path.string(), options, progress);
+  return fieldFromGrids(readAllGrids(path), path.string(), options, progress);
 }
 
 bool isFieldFile(const std::vector<openvdb::GridBase::Ptr>& grids) {

@@ -8,20 +8,23 @@
 
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/io/FieldGrids.h"
 #include "d2vdb/io/VdbFile.h"
 
 namespace d2vdb {
 
-/// Writes the field's grids (ApproximantField::toGrids(): the distance grid and its companion
-/// grids, all standard OpenVDB types) to `path` atomically with writeVdb(). Throws InputError or
+/// Writes the field's grids (fieldToGrids(): the distance grid and its companion grids, all
+/// standard OpenVDB types) to `path` atomically with writeVdb(). Throws InputError or
 /// RuntimeFailure as writeVdb() does; an existing file is left unchanged on failure.
 void writeField(const std::filesystem::path& path, const ApproximantField& field,
                 const VdbWriteOptions& options = {});
 
-/// Reads a .vdb file written by writeField() and rebuilds the field (coarse levels included), or
-/// builds the field of a plain level set (e.g. from Houdini) as ApproximantField::fromLevelSet()
-/// does. Throws InputError naming the file for an unreadable, truncated or corrupt file, NaN
-/// values, and missing or mismatched companion grids (ApproximantField::fromGrids()).
+/// Reads a .vdb file written by writeField() and rebuilds the field's band (files do not store the
+/// coarse levels: the field builds them on its first query beyond the band, with the same
+/// answers as before writing), or builds the field of a plain level set (e.g. from Houdini) as
+/// ApproximantField::fromLevelSet() does. Throws InputError naming the file for an unreadable,
+/// truncated or corrupt file, NaN values, and missing or mismatched companion grids
+/// (fieldFromGrids()).
 ApproximantField readField(const std::filesystem::path& path,
                            const ApproximantFieldOptions& options = {},
                            const ProgressCallback& progress = {});

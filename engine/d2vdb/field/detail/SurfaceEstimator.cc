@@ -158,8 +158,8 @@ StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
 /// corners of recent cells (3 in 4 interpolations on the bunny reuse them).
 class Interpolator {
  public:
-  Interpolator(const FieldStorage& storage, const std::vector<StencilData>& stencils)
-      : storage_(storage), stencils_(stencils) {}
+  Interpolator(const LeafTable& band, const std::vector<StencilData>& stencils)
+      : band_(band), stencils_(stencils) {}
 
   /// Makes the leaf with origin `origin` (and its 26 neighbours) the current one.
   void setLeaf(const openvdb::Coord& origin) {
@@ -167,7 +167,7 @@ class Interpolator {
     for (int slot = 0; slot < 27; ++slot) {
       const openvdb::Coord neighbour =
           origin + openvdb::Coord((slot / 9 - 1) * 8, ((slot / 3) % 3 - 1) * 8, (slot % 3 - 1) * 8);
-      neighbours_[static_cast<std::size_t>(slot)] = storage_.band.findLeaf(neighbour);
+      neighbours_[static_cast<std::size_t>(slot)] = band_.findLeaf(neighbour);
     }
     hasLeaf_ = true;
   }
@@ -253,15 +253,15 @@ class Interpolator {
         const std::int64_t leaf =
             neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
         if (leaf < 0) return -1;
-        return LeafTable::recordIndex(storage_.band.entries()[static_cast<std::size_t>(leaf)], ijk);
+        return LeafTable::recordIndex(band_.entries()[static_cast<std::size_t>(leaf)], ijk);
       }
     }
     return bandCursor_.record(ijk);
   }
 
-  const FieldStorage& storage_;
+  const LeafTable& band_;
   const std::vector<StencilData>& stencils_;
-  LeafCursor bandCursor_{storage_.band};
+  LeafCursor bandCursor_{band_};
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
@@ -301,24 +301,27 @@ void principalCurvatures(const Eigen::Matrix3d& hessian, const Eigen::Vector3d& 
 
 }  // namespace
 
-void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT*>& leaves,
-                            const ProgressCallback& progress) {
-  const double scale = 1.0 / storage.voxelSize;  // world distance -> voxels
-  const auto& entries = storage.band.entries();
-  std::vector<StencilData> stencils(storage.records.size());
+std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const RecordCodec& codec,
+                                               const ProgressCallback& progress) {
+  const double voxelSize = layout.frame().voxelSize();
+  const double scale = 1.0 / voxelSize;  // world distance -> voxels
+  const LeafTable& band = layout.table();
+  const auto& entries = band.entries();
+  std::vector<StencilData> stencils(band.voxelCount());
+  std::vector<BandRecord> records(band.voxelCount());
 
   // Pass 1: quadric fits and gradients.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      auto accessor = storage.grid->getConstAccessor();
+                      auto accessor = layout.grid()->getConstAccessor();
                       Block block;
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const LeafT& leaf = *leaves[i];
-                        block.gather(accessor, leaf.origin());
-                        std::uint32_t record = entries[i].base;
-                        for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel, ++record) {
-                          const int offset = static_cast<int>(voxel.pos());
-                          stencils[record] =
+                        const LeafEntry& entry = entries[i];
+                        block.gather(accessor, entry.origin);
+                        std::uint32_t record = entry.base;
+                        for (int offset = 0; offset < 512; ++offset) {
+                          if (!entry.isOn(offset)) continue;
+                          stencils[record++] =
                               fitStencil(block, offset >> 6, (offset >> 3) & 7, offset & 7, scale);
                         }
                       }
@@ -327,9 +330,9 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
 
   // Pass 2: footpoints, normals, curvatures.
   tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+      tbb::blocked_range<std::size_t>(0, entries.size(), 16),
       [&](const tbb::blocked_range<std::size_t>& range) {
-        Interpolator interpolator(storage, stencils);
+        Interpolator interpolator(band, stencils);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const LeafEntry& entry = entries[i];
           interpolator.setLeaf(entry.origin);
@@ -404,17 +407,18 @@ void estimateSurfaceRecords(FieldStorage& storage, const std::vector<const LeafT
               k1 = k2 = 0.0;
               e1 = tangentBasis(normal)[0];
             }
-            a.distance = distance * storage.voxelSize;
+            a.distance = distance * voxelSize;
             a.normal = normal;
             a.tangent = e1;
             a.k1 = k1 * scale;
             a.k2 = k2 * scale;
-            storage.records[record] = storage.encode(a);
+            records[record] = codec.encode(a);
             ++record;
           }
         }
       });
   if (progress) progress("field: approximants", 1.0);
+  return records;
 }
 
 }  // namespace d2vdb::detail

@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "d2vdb/core/Progress.h"
-#include "d2vdb/field/detail/FieldStorage.h"
+#include "d2vdb/field/detail/BandLayout.h"
+#include "d2vdb/field/detail/RecordCodec.h"
 
 namespace d2vdb::detail {
 
@@ -16,8 +17,8 @@ inline constexpr const char* kSurfaceEstimator =
     "of the surface, gradient and Hessian interpolated trilinearly at the footpoint (found by "
     "tangent-plane projection), Hessian diagonalised in the tangent plane";
 
-/// Fills storage.records for every band voxel of storage.grid (signed level set; `leaves` as
-/// returned by FieldStorage::buildBandTable()).
+/// The record of every band voxel of a signed level set (the layout's grid: world units, d < 0
+/// inside), in the layout's order, encoded with `codec` (a surface codec of the layout's frame).
 ///
 /// Pass 1: for every active voxel within 1.75 voxels of the surface whose 26 neighbours are all
 /// active, the least-squares quadric of d over the 3x3x3 stencil: on that symmetric stencil the
@@ -39,9 +40,7 @@ inline constexpr const char* kSurfaceEstimator =
 /// gradient and the curvatures are 0); kFlagCurvatureClamped where |k| > 1/voxel. Parallel over
 /// leaves (TBB); every record depends only on the input, so the result is identical for any thread
 /// count.
-void estimateSurfaceRecords(
-    FieldStorage& storage,
-    const std::vector<const openvdb::FloatGrid::TreeType::LeafNodeType*>& leaves,
-    const ProgressCallback& progress);
+std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const RecordCodec& codec,
+                                               const ProgressCallback& progress);
 
 }  // namespace d2vdb::detail

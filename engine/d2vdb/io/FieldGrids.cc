@@ -1,0 +1,292 @@
+// Approximant fields as standard OpenVDB grids and back (FieldGrids.h).
+#include "d2vdb/io/FieldGrids.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/FieldBand.h"
+
+namespace d2vdb {
+namespace {
+
+openvdb::Vec3s toVec(const Eigen::Vector3d& v) {
+  return openvdb::Vec3s(static_cast<float>(v.x()), static_cast<float>(v.y()),
+                        static_cast<float>(v.z()));
+}
+
+Eigen::Vector3d fromVec(const openvdb::Vec3s& v) {
+  return Eigen::Vector3d(v.x(), v.y(), v.z());
+}
+
+void setFieldMetadata(openvdb::GridBase& grid, const ApproximantField& field) {
+  grid.insertMeta(kFieldKindMetadata, openvdb::StringMetadata(targetKindName(field.kind())));
+  grid.insertMeta(kFieldEstimatorMetadata, openvdb::StringMetadata(field.estimator()));
+  grid.insertMeta(kFieldVersionMetadata, openvdb::Int32Metadata(kFieldFormatVersion));
+  const auto toVec3d = [](const Eigen::Vector3d& v) { return openvdb::Vec3d(v.x(), v.y(), v.z()); };
+  grid.insertMeta(kFieldDomainMinMetadata, openvdb::Vec3DMetadata(toVec3d(field.domain().min())));
+  grid.insertMeta(kFieldDomainMaxMetadata, openvdb::Vec3DMetadata(toVec3d(field.domain().max())));
+}
+
+/// A grid of `GridT` with the distance grid's transform and active topology, values zero.
+template <typename GridT>
+typename GridT::Ptr companionGrid(const openvdb::FloatGrid& distance, const std::string& name) {
+  using TreeT = typename GridT::TreeType;
+  auto grid = GridT::create(typename TreeT::Ptr(
+      new TreeT(distance.tree(), typename TreeT::ValueType(0), openvdb::TopologyCopy())));
+  grid->setTransform(distance.transform().copy());
+  grid->setName(name);
+  return grid;
+}
+
+/// The companion grids of one kind of field: the flags, and per kind up to three vector and two
+/// scalar grids (null where the kind has none).
+struct Companions {
+  openvdb::Int32Grid::Ptr flags;
+  openvdb::Vec3SGrid::Ptr vector0, vector1, vector2;
+  openvdb::FloatGrid::Ptr scalar0, scalar1;
+};
+
+}  // namespace
+
+openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
+  const openvdb::FloatGrid& band = *field.distanceGrid();
+  const TargetKind kind = field.kind();
+  // A shallow copy: shares the tree, owns its metadata.
+  auto distanceGrid = openvdb::ConstPtrCast<openvdb::FloatGrid>(field.distanceGrid())->copy();
+  if (distanceGrid->getName().empty()) {
+    distanceGrid->setName(kind == TargetKind::Surface ? "surface" : "unsigned_distance");
+  }
+  setFieldMetadata(*distanceGrid, field);
+
+  const auto vectorGrid = [&](const std::string& name) {
+    auto grid = companionGrid<openvdb::Vec3SGrid>(band, name);
+    grid->setVectorType(openvdb::VEC_INVARIANT);
+    return grid;
+  };
+  Companions c;
+  c.flags = companionGrid<openvdb::Int32Grid>(band, "flags");
+  if (kind == TargetKind::Surface) {
+    c.vector0 = vectorGrid("normal");
+    c.scalar0 = companionGrid<openvdb::FloatGrid>(band, "k1");
+    c.scalar1 = companionGrid<openvdb::FloatGrid>(band, "k2");
+    c.vector1 = vectorGrid("e1");
+  } else if (kind == TargetKind::Curve) {
+    c.vector0 = vectorGrid("direction");
+    c.vector1 = vectorGrid("tangent");
+    c.scalar0 = companionGrid<openvdb::FloatGrid>(band, "curvature");
+    c.vector2 = vectorGrid("principal_normal");
+  } else {
+    c.vector0 = vectorGrid("direction");
+  }
+
+  // Leaf by leaf of the flags grid; every other companion's leaf is the one with the same origin.
+  std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
+  leaves.reserve(c.flags->tree().leafCount());
+  for (auto leaf = c.flags->tree().beginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, leaves.size(), 16),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        ApproximantField::Accessor accessor(field);
+        const auto leafOf = [](const auto& grid, const openvdb::Coord& origin) {
+          return grid ? grid->tree().probeLeaf(origin) : nullptr;
+        };
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          auto& flags = *leaves[i];
+          const openvdb::Coord origin = flags.origin();
+          auto* v0 = leafOf(c.vector0, origin);
+          auto* v1 = leafOf(c.vector1, origin);
+          auto* v2 = leafOf(c.vector2, origin);
+          auto* f0 = leafOf(c.scalar0, origin);
+          auto* f1 = leafOf(c.scalar1, origin);
+          for (auto on = flags.getValueMask().beginOn(); on; ++on) {
+            const openvdb::Index offset = on.pos();
+            const std::optional<Approximant> a =
+                accessor.bandApproximant(flags.offsetToGlobalCoord(offset));
+            if (!a) throw RuntimeFailure("internal error: a field's grid and band disagree");
+            flags.setValueOnly(offset, a->flags);
+            v0->setValueOnly(offset, toVec(a->normal));
+            if (kind == TargetKind::Surface) {
+              f0->setValueOnly(offset, static_cast<float>(a->k1));
+              f1->setValueOnly(offset, static_cast<float>(a->k2));
+              v1->setValueOnly(offset, toVec(a->tangent));
+            } else if (kind == TargetKind::Curve) {
+              v1->setValueOnly(offset, toVec(a->tangent));
+              f0->setValueOnly(offset, static_cast<float>(a->k1));
+              v2->setValueOnly(offset, toVec(a->principalNormal));
+            }
+          }
+        }
+      });
+
+  openvdb::GridPtrVec grids{distanceGrid};
+  for (const openvdb::GridBase::Ptr& grid :
+       {openvdb::GridBase::Ptr(c.vector0), openvdb::GridBase::Ptr(c.vector1),
+        openvdb::GridBase::Ptr(c.vector2), openvdb::GridBase::Ptr(c.scalar0),
+        openvdb::GridBase::Ptr(c.scalar1)}) {
+    if (grid) grids.push_back(grid);
+  }
+  grids.push_back(c.flags);
+  return grids;
+}
+
+ApproximantField fieldFromGrids(const openvdb::GridPtrVec& grids, const std::string& source,
+                                const ApproximantFieldOptions& options,
+                                const ProgressCallback& progress) {
+  // The distance grid: the float grid carrying the field metadata.
+  openvdb::FloatGrid::Ptr distance;
+  for (const auto& grid : grids) {
+    auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+    if (floatGrid && (*floatGrid)[kFieldKindMetadata]) {
+      distance = floatGrid;
+      break;
+    }
+  }
+  if (!distance) {
+    // A level set alone (e.g. from another tool): compute the approximants now.
+    for (const auto& grid : grids) {
+      auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+      if (floatGrid && floatGrid->getGridClass() == openvdb::GRID_LEVEL_SET) {
+        return ApproximantField::fromLevelSet(floatGrid, options, progress);
+      }
+    }
+    throw InputError(source + " holds neither an approximant field nor a float level set");
+  }
+  std::string kindName;
+  int version = 0;
+  try {
+    kindName = distance->metaValue<std::string>(kFieldKindMetadata);
+    version = distance->metaValue<openvdb::Int32>(kFieldVersionMetadata);
+  } catch (const openvdb::Exception&) {
+    throw InputError(source + ": the field's metadata (" + std::string(kFieldVersionMetadata) +
+                     ") is missing or has the wrong type");
+  }
+  if (version != kFieldFormatVersion) {
+    throw InputError(source + ": field format version " + std::to_string(version) +
+                     " is not supported (this d2vdb reads version " +
+                     std::to_string(kFieldFormatVersion) + ")");
+  }
+  TargetKind kind = TargetKind::Surface;
+  if (kindName == "surface") {
+    kind = TargetKind::Surface;
+  } else if (kindName == "curve") {
+    kind = TargetKind::Curve;
+  } else if (kindName == "points") {
+    kind = TargetKind::Points;
+  } else {
+    throw InputError(source + ": unknown field kind '" + kindName + "'");
+  }
+  std::string estimator;
+  Eigen::AlignedBox3d domain;
+  try {
+    estimator = distance->metaValue<std::string>(kFieldEstimatorMetadata);
+    const openvdb::Vec3d lo = distance->metaValue<openvdb::Vec3d>(kFieldDomainMinMetadata);
+    const openvdb::Vec3d hi = distance->metaValue<openvdb::Vec3d>(kFieldDomainMaxMetadata);
+    domain = Eigen::AlignedBox3d(Eigen::Vector3d(lo.x(), lo.y(), lo.z()),
+                                 Eigen::Vector3d(hi.x(), hi.y(), hi.z()));
+  } catch (const openvdb::Exception&) {
+    throw InputError(source + ": the field's estimator or domain metadata is missing");
+  }
+  if (domain.isEmpty() || !domain.min().allFinite() || !domain.max().allFinite()) {
+    throw InputError(source + ": the field's working domain metadata is not a finite box");
+  }
+  if (distance->activeVoxelCount() == 0) throw InputError(source + ": the field's band is empty");
+  if (distance->tree().hasActiveTiles()) {
+    throw InputError(source +
+                     ": the field's distance grid has active tiles (not a field d2vdb "
+                     "wrote)");
+  }
+  const auto findNamed = [&](const std::string& name) -> openvdb::GridBase::Ptr {
+    for (const auto& grid : grids) {
+      if (grid && grid->getName() == name) return grid;
+    }
+    return nullptr;
+  };
+  const auto companion = [&](const std::string& name, auto typeTag) {
+    using GridT = typename decltype(typeTag)::element_type;
+    const auto grid = findNamed(name);
+    if (!grid) {
+      throw InputError(source + ": the " + kindName + " field's companion grid '" + name +
+                       "' is missing");
+    }
+    auto typed = openvdb::gridPtrCast<GridT>(grid);
+    if (!typed) {
+      throw InputError(source + ": the companion grid '" + name + "' holds " + grid->valueType() +
+                       " values, expected " + GridT::gridType());
+    }
+    if (!typed->tree().hasSameTopology(distance->tree())) {
+      throw InputError(source + ": the companion grid '" + name +
+                       "' does not share the distance grid's active voxels");
+    }
+    if (typed->transform() != distance->transform()) {
+      throw InputError(source + ": the companion grid '" + name +
+                       "' has a different transform from the distance grid");
+    }
+    return typed;
+  };
+  Companions c;
+  c.flags = companion("flags", openvdb::Int32Grid::Ptr());
+  if (kind == TargetKind::Surface) {
+    c.vector0 = companion("normal", openvdb::Vec3SGrid::Ptr());
+    c.scalar0 = companion("k1", openvdb::FloatGrid::Ptr());
+    c.scalar1 = companion("k2", openvdb::FloatGrid::Ptr());
+    c.vector1 = companion("e1", openvdb::Vec3SGrid::Ptr());
+  } else if (kind == TargetKind::Curve) {
+    c.vector0 = companion("direction", openvdb::Vec3SGrid::Ptr());
+    c.vector1 = companion("tangent", openvdb::Vec3SGrid::Ptr());
+    c.scalar0 = companion("curvature", openvdb::FloatGrid::Ptr());
+    c.vector2 = companion("principal_normal", openvdb::Vec3SGrid::Ptr());
+  } else {
+    c.vector0 = companion("direction", openvdb::Vec3SGrid::Ptr());
+  }
+
+  // Each voxel's approximant from the companion grids at the same coordinates (per-worker
+  // accessors).
+  const auto readers = [&c, distance, kind, &source]() -> FieldBand::VoxelApproximant {
+    const auto vectorReader = [](const openvdb::Vec3SGrid::Ptr& grid) {
+      return grid ? std::optional<openvdb::Vec3SGrid::ConstAccessor>(grid->getConstAccessor())
+                  : std::nullopt;
+    };
+    const auto scalarReader = [](const openvdb::FloatGrid::Ptr& grid) {
+      return grid ? std::optional<openvdb::FloatGrid::ConstAccessor>(grid->getConstAccessor())
+                  : std::nullopt;
+    };
+    return
+        [d = distance->getConstAccessor(), flags = c.flags->getConstAccessor(),
+         v0 = c.vector0->getConstAccessor(), v1 = vectorReader(c.vector1),
+         v2 = vectorReader(c.vector2), f0 = scalarReader(c.scalar0), f1 = scalarReader(c.scalar1),
+         kind, &source](const openvdb::Coord& ijk, const Eigen::Vector3d&) {
+          Approximant a;
+          a.kind = kind;
+          a.distance = d.getValue(ijk);
+          a.flags = static_cast<std::uint16_t>(flags.getValue(ijk));
+          a.normal = fromVec(v0.getValue(ijk));
+          if (v1) a.tangent = fromVec(v1->getValue(ijk));
+          if (v2) a.principalNormal = fromVec(v2->getValue(ijk));
+          if (f0) a.k1 = f0->getValue(ijk);
+          if (f1) a.k2 = f1->getValue(ijk);
+          if (!std::isfinite(a.distance) || !(std::abs(a.normal.norm() - 1.0) < 1e-3) ||
+              !a.tangent.allFinite() || !std::isfinite(a.k1) || !std::isfinite(a.k2) ||
+              !a.principalNormal.allFinite()) {
+            throw InputError(source +
+                             ": the field's companion grids hold non-finite values or normals "
+                             "that are not unit vectors");
+          }
+          return a;
+        };
+  };
+  FieldBand band = FieldBand::activeVoxelsOf(kind, distance);
+  band.setApproximantsPerWorker(readers).setEstimator(estimator).setLabel(source).setTargetBounds(
+      domain);
+  ApproximantFieldOptions stored = options;
+  stored.domain = domain;  // the stored field's working domain, exactly
+  return ApproximantField::fromBand(band, stored, progress);
+}
+
+}  // namespace d2vdb
