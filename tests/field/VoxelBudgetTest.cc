@@ -1,9 +1,11 @@
-// Voxel budget: the estimate formula, its inverse, the refusal message, and the estimate against
-// the real active voxel counts of primitive level sets.
+// Voxel budget against real bands: the voxel size a budget allows gives primitive level sets
+// within it, the estimate bounds real active voxel counts, and the refusal message.
 #include "d2vdb/field/VoxelBudget.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -13,13 +15,39 @@
 namespace d2vdb {
 namespace {
 
-TEST(VoxelBudget, EstimateIsFlatBandTimesSafetyFactor) {
-  // 1 unit^2 at voxel size 0.1: 100 voxel faces, 6 voxels across the band, times 1.25.
-  EXPECT_DOUBLE_EQ(estimateActiveVoxels(1.0, 0.1, 3.0), 100.0 * 6.0 * 1.25);
-  EXPECT_DOUBLE_EQ(estimateActiveVoxels(4.0, 0.5, 1.0), 16.0 * 2.0 * 1.25);
+// The voxel size the budget allows, against the bands it gives: a primitive level set built at
+// smallestVoxelSizeWithinBudget() has at most the budgeted active voxels, and not far fewer (the
+// budget is not wasted).
+TEST(VoxelBudget, SmallestVoxelSizeGivesBandsWithinTheBudget) {
+  const std::unique_ptr<AnalyticShape> shapes[] = {
+      std::make_unique<Sphere>(Eigen::Vector3d(0, 0, 0), 1.0),
+      std::make_unique<Torus>(Eigen::Vector3d(0, 0, 0), 1.0, 0.3)};
+  for (const auto& shape : shapes) {
+    for (const std::uint64_t budget : {20'000u, 200'000u}) {
+      for (const double halfWidth : {2.0, 3.0}) {
+        const double voxelSize =
+            smallestVoxelSizeWithinBudget(shape->surfaceArea(), halfWidth, budget);
+        const auto grid = primitiveLevelSet(*shape, {voxelSize, halfWidth});
+        const double actual = static_cast<double>(grid->activeVoxelCount());
+        std::printf("%s, budget %llu, half-width %g: voxel %.4g, %g active voxels (%.3f of it)\n",
+                    shape->describe().c_str(), static_cast<unsigned long long>(budget), halfWidth,
+                    voxelSize, actual, actual / static_cast<double>(budget));
+        EXPECT_LE(actual, static_cast<double>(budget)) << shape->describe();
+        EXPECT_GE(actual, 0.7 * static_cast<double>(budget)) << shape->describe();
+        // A slightly smaller voxel is refused.
+        VoxelBudgetRequest request;
+        request.subject = shape->describe();
+        request.surfaceArea = shape->surfaceArea();
+        request.halfWidth = halfWidth;
+        request.maxActiveVoxels = budget;
+        request.voxelSize = voxelSize * 1.001;
+        EXPECT_NO_THROW(enforceVoxelBudget(request));
+        request.voxelSize = voxelSize * 0.99;
+        EXPECT_THROW(enforceVoxelBudget(request), InputError);
+      }
+    }
+  }
   EXPECT_TRUE(std::isinf(estimateActiveVoxels(1.0, 0.0, 3.0)));
-  const double voxel = smallestVoxelSizeWithinBudget(12.5, 3.0, 1'000'000);
-  EXPECT_NEAR(estimateActiveVoxels(12.5, voxel, 3.0), 1e6, 1e-6);
 }
 
 TEST(VoxelBudget, EnforcementMessageNamesEstimateLimitAndWhatFits) {
