@@ -209,13 +209,12 @@ std::vector<BandRecord> recordsOfGridBand(const FieldBand& band, const BandLayou
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const LeafEntry& entry = entries[i];
                         std::uint32_t record = entry.base;
-                        for (int offset = 0; offset < 512; ++offset) {
-                          if (!entry.isOn(offset)) continue;
+                        entry.forEachOn([&](int offset) {
                           const openvdb::Coord ijk = entry.voxel(offset);
                           const Approximant a = approximant(ijk, voxelCentre(layout.frame(), ijk));
                           checkApproximant(a, ijk, source);
                           records[record++] = encodeWorld(codec, a);
-                        }
+                        });
                       }
                     });
   return records;

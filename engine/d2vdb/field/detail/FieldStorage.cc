@@ -38,13 +38,13 @@ bool gridHoldsRecordDistances(const openvdb::FloatGrid& grid, const LeafTable& t
                         const FloatLeaf* leaf = grid.tree().probeConstLeaf(entry.origin);
                         const float* values = leaf->buffer().data();
                         std::uint32_t record = entry.base;
-                        for (int offset = 0; offset < 512; ++offset) {
-                          if (!entry.isOn(offset)) continue;
-                          if (!sameBits(values[offset], records[record].distance)) {
-                            differs = true;
-                            return;
-                          }
-                          ++record;
+                        bool same = true;
+                        entry.forEachOn([&](int offset) {
+                          same = same && sameBits(values[offset], records[record++].distance);
+                        });
+                        if (!same) {
+                          differs = true;
+                          return;
                         }
                       }
                     });
@@ -63,12 +63,10 @@ openvdb::FloatGrid::Ptr withRecordDistances(const openvdb::FloatGrid& grid, cons
                         const LeafEntry& entry = entries[i];
                         FloatLeaf* leaf = copy->tree().probeLeaf(entry.origin);
                         std::uint32_t record = entry.base;
-                        for (int offset = 0; offset < 512; ++offset) {
-                          if (!entry.isOn(offset)) continue;
+                        entry.forEachOn([&](int offset) {
                           leaf->setValueOnly(static_cast<openvdb::Index>(offset),
-                                             records[record].distance);
-                          ++record;
-                        }
+                                             records[record++].distance);
+                        });
                       }
                     });
   return copy;

@@ -39,6 +39,15 @@ struct LeafEntry {
 
   /// Whether the voxel at `offset` (0..511, mask order) is active.
   bool isOn(int offset) const { return ((mask[offset >> 6] >> (offset & 63)) & 1u) != 0; }
+  /// Calls `visit(offset)` for every active voxel, in mask order (the order of its records).
+  template <typename Visit>
+  void forEachOn(Visit&& visit) const {
+    for (int w = 0; w < 8; ++w) {
+      for (std::uint64_t bits = mask[w]; bits != 0; bits &= bits - 1) {
+        visit((w << 6) | __builtin_ctzll(bits));
+      }
+    }
+  }
   /// Index-space coordinates of the voxel at `offset`.
   openvdb::Coord voxel(int offset) const {
     return origin + openvdb::Coord(offset >> 6, (offset >> 3) & 7, offset & 7);

@@ -319,11 +319,10 @@ std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const R
                         const LeafEntry& entry = entries[i];
                         block.gather(accessor, entry.origin);
                         std::uint32_t record = entry.base;
-                        for (int offset = 0; offset < 512; ++offset) {
-                          if (!entry.isOn(offset)) continue;
+                        entry.forEachOn([&](int offset) {
                           stencils[record++] =
                               fitStencil(block, offset >> 6, (offset >> 3) & 7, offset & 7, scale);
-                        }
+                        });
                       }
                     });
   if (progress) progress("field: approximants", 0.4);
@@ -337,8 +336,7 @@ std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const R
           const LeafEntry& entry = entries[i];
           interpolator.setLeaf(entry.origin);
           std::uint32_t record = entry.base;
-          for (int offset = 0; offset < 512; ++offset) {
-            if (((entry.mask[offset >> 6] >> (offset & 63)) & 1u) == 0) continue;
+          entry.forEachOn([&](int offset) {
             const Eigen::Vector3d p(entry.origin.x() + (offset >> 6),
                                     entry.origin.y() + ((offset >> 3) & 7),
                                     entry.origin.z() + (offset & 7));
@@ -414,7 +412,7 @@ std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const R
             a.k2 = k2 * scale;
             records[record] = codec.encode(a);
             ++record;
-          }
+          });
         }
       });
   if (progress) progress("field: approximants", 1.0);
