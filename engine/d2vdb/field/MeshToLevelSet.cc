@@ -11,7 +11,11 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/field/detail/BandSigns.h"
+#include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
+#include "d2vdb/field/detail/SelfIntersection.h"
+#include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 
 namespace d2vdb {
@@ -20,18 +24,22 @@ using detail::ensureOpenVdbInitialized;
 namespace {
 
 constexpr const char* kStage = "mesh to level set";
+/// Share of the progress stage given to OpenVDB's conversion when the signs are checked after it.
+constexpr double kConversionShare = 0.9;
 constexpr double kMaxIndexCoordinate = 1 << 30;
 
 // Forwards OpenVDB's percentage reports (made from the calling thread) to a ProgressCallback.
 // The parameterless checks that worker threads make are answered without locking.
 class ProgressInterrupter final : public openvdb::util::NullInterrupter {
  public:
-  explicit ProgressInterrupter(const ProgressCallback& progress) : progress_(progress) {}
+  /// OpenVDB's percentages become fractions 0..`share` of the stage.
+  ProgressInterrupter(const ProgressCallback& progress, double share)
+      : progress_(progress), share_(share) {}
 
   bool wasInterrupted(int percent = -1) override {
     if (percent < 0 || !progress_) return false;
     const std::lock_guard<std::mutex> lock(mutex_);
-    const double fraction = std::clamp(percent / 100.0, 0.0, 1.0);
+    const double fraction = share_ * std::clamp(percent / 100.0, 0.0, 1.0);
     if (fraction > lastFraction_) {
       lastFraction_ = fraction;
       progress_(kStage, fraction);
@@ -41,6 +49,7 @@ class ProgressInterrupter final : public openvdb::util::NullInterrupter {
 
  private:
   const ProgressCallback& progress_;
+  const double share_;
   std::mutex mutex_;
   double lastFraction_ = 0.0;
 };
@@ -94,6 +103,45 @@ void validateGeometry(const TriangleMesh& mesh) {
   }
 }
 
+/// Decides every band voxel's side exactly and corrects the grid (see correctBandSigns()).
+SignReport correctSigns(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles,
+                        const std::vector<openvdb::Vec3s>& indexPoints,
+                        const std::vector<openvdb::Vec3I>& triangles) {
+  std::vector<Eigen::Vector3d> points(indexPoints.size());
+  for (std::size_t i = 0; i < indexPoints.size(); ++i) {
+    points[i] = Eigen::Vector3d(indexPoints[i].x(), indexPoints[i].y(), indexPoints[i].z());
+  }
+  std::vector<detail::TriangleIndices> corners(triangles.size());
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    corners[i] = {triangles[i].x(), triangles[i].y(), triangles[i].z()};
+  }
+  const detail::InsideOutsideMesh mesh =
+      detail::prepareInsideOutsideMesh(std::move(points), corners);
+  const detail::WindingNumberField winding(mesh.points, mesh.triangles);
+  SignReport report;
+  report.reorientedTriangles = mesh.reorientedTriangles;
+  report.watertight = mesh.watertight;
+  detail::BandSignMode mode = detail::BandSignMode::windingNumberEveryVoxel;
+  report.method = SignMethod::windingNumber;
+  if (mesh.watertight) {
+    // Index coordinates are below 2^30; rounding in the tests stays far below this.
+    double largest = 1.0;
+    for (const Eigen::Vector3d& p : mesh.points)
+      largest = std::max(largest, p.cwiseAbs().maxCoeff());
+    report.selfIntersecting = detail::hasSelfIntersection(
+        mesh.points, mesh.triangles, mesh.degenerate, winding.hierarchy(), 1e-10 * largest);
+    mode = report.selfIntersecting ? detail::BandSignMode::windingNumberNearSurface
+                                   : detail::BandSignMode::closestFeature;
+    report.method =
+        report.selfIntersecting ? SignMethod::windingNumberNearSurface : SignMethod::closestFeature;
+  }
+  const detail::BandSignReport band =
+      detail::correctBandSigns(grid, closestTriangles, mesh, winding, mode);
+  report.correctedVoxels = band.correctedVoxels;
+  report.windingNumberQueries = band.windingNumberQueries;
+  return report;
+}
+
 bool hasNegativeValue(const openvdb::FloatGrid& grid) {
   for (auto value = grid.cbeginValueOn(); value; ++value) {
     if (*value < 0.0f) return true;
@@ -102,6 +150,20 @@ bool hasNegativeValue(const openvdb::FloatGrid& grid) {
 }
 
 }  // namespace
+
+const char* signMethodName(SignMethod method) {
+  switch (method) {
+    case SignMethod::closestFeature:
+      return "closest feature";
+    case SignMethod::windingNumberNearSurface:
+      return "winding number near surface";
+    case SignMethod::windingNumber:
+      return "winding number";
+    case SignMethod::none:
+      break;
+  }
+  return "none";
+}
 
 LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& options,
                               const ProgressCallback& progress) {
@@ -160,13 +222,16 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
 
   const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
       indexPoints, triangles);
-  ProgressInterrupter interrupter(progress);
+  const bool exactSigns = !options.unsignedDistance && options.exactSigns;
+  ProgressInterrupter interrupter(progress, exactSigns ? kConversionShare : 1.0);
   const float bandWidth = static_cast<float>(options.halfWidth);
   const int flags = options.unsignedDistance ? openvdb::tools::UNSIGNED_DISTANCE_FIELD : 0;
   // Called through the NullInterrupter base so that libopenvdb's pre-built instantiation is used.
   openvdb::util::NullInterrupter& baseInterrupter = interrupter;
+  openvdb::Int32Grid closestTriangles;
   result.grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-      baseInterrupter, adapter, *transform, bandWidth, bandWidth, flags);
+      baseInterrupter, adapter, *transform, bandWidth, bandWidth, flags,
+      exactSigns ? &closestTriangles : nullptr);
 
   if (options.unsignedDistance) {
     result.grid->setName("unsigned_distance");
@@ -176,16 +241,45 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
     result.grid->setName("surface");
     result.grid->setGridClass(openvdb::GRID_LEVEL_SET);
     result.grid->insertMeta(kDistanceKindMetadata, openvdb::StringMetadata("signed"));
-    if (!result.meshReport.closed) {
+    if (exactSigns) {
+      result.signs = correctSigns(*result.grid, closestTriangles, indexPoints, triangles);
+    }
+    const SignReport& signs = result.signs;
+    if (!exactSigns && !result.meshReport.closed) {
       result.warnings.push_back(
           "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
           "); the sign comes from OpenVDB's exterior sweep, which bridges holes up to about 3 "
           "voxels across: check the result, or use unsigned distance for open surfaces");
     }
+    if (exactSigns && !signs.watertight) {
+      result.warnings.push_back(
+          "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
+          "); inside is where its generalised winding number is at least 1/2, which closes "
+          "holes smoothly (every band voxel evaluated: slower): check the result, or use "
+          "unsigned distance for open surfaces");
+    }
+    if (signs.selfIntersecting) {
+      result.warnings.push_back(
+          "the mesh intersects itself; inside is where its winding number is at least 1/2 (the "
+          "union of overlapping parts), evaluated at every voxel near the surface (slower)");
+    }
+    if (signs.reorientedTriangles > 0) {
+      result.warnings.push_back(
+          std::to_string(signs.reorientedTriangles) + " of " +
+          std::to_string(mesh.triangles.size()) +
+          " triangles were wound against their neighbours (or the mesh inside out) and were "
+          "reversed for the inside/outside decision");
+    }
+    if (signs.correctedVoxels > 0) {
+      result.warnings.push_back(
+          std::to_string(signs.correctedVoxels) +
+          " band voxels had the wrong sign from OpenVDB's mesh conversion and were corrected (" +
+          signMethodName(signs.method) + ")");
+    }
     if (result.grid->activeVoxelCount() > 0 && !hasNegativeValue(*result.grid)) {
       result.warnings.push_back(
-          "no voxel of the signed field is inside the mesh: the outside leaked in through holes "
-          "wider than the voxels can bridge, or the surface encloses no volume; use a larger "
+          "no voxel of the signed field is inside the mesh: the surface encloses no volume (a "
+          "sheet or a shell with large holes), or the voxels are too coarse for it; use a smaller "
           "voxel size, repair the mesh, or use unsigned distance");
     }
   }

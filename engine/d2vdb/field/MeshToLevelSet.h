@@ -24,7 +24,39 @@ struct LevelSetOptions {
   double halfWidth = 3;  ///< narrow-band half-width in voxels, inside and outside; at least 1
   /// Unsigned distance for open surfaces (sheets, scans with large holes): no inside/outside.
   bool unsignedDistance = false;
+  /// Signed fields: decide every band voxel's side exactly (see meshToLevelSet()). false keeps the
+  /// signs of OpenVDB's exterior sweep, which can be wrong next to sharp concave corners and
+  /// across holes, but costs nothing extra.
+  bool exactSigns = true;
   std::uint64_t maxActiveVoxels = kDefaultMaxActiveVoxels;  ///< see VoxelBudget.h
+};
+
+/// How meshToLevelSet() decided inside and outside.
+enum class SignMethod {
+  none,  ///< unsigned distance, or exactSigns off (OpenVDB's exterior sweep, unchecked)
+  /// Watertight mesh that does not intersect itself: the closest point's angle-weighted
+  /// pseudonormal near the surface, certified propagation elsewhere (the fast path).
+  closestFeature,
+  /// Watertight mesh that intersects itself: a winding number at every voxel near the surface.
+  windingNumberNearSurface,
+  /// Mesh with holes or unbalanced non-manifold edges: a winding number at every band voxel.
+  windingNumber,
+};
+
+/// Name of a SignMethod as the CLI prints it ("closest feature", "winding number near surface",
+/// "winding number", "none").
+const char* signMethodName(SignMethod method);
+
+/// What the exact-sign pass of meshToLevelSet() did.
+struct SignReport {
+  SignMethod method = SignMethod::none;
+  /// Band voxels whose sign from OpenVDB's exterior sweep disagreed with the exact decision and
+  /// was flipped.
+  std::size_t correctedVoxels = 0;
+  std::size_t windingNumberQueries = 0;  ///< points where the winding number was evaluated
+  std::size_t reorientedTriangles = 0;   ///< triangles wound against their neighbours, reversed
+  bool watertight = false;        ///< every edge crossed equally often both ways (after repair)
+  bool selfIntersecting = false;  ///< checked for watertight meshes only
 };
 
 /// What meshToLevelSet() produced.
@@ -37,16 +69,35 @@ struct LevelSetResult {
   /// at (i,j,k) * voxelSize.
   openvdb::FloatGrid::Ptr grid;
   MeshReport meshReport;              ///< validateMesh() of the input
+  SignReport signs;                   ///< how inside/outside was decided (signed fields)
   std::vector<std::string> warnings;  ///< one sentence each, e.g. "the mesh is not closed ..."
 };
 
 /// Converts a triangle mesh (world units) to a narrow-band distance field with
-/// openvdb::tools::meshToVolume. The sign comes from OpenVDB's exterior sweep and does not depend
-/// on triangle orientation, so flipped triangles, non-manifold edges and holes up to about 3 voxels
-/// across (bridged by the voxels the surrounding triangles touch; measured on a sphere of radius
-/// 20 voxels: 3.2-voxel holes keep every sign, 4-voxel holes let the outside in) still give a
-/// correct sign. A mesh that is not closed produces a warning, and a signed field with no inside
-/// voxel (the outside leaked in through a large hole, or the surface is a sheet) another one.
+/// openvdb::tools::meshToVolume, then (signed fields, exactSigns) checks every band voxel's sign
+/// and flips the wrong ones.
+///
+/// Inside is where the generalised winding number of the mesh is at least 1/2 (Jacobson, Kavan,
+/// Sorkine-Hornung 2013): for a closed mesh, the exact inside of the solid it bounds; for a mesh
+/// with holes, a smooth closing of the holes. Triangles wound against their neighbours are
+/// reversed first (each edge-connected part keeps the winding of most of its area; an inside-out
+/// mesh is turned right side out). OpenVDB's sign comes from an exterior sweep and a local test
+/// that errs next to sharp concave corners (isolated voxels of the wrong sign) and across holes.
+/// The check: near the surface (within sqrt(0.7) voxel) each voxel is decided by the
+/// angle-weighted pseudonormal of its exact closest point (Baerentzen and Aanaes 2005) when the
+/// mesh is watertight and does not intersect itself, else by its winding number (Barill et al.
+/// 2018 evaluation, with a certified error bound); the rest of the band takes the side of
+/// certified neighbours, with one winding number per group that has none (for meshes with holes:
+/// one per voxel). Flipped voxels and their neighbours get the distance to their closest
+/// triangle with the new sign, and inactive values are flood-filled again. `signs` reports the
+/// method and the number of corrected voxels; a correction, holes and self-intersections produce
+/// warnings.
+///
+/// Without exact signs, the sign does not depend on triangle orientation and holes up to about 3
+/// voxels across are bridged by the voxels the surrounding triangles touch (measured on a sphere
+/// of radius 20 voxels: 3.2-voxel holes keep every sign, 4-voxel holes let the outside in).
+/// A mesh that is not closed produces a warning, and a signed field with no inside voxel
+/// another one.
 /// Accuracy (measured on a sphere of radius 20 voxels, 5120 triangles): where |d| < 1 voxel the
 /// values are the exact distance to the mesh (to 1e-5 voxel); further out OpenVDB extends the
 /// band from neighbouring voxels' closest triangles and renormalises, which errs by up to about

@@ -1,0 +1,29 @@
+// Whether a triangle mesh intersects itself.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "d2vdb/field/detail/TriangleBvh.h"
+
+namespace d2vdb::detail {
+
+/// Whether two non-degenerate triangles meet anywhere but in the corners or the edge they share
+/// (by index): crossing or touching triangles, overlapping coplanar ones, an edge folded flat onto
+/// its neighbour, two triangles on the same three corners. Conservative: configurations closer
+/// than `tolerance` (absolute, in the points' units) to touching count as intersecting, so that
+/// rounding can only ever add an intersection, never hide one. Triangles marked `degenerate` are
+/// left out (they enclose nothing). Parallel (TBB) over triangles with the BVH as broad phase; the
+/// answer does not depend on the thread count.
+bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
+                         const std::vector<TriangleIndices>& triangles,
+                         const std::vector<bool>& degenerate, const TriangleBvh& bvh,
+                         double tolerance);
+
+/// The pairwise test used above, exposed for tests: triangles given by corner positions and
+/// indices (shared indices mean shared corners).
+bool trianglesIntersect(const std::vector<Eigen::Vector3d>& points, const TriangleIndices& first,
+                        const TriangleIndices& second, double tolerance);
+
+}  // namespace d2vdb::detail
