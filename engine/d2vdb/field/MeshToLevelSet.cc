@@ -8,9 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/field/detail/BandRenormalization.h"
 #include "d2vdb/field/detail/BandSigns.h"
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
@@ -103,48 +105,90 @@ void validateGeometry(const TriangleMesh& mesh) {
   }
 }
 
-/// Decides every band voxel's side exactly and corrects the grid (see correctBandSigns()).
-SignReport correctSigns(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles,
-                        const std::vector<openvdb::Vec3s>& indexPoints,
-                        const std::vector<openvdb::Vec3I>& triangles) {
-  std::vector<Eigen::Vector3d> points(indexPoints.size());
-  for (std::size_t i = 0; i < indexPoints.size(); ++i) {
-    points[i] = Eigen::Vector3d(indexPoints[i].x(), indexPoints[i].y(), indexPoints[i].z());
-  }
-  std::vector<detail::TriangleIndices> corners(triangles.size());
-  for (std::size_t i = 0; i < triangles.size(); ++i) {
-    corners[i] = {triangles[i].x(), triangles[i].y(), triangles[i].z()};
-  }
-  const detail::InsideOutsideMesh mesh =
-      detail::prepareInsideOutsideMesh(std::move(points), corners);
-  const detail::WindingNumberField winding(mesh.points, mesh.triangles);
-  SignReport report;
-  report.reorientedTriangles = mesh.reorientedTriangles;
-  report.watertight = mesh.watertight;
-  detail::BandSignMode mode = detail::BandSignMode::windingNumberEveryVoxel;
-  report.method = SignMethod::windingNumber;
-  if (mesh.watertight) {
-    // Index coordinates are below 2^30; rounding in the tests stays far below this.
+/// The mesh in index space, prepared for exact signs before the conversion: repaired winding,
+/// caps, winding-number fields and the self-intersection test.
+class ExactSigns {
+ public:
+  ExactSigns(const std::vector<openvdb::Vec3s>& indexPoints,
+             const std::vector<openvdb::Vec3I>& triangles)
+      : mesh_(prepare(indexPoints, triangles)), closed_(mesh_.points, mesh_.triangles) {
+    if (!mesh_.caps.empty()) caps_.emplace(mesh_.points, mesh_.caps);
+    // Index coordinates stay below 2^30; 1e-10 of them is far above double rounding.
     double largest = 1.0;
-    for (const Eigen::Vector3d& p : mesh.points)
+    for (const Eigen::Vector3d& p : mesh_.points) {
       largest = std::max(largest, p.cwiseAbs().maxCoeff());
-    report.selfIntersecting = detail::hasSelfIntersection(
-        mesh.points, mesh.triangles, mesh.degenerate, winding.hierarchy(), 1e-10 * largest);
-    mode = report.selfIntersecting ? detail::BandSignMode::windingNumberNearSurface
-                                   : detail::BandSignMode::closestFeature;
-    report.method =
-        report.selfIntersecting ? SignMethod::windingNumberNearSurface : SignMethod::closestFeature;
+    }
+    report_.reorientedTriangles = mesh_.reorientedTriangles;
+    report_.watertight = mesh_.watertight;
+    report_.holesClosed = mesh_.capLoops;
+    report_.selfIntersecting = detail::hasSelfIntersection(
+        mesh_.points, mesh_.triangles, mesh_.degenerate, closed_.hierarchy(), 1e-10 * largest);
+    report_.method =
+        report_.selfIntersecting ? SignMethod::windingNumber : SignMethod::closestFeature;
+    if (!report_.selfIntersecting) {
+      sides_ = detail::componentSides(mesh_, closed_);
+      for (const detail::ComponentSides& side : sides_) {
+        enclosedSurface_ = enclosedSurface_ || side.enclosed;
+        if (side.known) ++report_.windingNumberQueries;
+      }
+    }
   }
-  const detail::BandSignReport band =
-      detail::correctBandSigns(grid, closestTriangles, mesh, winding, mode);
-  report.correctedVoxels = band.correctedVoxels;
-  report.windingNumberQueries = band.windingNumberQueries;
-  return report;
-}
 
-bool hasNegativeValue(const openvdb::FloatGrid& grid) {
+  /// meshToVolume flags: renormalisation and trimming wait for the right signs (and the raw
+  /// values prove which voxels are far from the mesh). meshToVolume also removes the band of
+  /// every surface its exterior sweep cannot reach (meant for surfaces buried in self-
+  /// intersecting meshes); that removal is turned off when a surface of an embedded mesh is
+  /// enclosed by another (a cavity, a nested shell), which it would delete. The band's interior
+  /// beyond a voxel from the surface is then less accurate (OpenVDB no longer recomputes the
+  /// voxels it would have removed).
+  int conversionFlags() const {
+    return openvdb::tools::DISABLE_RENORMALIZATION | openvdb::tools::DISABLE_NARROW_BAND_TRIMMING |
+           (enclosedSurface_ ? openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL : 0);
+  }
+
+  /// Corrects the signs of the converted band (see correctBandSigns()).
+  SignReport correct(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles) {
+    detail::BandSignInputs inputs;
+    inputs.mesh = &mesh_;
+    inputs.closed = &closed_;
+    inputs.caps = caps_ ? &*caps_ : nullptr;
+    inputs.embedded = !report_.selfIntersecting;
+    inputs.sides = &sides_;
+    const detail::BandSignReport band = detail::correctBandSigns(grid, closestTriangles, inputs);
+    SignReport report = report_;
+    report.correctedVoxels = band.correctedVoxels;
+    report.windingNumberQueries += band.windingNumberQueries + band.capQueries;
+    return report;
+  }
+
+ private:
+  static detail::InsideOutsideMesh prepare(const std::vector<openvdb::Vec3s>& indexPoints,
+                                           const std::vector<openvdb::Vec3I>& triangles) {
+    std::vector<Eigen::Vector3d> points(indexPoints.size());
+    for (std::size_t i = 0; i < indexPoints.size(); ++i) {
+      points[i] = Eigen::Vector3d(indexPoints[i].x(), indexPoints[i].y(), indexPoints[i].z());
+    }
+    std::vector<detail::TriangleIndices> corners(triangles.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      corners[i] = {triangles[i].x(), triangles[i].y(), triangles[i].z()};
+    }
+    return detail::prepareInsideOutsideMesh(std::move(points), corners);
+  }
+
+  detail::InsideOutsideMesh mesh_;
+  detail::WindingNumberField closed_;
+  std::optional<detail::WindingNumberField> caps_;
+  std::vector<detail::ComponentSides> sides_;
+  bool enclosedSurface_ = false;
+  SignReport report_;
+};
+
+/// Whether some value is inside by more than rounding (voxel centres on the surface may carry
+/// either sign).
+bool hasInsideValue(const openvdb::FloatGrid& grid) {
+  const float margin = static_cast<float>(-1e-5 * grid.voxelSize()[0]);
   for (auto value = grid.cbeginValueOn(); value; ++value) {
-    if (*value < 0.0f) return true;
+    if (*value < margin) return true;
   }
   return false;
 }
@@ -155,8 +199,6 @@ const char* signMethodName(SignMethod method) {
   switch (method) {
     case SignMethod::closestFeature:
       return "closest feature";
-    case SignMethod::windingNumberNearSurface:
-      return "winding number near surface";
     case SignMethod::windingNumber:
       return "winding number";
     case SignMethod::none:
@@ -222,16 +264,19 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
 
   const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
       indexPoints, triangles);
-  const bool exactSigns = !options.unsignedDistance && options.exactSigns;
-  ProgressInterrupter interrupter(progress, exactSigns ? kConversionShare : 1.0);
   const float bandWidth = static_cast<float>(options.halfWidth);
-  const int flags = options.unsignedDistance ? openvdb::tools::UNSIGNED_DISTANCE_FIELD : 0;
+  const bool exactSigns = !options.unsignedDistance && options.exactSigns;
+  std::optional<ExactSigns> signs;
+  if (exactSigns) signs.emplace(indexPoints, triangles);
+  ProgressInterrupter interrupter(progress, exactSigns ? kConversionShare : 1.0);
+  const int flags = options.unsignedDistance ? openvdb::tools::UNSIGNED_DISTANCE_FIELD
+                                             : (signs ? signs->conversionFlags() : 0);
   // Called through the NullInterrupter base so that libopenvdb's pre-built instantiation is used.
   openvdb::util::NullInterrupter& baseInterrupter = interrupter;
   openvdb::Int32Grid closestTriangles;
   result.grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
       baseInterrupter, adapter, *transform, bandWidth, bandWidth, flags,
-      exactSigns ? &closestTriangles : nullptr);
+      signs ? &closestTriangles : nullptr);
 
   if (options.unsignedDistance) {
     result.grid->setName("unsigned_distance");
@@ -241,8 +286,10 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
     result.grid->setName("surface");
     result.grid->setGridClass(openvdb::GRID_LEVEL_SET);
     result.grid->insertMeta(kDistanceKindMetadata, openvdb::StringMetadata("signed"));
-    if (exactSigns) {
-      result.signs = correctSigns(*result.grid, closestTriangles, indexPoints, triangles);
+    if (signs) {
+      result.signs = signs->correct(*result.grid, closestTriangles);
+      detail::renormalizeBand(*result.grid);
+      if (bandWidth < 4.0f) detail::trimBand(*result.grid);
     }
     const SignReport& signs = result.signs;
     if (!exactSigns && !result.meshReport.closed) {
@@ -254,14 +301,15 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
     if (exactSigns && !signs.watertight) {
       result.warnings.push_back(
           "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
-          "); inside is where its generalised winding number is at least 1/2, which closes "
-          "holes smoothly (every band voxel evaluated: slower): check the result, or use "
-          "unsigned distance for open surfaces");
+          "); inside is where its generalised winding number is at least 1/2, which closes its " +
+          std::to_string(signs.holesClosed) +
+          " holes smoothly: check the result, or use unsigned distance for open surfaces");
     }
     if (signs.selfIntersecting) {
       result.warnings.push_back(
-          "the mesh intersects itself; inside is where its winding number is at least 1/2 (the "
-          "union of overlapping parts), evaluated at every voxel near the surface (slower)");
+          std::string("the mesh ") + (signs.watertight ? "" : "(with its holes closed) ") +
+          "intersects or touches itself; inside is where its winding number is at least 1/2 "
+          "(the union of overlapping parts), evaluated at every voxel near the surface (slower)");
     }
     if (signs.reorientedTriangles > 0) {
       result.warnings.push_back(
@@ -276,7 +324,7 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
           " band voxels had the wrong sign from OpenVDB's mesh conversion and were corrected (" +
           signMethodName(signs.method) + ")");
     }
-    if (result.grid->activeVoxelCount() > 0 && !hasNegativeValue(*result.grid)) {
+    if (result.grid->activeVoxelCount() > 0 && !hasInsideValue(*result.grid)) {
       result.warnings.push_back(
           "no voxel of the signed field is inside the mesh: the surface encloses no volume (a "
           "sheet or a shell with large holes), or the voxels are too coarse for it; use a smaller "

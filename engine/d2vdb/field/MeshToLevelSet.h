@@ -34,29 +34,27 @@ struct LevelSetOptions {
 /// How meshToLevelSet() decided inside and outside.
 enum class SignMethod {
   none,  ///< unsigned distance, or exactSigns off (OpenVDB's exterior sweep, unchecked)
-  /// Watertight mesh that does not intersect itself: the closest point's angle-weighted
-  /// pseudonormal near the surface, certified propagation elsewhere (the fast path).
+  /// The mesh (with its holes closed) does not intersect itself: near the surface, the side of
+  /// each voxel's closest point (angle-weighted pseudonormal); the fast path.
   closestFeature,
-  /// Watertight mesh that intersects itself: a winding number at every voxel near the surface.
-  windingNumberNearSurface,
-  /// Mesh with holes or unbalanced non-manifold edges: a winding number at every band voxel.
+  /// The mesh intersects or touches itself: a winding number at every voxel near the surface.
   windingNumber,
 };
 
-/// Name of a SignMethod as the CLI prints it ("closest feature", "winding number near surface",
-/// "winding number", "none").
+/// Name of a SignMethod as the CLI prints it: "closest feature", "winding number", "none".
 const char* signMethodName(SignMethod method);
 
 /// What the exact-sign pass of meshToLevelSet() did.
 struct SignReport {
   SignMethod method = SignMethod::none;
-  /// Band voxels whose sign from OpenVDB's exterior sweep disagreed with the exact decision and
-  /// was flipped.
+  /// Band voxels whose sign from OpenVDB's conversion disagreed with the exact decision and was
+  /// flipped.
   std::size_t correctedVoxels = 0;
-  std::size_t windingNumberQueries = 0;  ///< points where the winding number was evaluated
+  std::size_t windingNumberQueries = 0;  ///< points where a winding number was evaluated
   std::size_t reorientedTriangles = 0;   ///< triangles wound against their neighbours, reversed
   bool watertight = false;        ///< every edge crossed equally often both ways (after repair)
-  bool selfIntersecting = false;  ///< checked for watertight meshes only
+  std::size_t holesClosed = 0;    ///< boundary loops closed by a virtual cap (not watertight)
+  bool selfIntersecting = false;  ///< the mesh, holes closed, intersects or touches itself
 };
 
 /// What meshToLevelSet() produced.

@@ -35,16 +35,18 @@ constexpr double kOnSurface = 1e-6;
 
 // Voxel state bits.
 constexpr std::uint8_t kActive = 1;
-constexpr std::uint8_t kNear = 2;
-constexpr std::uint8_t kDecided = 4;
-constexpr std::uint8_t kInside = 8;
-constexpr std::uint8_t kLinkable = 16;
-constexpr std::uint8_t kKeep = 32;
+constexpr std::uint8_t kNear = 2;      ///< within sqrt(0.7) voxel of M + S
+constexpr std::uint8_t kKnown = 4;     ///< its W (integer winding number of M + S) is known
+constexpr std::uint8_t kLinkable = 8;  ///< near, and far enough to link with far neighbours
+constexpr std::uint8_t kFinal = 16;    ///< inside/outside decided
+constexpr std::uint8_t kInside = 32;   ///< (with kFinal) inside
+constexpr std::uint8_t kKeep = 64;     ///< on M: keeps OpenVDB's sign
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr std::uint16_t kNoLabel = std::numeric_limits<std::uint16_t>::max();
 
 using States = std::array<std::uint8_t, kVoxels>;
+using Windings = std::array<std::int16_t, kVoxels>;
 
 openvdb::Index offsetOf(int x, int y, int z) {
   return static_cast<openvdb::Index>((x << (2 * FloatLeaf::LOG2DIM)) + (y << FloatLeaf::LOG2DIM) +
@@ -106,32 +108,6 @@ class LeafTable {
   std::vector<std::array<std::uint32_t, 6>> neighbours_;
 };
 
-/// The state of the voxel at local coordinates (x, y, z) of leaf i, looking into the face
-/// neighbour when one coordinate is just outside the leaf (0 = inactive or no leaf).
-std::uint8_t stateAt(const LeafTable& table, const std::vector<States>& states, std::size_t i,
-                     int x, int y, int z) {
-  int face = -1;
-  if (x < 0)
-    face = 0, x += kDim;
-  else if (x >= kDim)
-    face = 1, x -= kDim;
-  else if (y < 0)
-    face = 2, y += kDim;
-  else if (y >= kDim)
-    face = 3, y -= kDim;
-  else if (z < 0)
-    face = 4, z += kDim;
-  else if (z >= kDim)
-    face = 5, z -= kDim;
-  std::size_t leaf = i;
-  if (face >= 0) {
-    const std::uint32_t other = table.neighbour(i, face);
-    if (other == kNone) return 0;
-    leaf = other;
-  }
-  return states[leaf][offsetOf(x, y, z)];
-}
-
 /// Union-find whose roots are the smallest members (so that representatives do not depend on
 /// the order of the unions).
 class DisjointSets {
@@ -159,19 +135,81 @@ class DisjointSets {
   std::vector<std::uint32_t> parent_;
 };
 
+/// The range of W over the near voxels linked to a group.
+struct Seeds {
+  std::int16_t low = std::numeric_limits<std::int16_t>::max();
+  std::int16_t high = std::numeric_limits<std::int16_t>::min();
+  bool empty() const { return low > high; }
+  void add(std::int16_t w) {
+    low = std::min(low, w);
+    high = std::max(high, w);
+  }
+  void add(const Seeds& other) {
+    low = std::min(low, other.low);
+    high = std::max(high, other.high);
+  }
+};
+
 /// Far voxels of one leaf grouped by 6-adjacency inside the leaf.
 struct LocalGroups {
   std::array<std::uint16_t, kVoxels> label;   ///< group of each far voxel, or kNoLabel
   std::vector<std::uint16_t> representative;  ///< first voxel (offset) of each group
-  std::vector<std::uint8_t> seeds;  ///< per group: 1 = an inside near neighbour, 2 = outside
+  std::vector<Seeds> seeds;                   ///< W of the linked near neighbours
 };
 
+/// A leaf's states and W with a one-voxel shell from its face neighbours, indexed
+/// (x + 1) * 100 + (y + 1) * 10 + (z + 1), so that 6-neighbours are +-100, +-10, +-1 away.
+struct PaddedBlock {
+  static constexpr int kSide = kDim + 2;
+  static constexpr int index(int x, int y, int z) {
+    return ((x + 1) * kSide + (y + 1)) * kSide + (z + 1);
+  }
+  std::array<std::uint8_t, kSide * kSide * kSide> state{};
+  std::array<std::int16_t, kSide * kSide * kSide> winding{};
+
+  PaddedBlock(const LeafTable& table, const std::vector<States>& states,
+              const std::vector<Windings>& windings, std::size_t i) {
+    for (int x = 0; x < kDim; ++x)
+      for (int y = 0; y < kDim; ++y)
+        for (int z = 0; z < kDim; ++z) {
+          state[index(x, y, z)] = states[i][offsetOf(x, y, z)];
+          winding[index(x, y, z)] = windings[i][offsetOf(x, y, z)];
+        }
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int direction = 0; direction < 2; ++direction) {
+        const std::uint32_t j = table.neighbour(i, 2 * axis + direction);
+        if (j == kNone) continue;
+        const int depth = direction == 0 ? kDim - 1 : 0;  // the neighbour's touching layer
+        const int shell = direction == 0 ? -1 : kDim;
+        for (int u = 0; u < kDim; ++u) {
+          for (int v = 0; v < kDim; ++v) {
+            std::array<int, 3> c{};
+            c[axis] = shell;
+            c[(axis + 1) % 3] = u;
+            c[(axis + 2) % 3] = v;
+            const openvdb::Index o = faceOffset(axis, depth, u, v);
+            state[index(c[0], c[1], c[2])] = states[j][o];
+            winding[index(c[0], c[1], c[2])] = windings[j][o];
+          }
+        }
+      }
+    }
+  }
+};
+
+bool isFar(std::uint8_t s) {
+  return (s & (kActive | kNear)) == kActive;
+}
+
 LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& states,
-                           std::size_t i) {
+                           const std::vector<Windings>& windings, std::size_t i) {
   LocalGroups groups;
   groups.label.fill(kNoLabel);
   const States& state = states[i];
-  const auto isFar = [](std::uint8_t s) { return (s & kActive) && !(s & kNear); };
+  bool anyFar = false;
+  for (const std::uint8_t s : state) anyFar = anyFar || isFar(s);
+  if (!anyFar) return groups;
+  const PaddedBlock block(table, states, windings, i);
   std::array<std::uint16_t, kVoxels> parent;
   const auto find = [&parent](std::uint16_t x) {
     while (parent[x] != x) {
@@ -180,49 +218,48 @@ LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& st
     }
     return x;
   };
-  for (openvdb::Index o = 0; o < kVoxels; ++o) parent[o] = static_cast<std::uint16_t>(o);
+  const auto unite = [&](openvdb::Index a, openvdb::Index b) {
+    const std::uint16_t ra = find(static_cast<std::uint16_t>(a));
+    const std::uint16_t rb = find(static_cast<std::uint16_t>(b));
+    if (ra < rb)
+      parent[rb] = ra;
+    else if (rb < ra)
+      parent[ra] = rb;
+  };
+  constexpr int kStepX = PaddedBlock::kSide * PaddedBlock::kSide;
+  constexpr int kStepY = PaddedBlock::kSide;
+  for (int x = 0; x < kDim; ++x) {
+    for (int y = 0; y < kDim; ++y) {
+      for (int z = 0; z < kDim; ++z) {
+        const openvdb::Index o = offsetOf(x, y, z);
+        parent[o] = static_cast<std::uint16_t>(o);
+        if (!isFar(state[o])) continue;
+        if (x > 0 && isFar(state[o - kDim * kDim])) unite(o, o - kDim * kDim);
+        if (y > 0 && isFar(state[o - kDim])) unite(o, o - kDim);
+        if (z > 0 && isFar(state[o - 1])) unite(o, o - 1);
+      }
+    }
+  }
   for (int x = 0; x < kDim; ++x) {
     for (int y = 0; y < kDim; ++y) {
       for (int z = 0; z < kDim; ++z) {
         const openvdb::Index o = offsetOf(x, y, z);
         if (!isFar(state[o])) continue;
-        const auto link = [&](openvdb::Index other) {
-          if (!isFar(state[other])) return;
-          const std::uint16_t a = find(static_cast<std::uint16_t>(o));
-          const std::uint16_t b = find(static_cast<std::uint16_t>(other));
-          if (a < b)
-            parent[b] = a;
-          else if (b < a)
-            parent[a] = b;
-        };
-        if (x > 0) link(offsetOf(x - 1, y, z));
-        if (y > 0) link(offsetOf(x, y - 1, z));
-        if (z > 0) link(offsetOf(x, y, z - 1));
-      }
-    }
-  }
-  for (openvdb::Index o = 0; o < kVoxels; ++o) {
-    if (!isFar(state[o])) continue;
-    const std::uint16_t root = find(static_cast<std::uint16_t>(o));
-    if (groups.label[root] == kNoLabel) {
-      groups.label[root] = static_cast<std::uint16_t>(groups.representative.size());
-      groups.representative.push_back(static_cast<std::uint16_t>(o));
-      groups.seeds.push_back(0);
-    }
-    groups.label[o] = groups.label[root];
-  }
-  // Seeds: near 6-neighbours far enough from the mesh that no surface passes between.
-  static constexpr int kSteps[6][3] = {{-1, 0, 0}, {1, 0, 0},  {0, -1, 0},
-                                       {0, 1, 0},  {0, 0, -1}, {0, 0, 1}};
-  for (int x = 0; x < kDim; ++x) {
-    for (int y = 0; y < kDim; ++y) {
-      for (int z = 0; z < kDim; ++z) {
-        const openvdb::Index o = offsetOf(x, y, z);
-        if (groups.label[o] == kNoLabel) continue;
-        for (const auto& step : kSteps) {
-          const std::uint8_t s = stateAt(table, states, i, x + step[0], y + step[1], z + step[2]);
-          constexpr std::uint8_t kSeed = kActive | kNear | kDecided | kLinkable;
-          if ((s & kSeed) == kSeed) groups.seeds[groups.label[o]] |= (s & kInside) ? 1 : 2;
+        const std::uint16_t root = find(static_cast<std::uint16_t>(o));
+        if (groups.label[root] == kNoLabel) {
+          groups.label[root] = static_cast<std::uint16_t>(groups.representative.size());
+          groups.representative.push_back(static_cast<std::uint16_t>(o));
+          groups.seeds.emplace_back();
+        }
+        const std::uint16_t label = groups.label[root];
+        groups.label[o] = label;
+        // Seeds: near 6-neighbours far enough from the surface that none passes between.
+        const int b = PaddedBlock::index(x, y, z);
+        for (const int step : {-kStepX, kStepX, -kStepY, kStepY, -1, 1}) {
+          constexpr std::uint8_t kSeed = kActive | kNear | kKnown | kLinkable;
+          if ((block.state[b + step] & kSeed) == kSeed) {
+            groups.seeds[label].add(block.winding[b + step]);
+          }
         }
       }
     }
@@ -230,132 +267,334 @@ LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& st
   return groups;
 }
 
+/// One bit per voxel of a leaf: word x, bit 8 y + z (the leaf's own offset order).
+using Mask = std::array<std::uint64_t, kDim>;
+constexpr std::uint64_t kLowZ = 0x0101010101010101ull;  // z = 0 in every row
+constexpr std::uint64_t kHighZ = kLowZ << 7;            // z = 7
+constexpr std::uint64_t kLowY = 0xffull;                // y = 0
+constexpr int kHighYShift = 8 * (kDim - 1);             // y = 7 starts at this bit
+
+bool isEmpty(const Mask& m) {
+  std::uint64_t any = 0;
+  for (const std::uint64_t w : m) any |= w;
+  return any == 0;
+}
+
+/// The voxels of leaf i that are 6-neighbours of a set voxel of masks (in leaf i or across one
+/// of its faces).
+Mask neighboursOf(const std::vector<Mask>& masks, const LeafTable& table, std::size_t i) {
+  const Mask& m = masks[i];
+  Mask out{};
+  for (int x = 0; x < kDim; ++x) {
+    const std::uint64_t w = m[x];
+    std::uint64_t n = ((w << 1) & ~kLowZ) | ((w >> 1) & ~kHighZ) | (w << 8) | (w >> 8);
+    if (x > 0) n |= m[x - 1];
+    if (x < kDim - 1) n |= m[x + 1];
+    out[x] = n;
+  }
+  if (const std::uint32_t j = table.neighbour(i, 0); j != kNone) out[0] |= masks[j][kDim - 1];
+  if (const std::uint32_t j = table.neighbour(i, 1); j != kNone) out[kDim - 1] |= masks[j][0];
+  for (int x = 0; x < kDim; ++x) {
+    if (const std::uint32_t j = table.neighbour(i, 2); j != kNone) {
+      out[x] |= (masks[j][x] >> kHighYShift) & kLowY;
+    }
+    if (const std::uint32_t j = table.neighbour(i, 3); j != kNone) {
+      out[x] |= (masks[j][x] & kLowY) << kHighYShift;
+    }
+    if (const std::uint32_t j = table.neighbour(i, 4); j != kNone) {
+      out[x] |= (masks[j][x] & kHighZ) >> 7;
+    }
+    if (const std::uint32_t j = table.neighbour(i, 5); j != kNone) {
+      out[x] |= (masks[j][x] & kLowZ) << 7;
+    }
+  }
+  return out;
+}
+
+/// Without caps, inside is W >= 1 and constant wherever W is. Checks, with bit operations on
+/// every leaf, that OpenVDB's sign is already right on every far voxel: it agrees across every
+/// far-far link and with every linked near voxel, and every far voxel is reachable from a linked
+/// near voxel through far-far links. Then each group of far voxels has one sign, which is its
+/// seeds' W. False when a check fails (the caller then groups the far voxels explicitly).
+/// What the near pass of one leaf found (one bit per voxel in the masks).
+struct LeafSummary {
+  Mask far{};          ///< active voxels not near M + S
+  Mask farInside{};    ///< far voxels OpenVDB put inside
+  Mask seedInside{};   ///< near voxels linkable to far neighbours, inside (no caps)
+  Mask seedOutside{};  ///< ... outside
+  std::vector<openvdb::Index> undecided;  ///< near voxels whose W is not known yet
+  std::vector<openvdb::Coord> flipped;    ///< voxels decided against OpenVDB's sign
+  std::size_t near = 0;
+  std::size_t queries = 0;
+};
+
+bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& summaries) {
+  const std::size_t leafCount = table.size();
+  std::vector<Mask> far(leafCount), farIn(leafCount), inSide(leafCount), outSide(leafCount),
+      seeds(leafCount);
+  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+    const LeafSummary& leaf = summaries[i];
+    far[i] = leaf.far;
+    farIn[i] = leaf.farInside;
+    for (int x = 0; x < kDim; ++x) {
+      inSide[i][x] = leaf.seedInside[x] | leaf.farInside[x];
+      outSide[i][x] = leaf.seedOutside[x] | (leaf.far[x] & ~leaf.farInside[x]);
+      seeds[i][x] = leaf.seedInside[x] | leaf.seedOutside[x];
+    }
+  });
+  // Sign consistency across far-far and near-far links.
+  std::atomic<bool> consistent{true};
+  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+    const Mask nearInside = neighboursOf(inSide, table, i);
+    const Mask nearOutside = neighboursOf(outSide, table, i);
+    std::uint64_t clash = 0;
+    for (int x = 0; x < kDim; ++x) {
+      clash |= (nearInside[x] & far[i][x] & ~farIn[i][x]) | (nearOutside[x] & farIn[i][x]);
+    }
+    if (clash != 0) consistent.store(false, std::memory_order_relaxed);
+  });
+  if (!consistent.load()) return false;
+  // Reachability from the seeds, in rounds until nothing changes.
+  std::vector<Mask> reached(leafCount);
+  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+    const Mask n = neighboursOf(seeds, table, i);
+    for (int x = 0; x < kDim; ++x) reached[i][x] = n[x] & far[i][x];
+  });
+  std::vector<Mask> next(leafCount);
+  for (bool changed = true; changed;) {
+    std::atomic<bool> grew{false};
+    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+      Mask r = reached[i];
+      if (isEmpty(far[i])) {
+        next[i] = r;
+        return;
+      }
+      // Take what the neighbours reached in the previous round, then grow inside the leaf until
+      // it stops.
+      const Mask across = neighboursOf(reached, table, i);
+      for (int x = 0; x < kDim; ++x) r[x] |= across[x] & far[i][x];
+      for (bool growing = true; growing;) {
+        Mask n{};
+        for (int x = 0; x < kDim; ++x) {
+          const std::uint64_t w = r[x];
+          n[x] = ((w << 1) & ~kLowZ) | ((w >> 1) & ~kHighZ) | (w << 8) | (w >> 8);
+          if (x > 0) n[x] |= r[x - 1];
+          if (x < kDim - 1) n[x] |= r[x + 1];
+        }
+        growing = false;
+        for (int x = 0; x < kDim; ++x) {
+          const std::uint64_t grown = r[x] | (n[x] & far[i][x]);
+          growing = growing || grown != r[x];
+          r[x] = grown;
+        }
+      }
+      bool more = false;
+      for (int x = 0; x < kDim; ++x) more = more || r[x] != reached[i][x];
+      next[i] = r;
+      if (more) grew.store(true, std::memory_order_relaxed);
+    });
+    reached.swap(next);
+    changed = grew.load();
+  }
+  for (std::size_t i = 0; i < leafCount; ++i) {
+    for (int x = 0; x < kDim; ++x) {
+      if ((far[i][x] & ~reached[i][x]) != 0) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
+std::vector<ComponentSides> componentSides(const InsideOutsideMesh& mesh,
+                                           const WindingNumberField& closed) {
+  std::vector<ComponentSides> sides(mesh.componentCount);
+  std::vector<std::uint32_t> face(mesh.componentCount, kNone);
+  std::vector<double> largest(mesh.componentCount, 0.0);
+  std::vector<double> volume(mesh.componentCount, 0.0);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const TriangleIndices& tri = mesh.triangles[t];
+    const Eigen::Vector3d& a = mesh.points[tri[0]];
+    const Eigen::Vector3d& b = mesh.points[tri[1]];
+    const Eigen::Vector3d& c = mesh.points[tri[2]];
+    volume[mesh.component[t]] += a.dot(b.cross(c));
+    if (mesh.degenerate[t]) continue;
+    const double area = (b - a).cross(c - a).norm();
+    if (area > largest[mesh.component[t]]) {
+      largest[mesh.component[t]] = area;
+      face[mesh.component[t]] = t;
+    }
+  }
+  tbb::parallel_for(std::size_t{0}, std::size_t{mesh.componentCount}, [&](std::size_t c) {
+    if (face[c] == kNone) return;
+    const TriangleIndices& tri = mesh.triangles[face[c]];
+    const Eigen::Vector3d centroid =
+        (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]) / 3.0;
+    const double value = closed.decide(
+        centroid,
+        [](const WindingNumberField::Estimate& e) {
+          const double shifted = e.value - 0.5;
+          return std::abs(shifted - std::round(shifted)) + e.errorBound < 0.5;
+        },
+        face[c]);
+    const long front = std::clamp<long>(std::lround(value - 0.5), -32000, 32000);
+    ComponentSides& side = sides[c];
+    side.front = static_cast<std::int16_t>(front);
+    side.back = static_cast<std::int16_t>(front + 1);
+    side.known = true;
+    // The other components' winding number here: W behind the face less this component's own
+    // (1 behind an outward-wound closed component, 0 behind an inward-wound one).
+    side.enclosed = (side.back - (volume[c] > 0.0 ? 1 : 0)) != 0;
+  });
+  return sides;
+}
+
 BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
-                                const InsideOutsideMesh& mesh, const WindingNumberField& winding,
-                                BandSignMode mode) {
+                                const BandSignInputs& inputs) {
   BandSignReport report;
+  const InsideOutsideMesh& mesh = *inputs.mesh;
+  const WindingNumberField& closed = *inputs.closed;
+  const WindingNumberField* caps = inputs.caps;
   const LeafTable table(grid.tree());
   const std::size_t leafCount = table.size();
   if (leafCount == 0) return report;
   const double voxelSize = grid.voxelSize()[0];
   const float background = grid.background();
-  const bool integerWinding = mode != BandSignMode::windingNumberEveryVoxel;
-  const auto triangleCount = static_cast<std::int64_t>(mesh.triangles.size());
+  // Near voxels have values up to sqrt(0.7) voxel, or sqrt(0.75) where meshToVolume pushed a
+  // voxel with no inside neighbour out of the surface layer.
+  const auto nearValueLimit = static_cast<float>(0.867 * voxelSize);
+  const auto meshTriangles = static_cast<std::int64_t>(mesh.meshTriangleCount);
 
   std::vector<const IndexLeaf*> closestLeaves(leafCount);
   for (std::size_t i = 0; i < leafCount; ++i) {
     closestLeaves[i] = closest.tree().probeConstLeaf(table.leaf(i).origin());
   }
+  const auto pointOf = [](const openvdb::Coord& ijk) {
+    return Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z());
+  };
+  /// Closest point on M's recorded triangle t (index into mesh.triangles), or none.
+  const auto closestOnMesh = [&](std::int64_t t, const Eigen::Vector3d& p) {
+    NearestTriangle nearest;
+    if (t < 0 || t >= meshTriangles) return nearest;
+    const TriangleIndices& tri = mesh.triangles[static_cast<std::size_t>(t)];
+    nearest.triangle = static_cast<std::uint32_t>(t);
+    nearest.closest =
+        closestPointOnTriangle(p, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
+    nearest.squaredDistance = (nearest.closest.point - p).squaredNorm();
+    return nearest;
+  };
+  /// W of M + S at p, certified.
+  const auto windingAt = [&](const Eigen::Vector3d& p) {
+    return static_cast<std::int16_t>(std::clamp<long>(closed.integerValue(p), -32000, 32000));
+  };
 
-  // The winding number on the front and back of each edge-connected component: at the centroid
-  // of its largest face, without that face, plus or minus 1/2.
-  std::vector<std::array<long, 2>> sideWinding;
-  std::vector<bool> sideKnown;
-  if (mode == BandSignMode::closestFeature) {
-    std::vector<std::uint32_t> face(mesh.componentCount, kNone);
-    std::vector<double> largest(mesh.componentCount, 0.0);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-      if (mesh.degenerate[t]) continue;
-      const TriangleIndices& tri = mesh.triangles[t];
-      const double area = (mesh.points[tri[1]] - mesh.points[tri[0]])
-                              .cross(mesh.points[tri[2]] - mesh.points[tri[0]])
-                              .norm();
-      if (area > largest[mesh.component[t]]) {
-        largest[mesh.component[t]] = area;
-        face[mesh.component[t]] = t;
-      }
-    }
-    sideWinding.assign(mesh.componentCount, {0, 0});
-    sideKnown.assign(mesh.componentCount, false);
-    std::vector<std::uint8_t> known(mesh.componentCount, 0);
-    tbb::parallel_for(std::size_t{0}, std::size_t{mesh.componentCount}, [&](std::size_t c) {
-      if (face[c] == kNone) return;
-      const TriangleIndices& tri = mesh.triangles[face[c]];
-      const Eigen::Vector3d centroid =
-          (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]) / 3.0;
-      const double value = winding.decide(
-          centroid,
-          [](const WindingNumberField::Estimate& e) {
-            const double shifted = e.value - 0.5;
-            return std::abs(shifted - std::round(shifted)) + e.errorBound < 0.5;
-          },
-          face[c]);
-      const long front = std::lround(value - 0.5);
-      sideWinding[c] = {front, front + 1};
-      known[c] = 1;
-    });
-    for (std::size_t c = 0; c < known.size(); ++c) {
-      sideKnown[c] = known[c] != 0;
-      if (sideKnown[c]) ++report.windingNumberQueries;
-    }
-  }
+  const std::vector<ComponentSides> noSides;
+  const std::vector<ComponentSides>& sides = inputs.sides ? *inputs.sides : noSides;
 
-  // Near voxels: exact closest point, then the closest-feature side where it is decisive.
+  // Near voxels: exact closest point on M + S, then W from its side where that is decisive.
+  // Without caps, inside is W >= 1 and is compared with OpenVDB's sign right away.
   std::vector<States> states(leafCount);
-  std::vector<std::size_t> nearCounts(leafCount, 0);
+  std::vector<Windings> windings(leafCount);
+  std::vector<LeafSummary> summaries(leafCount);
+  constexpr std::uint8_t kSeed = kActive | kNear | kKnown | kLinkable;
+  /// Records W at a near voxel; without caps also its final side, a flip, and a seed bit.
+  const auto settle = [&](std::size_t i, openvdb::Index o, std::int16_t w, float value) {
+    std::uint8_t& s = states[i][o];
+    windings[i][o] = w;
+    s |= kKnown;
+    if (caps) return;
+    const bool inside = w >= 1;
+    s |= kFinal | (inside ? kInside : 0);
+    LeafSummary& summary = summaries[i];
+    if (inside != (value < 0.0f)) {
+      summary.flipped.push_back(table.leaf(i).offsetToGlobalCoord(o));
+    }
+    if ((s & kSeed) == kSeed) {
+      (inside ? summary.seedInside : summary.seedOutside)[o >> 6] |= std::uint64_t{1} << (o & 63);
+    }
+  };
   tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
     States& state = states[i];
     state.fill(0);
+    LeafSummary& summary = summaries[i];
     const FloatLeaf& leaf = table.leaf(i);
     const IndexLeaf* indices = closestLeaves[i];
     for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
       const openvdb::Index o = voxel.pos();
-      std::uint8_t s = kActive;
-      const std::int64_t t = indices ? indices->getValue(o) : -1;
-      if (t >= 0 && t < triangleCount) {
-        const openvdb::Coord ijk = voxel.getCoord();
-        const Eigen::Vector3d p(ijk.x(), ijk.y(), ijk.z());
-        const TriangleIndices& tri = mesh.triangles[static_cast<std::size_t>(t)];
-        const TriangleClosestPoint closestPoint = closestPointOnTriangle(
-            p, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
-        const double distance2 = (p - closestPoint.point).squaredNorm();
-        if (distance2 <= kNearLimit2) {
-          s |= kNear;
-          ++nearCounts[i];
-          const double distance = std::sqrt(distance2);
-          if (distance > kLinkDistance) s |= kLinkable;
-          if (distance <= kOnSurface) {
-            s |= kDecided | kKeep | (*voxel < 0.0f ? kInside : 0);
-          } else if (mode == BandSignMode::closestFeature) {
-            const std::uint32_t component = mesh.component[static_cast<std::size_t>(t)];
-            const SurfaceSide side = mesh.side(static_cast<std::uint32_t>(t), closestPoint, p);
-            if (side != SurfaceSide::unknown && sideKnown[component]) {
-              const long w = sideWinding[component][side == SurfaceSide::back ? 1 : 0];
-              s |= kDecided | (w >= 1 ? kInside : 0);
-            }
-          }
+      const float value = *voxel;
+      const Eigen::Vector3d p = pointOf(voxel.getCoord());
+      // meshToVolume's values (before renormalisation) are distances to actual triangles, so a
+      // larger one proves the voxel is not near M without looking at the triangle.
+      NearestTriangle nearest;
+      if (std::abs(value) <= nearValueLimit) {
+        nearest = closestOnMesh(indices ? indices->getValue(o) : -1, p);
+      }
+      const bool nearMesh = nearest.squaredDistance <= kNearLimit2;
+      if (nearMesh && std::sqrt(nearest.squaredDistance) <= kOnSurface) {
+        state[o] = kActive | kNear | kFinal | kKeep | (value < 0.0f ? kInside : 0);
+        ++summary.near;
+        continue;
+      }
+      if (!nearMesh) nearest = NearestTriangle{};
+      if (caps) {
+        NearestTriangle onCap = nearestTriangle(caps->hierarchy(), mesh.points, mesh.caps, p);
+        // Off M's near zone the distance to M is only known to exceed kFarBound: a cap point
+        // is then the closest point of M + S only if it is nearer than that.
+        const double capLimit2 = nearMesh ? kNearLimit2 : kFarBound * kFarBound;
+        if (onCap.squaredDistance <= capLimit2 && onCap.squaredDistance < nearest.squaredDistance) {
+          onCap.triangle += mesh.meshTriangleCount;
+          nearest = onCap;
         }
       }
+      if (!(nearest.squaredDistance <= kNearLimit2)) {
+        state[o] = kActive;
+        const std::uint64_t bit = std::uint64_t{1} << (o & 63);
+        summary.far[o >> 6] |= bit;
+        if (value < 0.0f) summary.farInside[o >> 6] |= bit;
+        continue;
+      }
+      std::uint8_t s = kActive | kNear;
+      ++summary.near;
+      const double distance = std::sqrt(nearest.squaredDistance);
+      if (distance > kLinkDistance) s |= kLinkable;
+      if (distance <= kOnSurface) {
+        // On a cap, off M: W and w_S both jump here, but their difference w does not.
+        const double w = closed.exact(p) - caps->exact(p);
+        state[o] = s | kFinal | (w >= 0.5 ? kInside : 0);
+        if ((w >= 0.5) != (value < 0.0f)) summary.flipped.push_back(voxel.getCoord());
+        continue;
+      }
       state[o] = s;
+      if (inputs.embedded && !sides.empty()) {
+        const ComponentSides& component = sides[mesh.component[nearest.triangle]];
+        const SurfaceSide side = mesh.side(nearest.triangle, nearest.closest, p);
+        if (side != SurfaceSide::unknown && component.known) {
+          settle(i, o, side == SurfaceSide::back ? component.back : component.front, value);
+          continue;
+        }
+      }
+      summary.undecided.push_back(o);
     }
   });
-  report.nearVoxels = std::accumulate(nearCounts.begin(), nearCounts.end(), std::size_t{0});
 
-  // Winding numbers one voxel at a time where nothing cheaper decides.
-  std::vector<std::size_t> queries(leafCount, 0);
-  const auto evaluate = [&](const openvdb::Coord& ijk) {
-    const Eigen::Vector3d p(ijk.x(), ijk.y(), ijk.z());
-    return integerWinding ? winding.integerValue(p) >= 1 : winding.atLeastHalf(p);
-  };
+  // Near voxels the closest feature did not decide: their own winding number.
   tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    States& state = states[i];
-    const FloatLeaf& leaf = table.leaf(i);
-    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      std::uint8_t& s = state[voxel.pos()];
-      if (s & kDecided) continue;
-      if (integerWinding && !(s & kNear)) continue;  // far voxels: by groups below
-      s |= kDecided | (evaluate(voxel.getCoord()) ? kInside : 0);
-      ++queries[i];
+    LeafSummary& summary = summaries[i];
+    for (const openvdb::Index o : summary.undecided) {
+      settle(i, o, windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o))),
+             table.leaf(i).getValue(o));
+      ++summary.queries;
     }
   });
 
-  // Far voxels of a watertight mesh: groups, their seeds, one winding number for a seedless one.
-  if (integerWinding) {
+  // Far voxels. Without caps OpenVDB's sign is usually right there, which bit operations can
+  // check; otherwise: groups, their seeds, one winding number for a group without any.
+  const bool farVerified = !caps && farSignsVerified(table, summaries);
+  if (!farVerified) {
     std::vector<LocalGroups> groups(leafCount);
-    tbb::parallel_for(std::size_t{0}, leafCount,
-                      [&](std::size_t i) { groups[i] = groupFarVoxels(table, states, i); });
+    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+      groups[i] = groupFarVoxels(table, states, windings, i);
+    });
     std::vector<std::uint32_t> base(leafCount + 1, 0);
     for (std::size_t i = 0; i < leafCount; ++i) {
       base[i + 1] = base[i] + static_cast<std::uint32_t>(groups[i].representative.size());
@@ -367,76 +606,91 @@ BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Gr
         if (j == kNone) continue;
         for (int u = 0; u < kDim; ++u) {
           for (int v = 0; v < kDim; ++v) {
-            const openvdb::Index high = faceOffset(axis, kDim - 1, u, v);
-            const openvdb::Index low = faceOffset(axis, 0, u, v);
-            const std::uint16_t a = groups[i].label[high];
-            const std::uint16_t b = groups[j].label[low];
+            const std::uint16_t a = groups[i].label[faceOffset(axis, kDim - 1, u, v)];
+            const std::uint16_t b = groups[j].label[faceOffset(axis, 0, u, v)];
             if (a != kNoLabel && b != kNoLabel) sets.unite(base[i] + a, base[j] + b);
           }
         }
       }
     }
     const std::uint32_t total = base[leafCount];
-    std::vector<std::uint8_t> seeds(total, 0);
+    std::vector<Seeds> seeds(total);
     for (std::size_t i = 0; i < leafCount; ++i) {
       for (std::uint32_t g = 0; g < groups[i].seeds.size(); ++g) {
-        seeds[sets.find(base[i] + g)] |= groups[i].seeds[g];
+        seeds[sets.find(base[i] + g)].add(groups[i].seeds[g]);
       }
     }
-    // Decide each set at its root (its smallest member).
+    constexpr std::int16_t kPerVoxel = std::numeric_limits<std::int16_t>::min();
+    std::vector<std::int16_t> groupWinding(total, 0);
     std::vector<std::uint32_t> seedless;
-    std::vector<std::uint8_t> decision(total, 0);  // 1 inside, 2 outside, 3 per voxel
     for (std::uint32_t id = 0; id < total; ++id) {
       if (sets.find(id) != id) continue;
       ++report.farComponents;
-      if (seeds[id] == 0) {
+      if (seeds[id].empty()) {
         seedless.push_back(id);
+      } else if (seeds[id].low != seeds[id].high) {
+        groupWinding[id] = kPerVoxel;
+        ++report.conflicts;
       } else {
-        decision[id] = seeds[id];
-        if (seeds[id] == 3) ++report.conflicts;
+        groupWinding[id] = seeds[id].low;
       }
     }
     tbb::parallel_for(std::size_t{0}, seedless.size(), [&](std::size_t n) {
       const std::uint32_t id = seedless[n];
-      const std::size_t i =
+      const auto i =
           static_cast<std::size_t>(std::upper_bound(base.begin(), base.end(), id) - base.begin()) -
           1;
       const openvdb::Index o = groups[i].representative[id - base[i]];
-      const openvdb::Coord ijk = table.leaf(i).offsetToGlobalCoord(o);
-      decision[id] = evaluate(ijk) ? 1 : 2;
+      groupWinding[id] = windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o)));
     });
     report.windingNumberQueries += seedless.size();
     tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-      States& state = states[i];
       for (openvdb::Index o = 0; o < kVoxels; ++o) {
         if (groups[i].label[o] == kNoLabel) continue;
-        const std::uint8_t d = decision[sets.find(base[i] + groups[i].label[o])];
-        if (d == 3) {
-          state[o] |= kDecided | (evaluate(table.leaf(i).offsetToGlobalCoord(o)) ? kInside : 0);
-          ++queries[i];
+        const std::int16_t w = groupWinding[sets.find(base[i] + groups[i].label[o])];
+        if (w == kPerVoxel) {
+          windings[i][o] = windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o)));
+          ++summaries[i].queries;
         } else {
-          state[o] |= kDecided | (d == 1 ? kInside : 0);
+          windings[i][o] = w;
         }
+        states[i][o] |= kKnown;
       }
     });
-  }
-  report.windingNumberQueries += std::accumulate(queries.begin(), queries.end(), std::size_t{0});
 
-  // Compare with OpenVDB's signs.
-  std::vector<std::vector<openvdb::Coord>> flipped(leafCount);
-  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    const States& state = states[i];
-    const FloatLeaf& leaf = table.leaf(i);
-    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      const std::uint8_t s = state[voxel.pos()];
-      if (!(s & kDecided) || (s & kKeep)) continue;
-      if (((s & kInside) != 0) != (*voxel < 0.0f)) flipped[i].push_back(voxel.getCoord());
-    }
-  });
+    // Inside: W - w_S >= 1/2 (W >= 1 without caps), compared with OpenVDB's sign.
+    std::vector<std::size_t> capQueries(leafCount, 0);
+    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+      States& state = states[i];
+      const FloatLeaf& leaf = table.leaf(i);
+      for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+        std::uint8_t& s = state[voxel.pos()];
+        if (s & kFinal) continue;
+        const double w = windings[i][voxel.pos()];
+        bool inside = w >= 1.0;
+        if (caps) {
+          const double wS =
+              caps->decide(pointOf(voxel.getCoord()), [w](const WindingNumberField::Estimate& e) {
+                return std::abs(w - e.value - 0.5) > e.errorBound;
+              });
+          inside = w - wS >= 0.5;
+          ++capQueries[i];
+        }
+        s |= kFinal | (inside ? kInside : 0);
+        if (inside != (*voxel < 0.0f)) summaries[i].flipped.push_back(voxel.getCoord());
+      }
+    });
+    report.capQueries = std::accumulate(capQueries.begin(), capQueries.end(), std::size_t{0});
+  }
+  for (const LeafSummary& summary : summaries) {
+    report.nearVoxels += summary.near;
+    report.windingNumberQueries += summary.queries;
+  }
+
   std::vector<openvdb::Coord> affected;
-  for (const std::vector<openvdb::Coord>& list : flipped) {
-    report.correctedVoxels += list.size();
-    for (const openvdb::Coord& ijk : list) {
+  for (const LeafSummary& summary : summaries) {
+    report.correctedVoxels += summary.flipped.size();
+    for (const openvdb::Coord& ijk : summary.flipped) {
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dz = -1; dz <= 1; ++dz) affected.push_back(ijk.offsetBy(dx, dy, dz));
@@ -446,8 +700,9 @@ BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Gr
   std::sort(affected.begin(), affected.end());
   affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
-  // Flipped voxels and their neighbours: the distance to their closest triangle, with their sign.
-  const float largest = background * (1.0f - 1e-6f);
+  // Flipped voxels change sign; they and the near voxels around them take the exact distance to
+  // M (meshToVolume pushes surface voxels without an inside neighbour out to sqrt(3)/2 voxel,
+  // which a corrected neighbour makes wrong).
   tbb::parallel_for(std::size_t{0}, affected.size(), [&](std::size_t n) {
     const openvdb::Coord& ijk = affected[n];
     const std::uint32_t i = table.find(ijk & ~(kDim - 1));
@@ -455,18 +710,18 @@ BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Gr
     FloatLeaf& leaf = table.leaf(i);
     const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
     if (!leaf.isValueOn(o)) return;
-    const std::uint8_t s = states[i][o];
     float magnitude = std::abs(leaf.getValue(o));
-    const std::int64_t t = closestLeaves[i] ? closestLeaves[i]->getValue(o) : -1;
-    if (t >= 0 && t < triangleCount) {
-      const Eigen::Vector3d p(ijk.x(), ijk.y(), ijk.z());
-      const TriangleIndices& tri = mesh.triangles[static_cast<std::size_t>(t)];
-      const TriangleClosestPoint closestPoint =
-          closestPointOnTriangle(p, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
-      magnitude = static_cast<float>((p - closestPoint.point).norm() * voxelSize);
+    if (magnitude <= nearValueLimit) {
+      const NearestTriangle nearest =
+          closestOnMesh(closestLeaves[i] ? closestLeaves[i]->getValue(o) : -1, pointOf(ijk));
+      if (nearest.squaredDistance <= kNearLimit2) {
+        magnitude = static_cast<float>(std::sqrt(nearest.squaredDistance) * voxelSize);
+      }
     }
-    magnitude = std::min(magnitude, largest);
-    leaf.setValueOnly(o, (s & kInside) ? -magnitude : magnitude);
+    // Far voxels left final by the bit check keep OpenVDB's sign.
+    const std::uint8_t s = states[i][o];
+    const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
+    leaf.setValueOnly(o, inside ? -magnitude : magnitude);
   });
   openvdb::tools::signedFloodFillWithValues(grid.tree(), background, -background);
   return report;

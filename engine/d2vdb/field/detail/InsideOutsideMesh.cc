@@ -3,11 +3,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
-#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <numeric>
 #include <utility>
 
 namespace d2vdb::detail {
@@ -44,9 +44,155 @@ std::vector<HalfEdgeKey> sortedHalfEdges(const std::vector<TriangleIndices>& tri
   return keys;
 }
 
-/// The half-edge of the flipped triangle (a, c, b) that runs along original side k reversed.
-std::uint32_t flippedSide(std::uint32_t k) {
-  return 2 - k;
+/// Each vertex replaced by the lowest-numbered vertex at exactly the same position.
+std::vector<TriangleIndices> weld(const std::vector<Eigen::Vector3d>& points,
+                                  const std::vector<TriangleIndices>& triangles) {
+  std::vector<std::uint32_t> byPosition(points.size());
+  std::iota(byPosition.begin(), byPosition.end(), std::uint32_t{0});
+  tbb::parallel_sort(byPosition.begin(), byPosition.end(),
+                     [&points](std::uint32_t a, std::uint32_t b) {
+                       const Eigen::Vector3d& p = points[a];
+                       const Eigen::Vector3d& q = points[b];
+                       if (p.x() != q.x()) return p.x() < q.x();
+                       if (p.y() != q.y()) return p.y() < q.y();
+                       if (p.z() != q.z()) return p.z() < q.z();
+                       return a < b;
+                     });
+  std::vector<std::uint32_t> canonical(points.size());
+  for (std::size_t i = 0; i < byPosition.size();) {
+    std::size_t j = i + 1;
+    while (j < byPosition.size() && points[byPosition[j]] == points[byPosition[i]]) ++j;
+    for (std::size_t k = i; k < j; ++k) canonical[byPosition[k]] = byPosition[i];
+    i = j;
+  }
+  std::vector<TriangleIndices> welded(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) welded[t][k] = canonical[triangles[t][k]];
+  }
+  return welded;
+}
+
+double triangleArea(const std::vector<Eigen::Vector3d>& p, const TriangleIndices& tri) {
+  return 0.5 * (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]).norm();
+}
+
+/// Reverses triangles so that edges shared by two triangles are traversed once each way (see
+/// the header). Returns the number of reversed triangles.
+std::size_t repairOrientation(const std::vector<Eigen::Vector3d>& p,
+                              std::vector<TriangleIndices>& triangles) {
+  const auto count = static_cast<std::uint32_t>(triangles.size());
+  const std::vector<HalfEdgeKey> keys = sortedHalfEdges(triangles);
+  std::vector<std::uint32_t> pairedWith(3 * std::size_t{count}, kNoMate);
+  std::vector<bool> sameDirection(3 * std::size_t{count}, false);
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
+    if (j - i == 2) {
+      pairedWith[keys[i].halfEdge] = keys[i + 1].halfEdge;
+      pairedWith[keys[i + 1].halfEdge] = keys[i].halfEdge;
+      const bool same = keys[i].forward == keys[i + 1].forward;
+      sameDirection[keys[i].halfEdge] = same;
+      sameDirection[keys[i + 1].halfEdge] = same;
+    }
+    i = j;
+  }
+  std::vector<std::uint8_t> flip(count, 0);
+  std::vector<std::uint32_t> component(count, kNoMate);
+  std::vector<double> flippedArea, keptArea;
+  std::deque<std::uint32_t> queue;
+  for (std::uint32_t root = 0; root < count; ++root) {
+    if (component[root] != kNoMate) continue;
+    const auto id = static_cast<std::uint32_t>(flippedArea.size());
+    flippedArea.push_back(0.0);
+    keptArea.push_back(0.0);
+    component[root] = id;
+    queue.push_back(root);
+    while (!queue.empty()) {
+      const std::uint32_t t = queue.front();
+      queue.pop_front();
+      (flip[t] ? flippedArea : keptArea)[id] += triangleArea(p, triangles[t]);
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t other = pairedWith[3 * t + k];
+        if (other == kNoMate || component[other / 3] != kNoMate) continue;
+        component[other / 3] = id;
+        flip[other / 3] = flip[t] ^ (sameDirection[3 * t + k] ? 1 : 0);
+        queue.push_back(other / 3);
+      }
+    }
+  }
+  for (std::uint32_t t = 0; t < count; ++t) {
+    if (flippedArea[component[t]] > keptArea[component[t]]) flip[t] ^= 1;
+  }
+  // An inside-out mesh (negative signed volume about its box centre) is turned right side out.
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (const TriangleIndices& tri : triangles) {
+    for (const std::uint32_t corner : tri) {
+      low = low.cwiseMin(p[corner]);
+      high = high.cwiseMax(p[corner]);
+    }
+  }
+  const Eigen::Vector3d centre = 0.5 * (low + high);
+  double volume = 0.0;
+  for (std::uint32_t t = 0; t < count; ++t) {
+    const TriangleIndices& tri = triangles[t];
+    const double det = (p[tri[0]] - centre).dot((p[tri[1]] - centre).cross(p[tri[2]] - centre));
+    volume += flip[t] ? -det : det;
+  }
+  if (volume < 0.0) {
+    for (std::uint8_t& f : flip) f ^= 1;
+  }
+  std::size_t reversed = 0;
+  for (std::uint32_t t = 0; t < count; ++t) {
+    if (!flip[t]) continue;
+    std::swap(triangles[t][1], triangles[t][2]);
+    ++reversed;
+  }
+  return reversed;
+}
+
+/// The directed edges traversed more often one way than the other (with multiplicity), as
+/// closed loops of vertices. `keys` are the sorted half-edges of `triangles`.
+std::vector<std::vector<std::uint32_t>> boundaryLoops(const std::vector<HalfEdgeKey>& keys,
+                                                      std::size_t vertexCount,
+                                                      std::size_t& boundaryEdges) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;  // (from, to), sorted by from
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i;
+    long balance = 0;
+    for (; j < keys.size() && keys[j].edge == keys[i].edge; ++j)
+      balance += keys[j].forward ? 1 : -1;
+    const auto small = static_cast<std::uint32_t>(keys[i].edge >> 32);
+    const auto large = static_cast<std::uint32_t>(keys[i].edge & 0xffffffffu);
+    for (long m = 0; m < std::abs(balance); ++m) {
+      edges.emplace_back(balance > 0 ? small : large, balance > 0 ? large : small);
+    }
+    i = j;
+  }
+  boundaryEdges = edges.size();
+  std::vector<std::vector<std::uint32_t>> loops;
+  if (edges.empty()) return loops;
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::uint32_t> start(vertexCount + 1, 0);
+  for (const auto& edge : edges) ++start[edge.first + 1];
+  for (std::size_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);  // first unused per vertex
+  // Every vertex has as many boundary edges in as out, so a walk from an unused edge along
+  // unused edges returns to its start.
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const std::uint32_t origin = edges[e].first;
+    if (next[origin] >= start[origin + 1] || next[origin] > e) continue;  // edge e used
+    std::vector<std::uint32_t> loop;
+    std::uint32_t at = origin;
+    do {
+      if (next[at] >= start[at + 1]) break;  // unreachable for a balanced boundary
+      const std::uint32_t to = edges[next[at]++].second;
+      loop.push_back(at);
+      at = to;
+    } while (at != origin);
+    loops.push_back(std::move(loop));
+  }
+  return loops;
 }
 
 }  // namespace
@@ -87,13 +233,39 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
                                            const std::vector<TriangleIndices>& input) {
   InsideOutsideMesh mesh;
   mesh.points = std::move(points);
-  const auto triangleCount = static_cast<std::uint32_t>(input.size());
+  mesh.meshTriangleCount = static_cast<std::uint32_t>(input.size());
+  mesh.triangles = weld(mesh.points, input);
+  mesh.reorientedTriangles = repairOrientation(mesh.points, mesh.triangles);
+
+  // Close the holes: a cone from each boundary loop's mean vertex; triangle (apex, b, a) for the
+  // boundary edge a -> b, so that the cap traverses the loop the other way.
+  {
+    const std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
+    const std::vector<std::vector<std::uint32_t>> loops =
+        boundaryLoops(keys, mesh.points.size(), mesh.boundaryEdges);
+    mesh.watertight = !input.empty() && loops.empty();
+    mesh.capLoops = loops.size();
+    for (const std::vector<std::uint32_t>& loop : loops) {
+      Eigen::Vector3d apex = Eigen::Vector3d::Zero();
+      for (const std::uint32_t v : loop) apex += mesh.points[v];
+      apex /= static_cast<double>(loop.size());
+      const auto apexIndex = static_cast<std::uint32_t>(mesh.points.size());
+      mesh.points.push_back(apex);
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::uint32_t a = loop[i];
+        const std::uint32_t b = loop[(i + 1) % loop.size()];
+        mesh.caps.push_back({apexIndex, b, a});
+      }
+    }
+    mesh.triangles.insert(mesh.triangles.end(), mesh.caps.begin(), mesh.caps.end());
+  }
   const std::vector<Eigen::Vector3d>& p = mesh.points;
+  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
 
   // Degenerate triangles.
   mesh.degenerate.assign(triangleCount, false);
   for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    const TriangleIndices& tri = input[t];
+    const TriangleIndices& tri = mesh.triangles[t];
     bool flat = repeatsCorner(tri);
     if (!flat) {
       const Eigen::Vector3d ab = p[tri[1]] - p[tri[0]];
@@ -108,118 +280,39 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
     }
   }
 
-  // Pair the half-edges of edges shared by exactly two triangles (before repair).
-  const std::vector<HalfEdgeKey> keys = sortedHalfEdges(input);
-  std::vector<std::uint32_t> pairedWith(3 * std::size_t{triangleCount}, kNoMate);
-  std::vector<bool> sameDirection(3 * std::size_t{triangleCount}, false);
-  for (std::size_t i = 0; i < keys.size();) {
-    std::size_t j = i + 1;
-    while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
-    if (j - i == 2) {
-      pairedWith[keys[i].halfEdge] = keys[i + 1].halfEdge;
-      pairedWith[keys[i + 1].halfEdge] = keys[i].halfEdge;
-      const bool same = keys[i].forward == keys[i + 1].forward;
-      sameDirection[keys[i].halfEdge] = same;
-      sameDirection[keys[i + 1].halfEdge] = same;
+  // Mates: edges of M + S shared by exactly two triangles traversed once each way.
+  mesh.mate.assign(3 * std::size_t{triangleCount}, kNoMate);
+  {
+    const std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
+    for (std::size_t i = 0; i < keys.size();) {
+      std::size_t j = i + 1;
+      while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
+      if (j - i == 2 && keys[i].forward != keys[i + 1].forward) {
+        mesh.mate[keys[i].halfEdge] = keys[i + 1].halfEdge;
+        mesh.mate[keys[i + 1].halfEdge] = keys[i].halfEdge;
+      }
+      i = j;
     }
-    i = j;
   }
 
-  // Breadth-first orientation of each edge-connected component.
-  std::vector<std::uint8_t> flip(triangleCount, 0);
+  // Components across mates.
   mesh.component.assign(triangleCount, kNoMate);
   std::deque<std::uint32_t> queue;
-  std::vector<double> flippedArea, keptArea;
-  std::vector<double> area(triangleCount);
-  for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    const TriangleIndices& tri = input[t];
-    area[t] = 0.5 * (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]).norm();
-  }
   for (std::uint32_t root = 0; root < triangleCount; ++root) {
     if (mesh.component[root] != kNoMate) continue;
     const std::uint32_t id = mesh.componentCount++;
-    flippedArea.push_back(0.0);
-    keptArea.push_back(0.0);
     mesh.component[root] = id;
     queue.push_back(root);
     while (!queue.empty()) {
       const std::uint32_t t = queue.front();
       queue.pop_front();
-      (flip[t] ? flippedArea : keptArea)[id] += area[t];
       for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t other = pairedWith[3 * t + k];
-        if (other == kNoMate) continue;
-        const std::uint32_t neighbour = other / 3;
-        const std::uint8_t wanted = flip[t] ^ (sameDirection[3 * t + k] ? 1 : 0);
-        if (mesh.component[neighbour] == kNoMate) {
-          mesh.component[neighbour] = id;
-          flip[neighbour] = wanted;
-          queue.push_back(neighbour);
-        }
+        const std::uint32_t other = mesh.mate[3 * t + k];
+        if (other == kNoMate || mesh.component[other / 3] != kNoMate) continue;
+        mesh.component[other / 3] = id;
+        queue.push_back(other / 3);
       }
     }
-  }
-  for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    if (flippedArea[mesh.component[t]] > keptArea[mesh.component[t]]) flip[t] ^= 1;
-  }
-  // An inside-out mesh (negative signed volume about its box centre) is turned right side out.
-  {
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector3d high = -low;
-    for (const TriangleIndices& tri : input) {
-      for (const std::uint32_t corner : tri) {
-        low = low.cwiseMin(p[corner]);
-        high = high.cwiseMax(p[corner]);
-      }
-    }
-    const Eigen::Vector3d centre = 0.5 * (low + high);
-    double volume = 0.0;
-    for (std::uint32_t t = 0; t < triangleCount; ++t) {
-      const TriangleIndices& tri = input[t];
-      const double det = (p[tri[0]] - centre).dot((p[tri[1]] - centre).cross(p[tri[2]] - centre));
-      volume += flip[t] ? -det : det;
-    }
-    if (volume < 0.0) {
-      for (std::uint8_t& f : flip) f ^= 1;
-    }
-  }
-
-  // The repaired triangles and their mates.
-  mesh.triangles.resize(triangleCount);
-  for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    const TriangleIndices& tri = input[t];
-    mesh.triangles[t] = flip[t] ? TriangleIndices{tri[0], tri[2], tri[1]} : tri;
-    if (flip[t]) ++mesh.reorientedTriangles;
-  }
-  const auto repairedSide = [&flip](std::uint32_t halfEdge) {
-    const std::uint32_t t = halfEdge / 3;
-    const std::uint32_t k = halfEdge % 3;
-    return 3 * t + (flip[t] ? flippedSide(k) : k);
-  };
-  mesh.mate.assign(3 * std::size_t{triangleCount}, kNoMate);
-  mesh.consistentlyOriented = true;
-  for (std::uint32_t h = 0; h < pairedWith.size(); ++h) {
-    const std::uint32_t other = pairedWith[h];
-    if (other == kNoMate) continue;
-    const bool same = sameDirection[h] != (flip[h / 3] != flip[other / 3]);
-    if (same) {
-      mesh.consistentlyOriented = false;  // a non-orientable component
-      continue;
-    }
-    mesh.mate[repairedSide(h)] = repairedSide(other);
-  }
-
-  // Watertight: every undirected edge traversed equally often each way (after repair).
-  mesh.watertight = triangleCount > 0;
-  for (std::size_t i = 0; i < keys.size() && mesh.watertight;) {
-    std::size_t j = i;
-    long balance = 0;
-    for (; j < keys.size() && keys[j].edge == keys[i].edge; ++j) {
-      const bool forward = keys[j].forward != (flip[keys[j].halfEdge / 3] != 0);
-      balance += forward ? 1 : -1;
-    }
-    if (balance != 0) mesh.watertight = false;
-    i = j;
   }
 
   // Face normals.
@@ -251,7 +344,7 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
       if (degree == 0) continue;
       bool usable = true;
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (std::uint32_t i = start[v]; i < start[v + 1] && usable; ++i) {
+      for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
         const std::uint32_t t = corners[i] / 3;
         const std::uint32_t k = corners[i] % 3;
         if (mesh.degenerate[t]) {
@@ -261,14 +354,14 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
         const TriangleIndices& tri = mesh.triangles[t];
         const Eigen::Vector3d e1 = (p[tri[(k + 1) % 3]] - p[tri[k]]).normalized();
         const Eigen::Vector3d e2 = (p[tri[(k + 2) % 3]] - p[tri[k]]).normalized();
-        const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-        sum += angle * mesh.faceNormal[t];
+        sum += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * mesh.faceNormal[t];
       }
       // One closed fan: walking across the mates from the first corner returns to it after
       // visiting every incident triangle.
-      std::uint32_t halfEdge = corners[start[v]];  // leaves v in its triangle
+      const std::uint32_t first = corners[start[v]];  // leaves v in its triangle
+      std::uint32_t halfEdge = first;
       std::uint32_t steps = 0;
-      while (usable) {
+      while (usable && steps <= degree) {
         const std::uint32_t other = mesh.mate[halfEdge];
         if (other == kNoMate) {
           usable = false;
@@ -277,9 +370,9 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
         // `other` arrives at v; the next half-edge of its triangle leaves v.
         halfEdge = 3 * (other / 3) + (other % 3 + 1) % 3;
         ++steps;
-        if (halfEdge == corners[start[v]] || steps > degree) break;
+        if (halfEdge == first) break;
       }
-      if (usable && steps == degree && halfEdge == corners[start[v]]) mesh.vertexNormal[v] = sum;
+      if (usable && steps == degree && halfEdge == first) mesh.vertexNormal[v] = sum;
     }
   });
   return mesh;

@@ -102,6 +102,52 @@ class Builder {
 
 }  // namespace
 
+namespace {
+
+double squaredDistanceToBox(const Eigen::Vector3d& q, const TriangleBvh::Node& node) {
+  return (node.low - q).cwiseMax(q - node.high).cwiseMax(Eigen::Vector3d::Zero()).squaredNorm();
+}
+
+}  // namespace
+
+NearestTriangle nearestTriangle(const TriangleBvh& bvh, const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<TriangleIndices>& triangles,
+                                const Eigen::Vector3d& q) {
+  NearestTriangle best;
+  const std::vector<TriangleBvh::Node>& nodes = bvh.nodes();
+  if (nodes.empty()) return best;
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t index = stack[--top];
+    const TriangleBvh::Node& node = nodes[index];
+    if (squaredDistanceToBox(q, node) >= best.squaredDistance) continue;
+    if (node.isLeaf()) {
+      for (std::uint32_t i = node.begin; i < node.end; ++i) {
+        const std::uint32_t t = bvh.order()[i];
+        const TriangleIndices& tri = triangles[t];
+        const TriangleClosestPoint closest =
+            closestPointOnTriangle(q, points[tri[0]], points[tri[1]], points[tri[2]]);
+        const double d2 = (closest.point - q).squaredNorm();
+        if (d2 < best.squaredDistance) best = {t, closest, d2};
+      }
+      continue;
+    }
+    const std::uint32_t left = index + 1;
+    const std::uint32_t right = node.right;
+    // Push the farther child first so that the nearer one is searched first.
+    if (squaredDistanceToBox(q, nodes[left]) <= squaredDistanceToBox(q, nodes[right])) {
+      stack[top++] = right;
+      stack[top++] = left;
+    } else {
+      stack[top++] = left;
+      stack[top++] = right;
+    }
+  }
+  return best;
+}
+
 TriangleBvh::TriangleBvh(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<TriangleIndices>& triangles, std::uint32_t leafSize)
     : leafSize_(std::max<std::uint32_t>(leafSize, 1)) {

@@ -5,7 +5,10 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
+
+#include "d2vdb/field/detail/TriangleClosestPoint.h"
 
 namespace d2vdb::detail {
 
@@ -45,5 +48,19 @@ class TriangleBvh {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;
 };
+
+/// The triangle nearest to a point and its closest point on it.
+struct NearestTriangle {
+  std::uint32_t triangle = std::numeric_limits<std::uint32_t>::max();  ///< none: empty tree
+  TriangleClosestPoint closest;
+  double squaredDistance = std::numeric_limits<double>::infinity();
+};
+
+/// Exact nearest triangle to `q` (branch and bound over the boxes, nearer child first); among
+/// equally near triangles the first found in that fixed order. `points` and `triangles` are
+/// those the tree was built on.
+NearestTriangle nearestTriangle(const TriangleBvh& bvh, const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<TriangleIndices>& triangles,
+                                const Eigen::Vector3d& q);
 
 }  // namespace d2vdb::detail

@@ -15,7 +15,7 @@ enum class TriangleFeature : std::uint8_t { face, edge0, edge1, edge2, vertex0, 
 
 /// The closest point of the triangle to a query and the feature it lies on.
 struct TriangleClosestPoint {
-  Eigen::Vector3d point;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
   TriangleFeature feature = TriangleFeature::face;
 };
 
