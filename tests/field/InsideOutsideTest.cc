@@ -1,0 +1,207 @@
+// The pieces of exact mesh signs: closest points with their feature, the hierarchical winding
+// number and its error bound against brute force, the self-intersection test, and the prepared
+// mesh (welding, orientation repair, caps, pseudonormals).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "d2vdb/field/detail/InsideOutsideMesh.h"
+#include "d2vdb/field/detail/SelfIntersection.h"
+#include "d2vdb/field/detail/TriangleClosestPoint.h"
+#include "d2vdb/field/detail/WindingNumber.h"
+#include "d2vdb/mesh/MeshIO.h"
+#include "field/FieldTestSupport.h"
+#include "field/PolycubeMeshes.h"
+#include "field/WindingNumberReference.h"
+
+namespace d2vdb {
+namespace {
+
+using detail::TriangleFeature;
+using detail::TriangleIndices;
+
+std::vector<Eigen::Vector3d> toDouble(const TriangleMesh& mesh) {
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3f& p : mesh.positions) points.push_back(p.cast<double>());
+  return points;
+}
+
+std::vector<TriangleIndices> toIndices(const TriangleMesh& mesh) {
+  std::vector<TriangleIndices> triangles;
+  for (const TriangleMesh::Triangle& t : mesh.triangles) triangles.push_back({t[0], t[1], t[2]});
+  return triangles;
+}
+
+TEST(InsideOutside, ClosestPointReportsItsFeature) {
+  const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+  const auto at = [&](double x, double y, double z) {
+    return detail::closestPointOnTriangle(Eigen::Vector3d(x, y, z), a, b, c);
+  };
+  EXPECT_EQ(at(0.5, 0.5, 1).feature, TriangleFeature::face);
+  EXPECT_TRUE(at(0.5, 0.5, 1).point.isApprox(Eigen::Vector3d(0.5, 0.5, 0)));
+  EXPECT_EQ(at(1, -1, 0.3).feature, TriangleFeature::edge0);   // below ab
+  EXPECT_EQ(at(1.5, 1.5, 0).feature, TriangleFeature::edge1);  // beyond bc
+  EXPECT_TRUE(at(1.5, 1.5, 0).point.isApprox(Eigen::Vector3d(1, 1, 0)));
+  EXPECT_EQ(at(-1, 1, 0).feature, TriangleFeature::edge2);
+  EXPECT_EQ(at(-1, -1, 5).feature, TriangleFeature::vertex0);
+  EXPECT_EQ(at(3, -1, 0).feature, TriangleFeature::vertex1);
+  EXPECT_EQ(at(-0.5, 3, 0).feature, TriangleFeature::vertex2);
+  // A flat triangle: the nearest of its sides.
+  const detail::TriangleClosestPoint flat = detail::closestPointOnTriangle(
+      Eigen::Vector3d(1, 1, 0), a, Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(4, 0, 0));
+  EXPECT_NEAR((flat.point - Eigen::Vector3d(1, 0, 0)).norm(), 0.0, 1e-12);
+}
+
+TEST(InsideOutside, HierarchicalWindingNumberStaysWithinItsBound) {
+  // The bunny, at 256 voxels across, queried near and far from its surface.
+  const TriangleMesh bunny =
+      readMesh(std::filesystem::path(D2VDB_SOURCE_DIR) / "volumes" / "bunny.obj");
+  std::vector<Eigen::Vector3d> points = toDouble(bunny);
+  for (Eigen::Vector3d& p : points) p *= 16.0;
+  const std::vector<TriangleIndices> triangles = toIndices(bunny);
+  const detail::WindingNumberField field(points, triangles);
+  std::mt19937 random(5);
+  double largestError = 0.0;
+  int insideCount = 0;
+  for (int n = 0; n < 400; ++n) {
+    const Eigen::Vector3d& vertex = points[random() % points.size()];
+    const double reach = n < 300 ? 3.0 : 60.0;
+    const Eigen::Vector3d q = vertex + Eigen::Vector3d(test::uniform(random, -reach, reach),
+                                                       test::uniform(random, -reach, reach),
+                                                       test::uniform(random, -reach, reach));
+    const double exact = field.exact(q);
+    // A closed mesh: an integer away from the surface.
+    ASSERT_NEAR(exact, std::round(exact), 1e-6);
+    insideCount += std::lround(exact) == 1;
+    for (const double beta : {2.0, 3.0, 6.0}) {
+      const detail::WindingNumberField::Estimate e = field.estimate(q, beta);
+      EXPECT_LE(std::abs(e.value - exact), e.errorBound) << "beta " << beta;
+      if (beta == 2.0) largestError = std::max(largestError, std::abs(e.value - exact));
+    }
+    EXPECT_EQ(field.integerValue(q), std::lround(exact));
+    EXPECT_EQ(field.atLeastHalf(q), exact >= 0.5);
+  }
+  EXPECT_GT(insideCount, 50);
+  // Barill et al.'s accuracy at beta = 2 (second order): small against the 1/2 that matters.
+  EXPECT_LT(largestError, 0.01);
+  // Excluding a face: W of the rest at its centroid is W in front + 1/2.
+  const TriangleIndices& face = triangles[100];
+  const Eigen::Vector3d centroid = (points[face[0]] + points[face[1]] + points[face[2]]) / 3.0;
+  EXPECT_NEAR(field.exact(centroid, 100), 0.5, 1e-9);
+}
+
+TEST(InsideOutside, SelfIntersectionTestCases) {
+  std::vector<Eigen::Vector3d> p = {
+      {0, 0, 0},      {2, 0, 0},     {0, 2, 0},   // 0-2: in z = 0
+      {0.5, 0.5, -1}, {0.5, 0.5, 1}, {3, 3, 0},   // 3-5: pierces the first
+      {5, 5, 5},      {6, 5, 5},     {5, 6, 5},   // 6-8: far away
+      {1, 1, 0},      {3, 1, 1},     {3, 1, -1},  // 9-11: touches the first at a point of its edge
+      {0.5, 0.2, 0},  {1.5, 0.2, 0}, {0.5, 1.2, 0},  // 12-14: coplanar, overlapping
+      {-1, 0, 0},     {-2, 0, 0},    {-1.5, -1, 0},  // 15-17: coplanar, disjoint, edges collinear
+      {1, 1, 0.5},    {2, -1, 0}};                   // 18, 19
+  const double tolerance = 1e-9;
+  const auto meet = [&](TriangleIndices a, TriangleIndices b) {
+    return detail::trianglesIntersect(p, a, b, tolerance);
+  };
+  EXPECT_TRUE(meet({0, 1, 2}, {3, 4, 5}));
+  EXPECT_FALSE(meet({0, 1, 2}, {6, 7, 8}));
+  EXPECT_TRUE(meet({0, 1, 2}, {9, 10, 11}));
+  EXPECT_TRUE(meet({0, 1, 2}, {12, 13, 14}));
+  EXPECT_FALSE(meet({0, 1, 2}, {15, 16, 17}));
+  // Sharing an edge: only a flat fold meets elsewhere.
+  EXPECT_FALSE(meet({0, 1, 2}, {1, 0, 19}));  // the neighbour across edge 01, flat, other side
+  EXPECT_TRUE(meet({0, 1, 2}, {1, 0, 12}));   // folded onto the first
+  EXPECT_FALSE(meet({0, 1, 2}, {1, 0, 18}));  // a proper dihedral angle
+  // Sharing a corner: only when one runs into the other.
+  EXPECT_FALSE(meet({0, 1, 2}, {0, 15, 17}));  // coplanar, the next sector
+  EXPECT_TRUE(meet({0, 1, 2}, {0, 13, 14}));   // coplanar, inside its angle
+  EXPECT_TRUE(meet({0, 1, 2}, {0, 3, 18}));    // crosses it
+  EXPECT_TRUE(meet({0, 1, 2}, {0, 1, 2}));     // the same triangle twice
+  // A long chain of collinear coplanar edges (as midpoint subdivision makes) is not an
+  // intersection: the regression that once sent the subdivided bunny down the slow path.
+  std::vector<Eigen::Vector3d> chain;
+  for (int i = 0; i < 4; ++i) {
+    chain.push_back(Eigen::Vector3d(1000.0 + 7.3 * i, 300.0 + 2.1 * i, -11.0 - 4.4 * i));
+    chain.push_back(chain.back() + Eigen::Vector3d(0.9, -4.0, 2.0));
+  }
+  EXPECT_FALSE(detail::trianglesIntersect(chain, {0, 2, 1}, {4, 6, 5}, 1e-7));
+  // Whole meshes: a jittered polycube does not intersect itself; two overlapping copies do.
+  test::PolycubeSpec spec;
+  spec.genus = 2;
+  spec.seed = 9;
+  const TriangleMesh polycube = test::makePolycubeMesh(spec);
+  const detail::InsideOutsideMesh single =
+      detail::prepareInsideOutsideMesh(toDouble(polycube), toIndices(polycube));
+  const detail::TriangleBvh bvh(single.points, single.triangles);
+  EXPECT_FALSE(
+      detail::hasSelfIntersection(single.points, single.triangles, single.degenerate, bvh, 1e-9));
+  TriangleMesh doubled = polycube;
+  const auto offset = static_cast<TriangleMesh::Index>(doubled.positions.size());
+  for (const Eigen::Vector3f& q : polycube.positions) {
+    doubled.positions.push_back(q + Eigen::Vector3f(0.3f, 0.2f, 0.1f));
+  }
+  for (TriangleMesh::Triangle t : polycube.triangles) {
+    for (TriangleMesh::Index& v : t) v += offset;
+    doubled.triangles.push_back(t);
+  }
+  const detail::InsideOutsideMesh pair =
+      detail::prepareInsideOutsideMesh(toDouble(doubled), toIndices(doubled));
+  const detail::TriangleBvh pairBvh(pair.points, pair.triangles);
+  EXPECT_TRUE(
+      detail::hasSelfIntersection(pair.points, pair.triangles, pair.degenerate, pairBvh, 1e-9));
+}
+
+TEST(InsideOutside, PreparedMeshIsRepairedAndCapped) {
+  TriangleMesh sphere = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
+  // Unweld one vertex (a seam), flip two triangles, cut two holes.
+  const TriangleMesh::Index seam = sphere.triangles[10][0];
+  sphere.positions.push_back(sphere.positions[seam]);
+  sphere.triangles[10][0] = static_cast<TriangleMesh::Index>(sphere.positions.size() - 1);
+  std::swap(sphere.triangles[50][1], sphere.triangles[50][2]);
+  std::swap(sphere.triangles[51][1], sphere.triangles[51][2]);
+  sphere.triangles.erase(sphere.triangles.begin() + 200);
+  sphere.triangles.erase(sphere.triangles.begin() + 100);
+  const detail::InsideOutsideMesh mesh =
+      detail::prepareInsideOutsideMesh(toDouble(sphere), toIndices(sphere));
+  EXPECT_EQ(mesh.reorientedTriangles, 2u);
+  EXPECT_FALSE(mesh.watertight);
+  EXPECT_EQ(mesh.capLoops, 2u);
+  EXPECT_EQ(mesh.boundaryEdges, 6u);
+  EXPECT_EQ(mesh.caps.size(), 6u);
+  EXPECT_EQ(mesh.meshTriangleCount, sphere.triangles.size());
+  EXPECT_EQ(mesh.componentCount, 1u);  // M + S is one closed surface
+  // Every edge of M + S has a mate running the other way.
+  for (std::size_t h = 0; h < mesh.mate.size(); ++h) {
+    ASSERT_NE(mesh.mate[h], detail::InsideOutsideMesh::kNoMate) << h;
+    EXPECT_EQ(mesh.mate[mesh.mate[h]], h);
+  }
+  // W of M + S is 1 at the centre, 0 far away; the caps' own is small at the centre.
+  const detail::WindingNumberField closed(mesh.points, mesh.triangles);
+  EXPECT_EQ(closed.integerValue(Eigen::Vector3d(0.1, 0.2, 0.3)), 1);
+  EXPECT_EQ(closed.integerValue(Eigen::Vector3d(5, 5, 5)), 0);
+  // The pseudonormal side test: outside points in front, inside points behind.
+  for (const Eigen::Vector3d& q : {Eigen::Vector3d(1.3, 0.2, 0.3), Eigen::Vector3d(0.1, 0.2, -0.5),
+                                   Eigen::Vector3d(0.8, 0.8, 0.9)}) {
+    const bool inside = (q - Eigen::Vector3d(0.1, 0.2, 0.3)).norm() < 0.9;
+    double best = std::numeric_limits<double>::infinity();
+    std::uint32_t nearest = 0;
+    detail::TriangleClosestPoint closest;
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+      const TriangleIndices& tri = mesh.triangles[t];
+      const detail::TriangleClosestPoint c = detail::closestPointOnTriangle(
+          q, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
+      if ((c.point - q).norm() < best) {
+        best = (c.point - q).norm();
+        nearest = t;
+        closest = c;
+      }
+    }
+    EXPECT_EQ(mesh.side(nearest, closest, q),
+              inside ? detail::SurfaceSide::back : detail::SurfaceSide::front);
+  }
+}
+
+}  // namespace
+}  // namespace d2vdb
