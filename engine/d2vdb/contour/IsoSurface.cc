@@ -44,6 +44,7 @@
 
 #include "d2vdb/contour/detail/CubeTables.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 
 namespace d2vdb {
 namespace {
@@ -581,13 +582,8 @@ void forBlocks(std::size_t count, const char* stage, const ProgressCallback& pro
   }
 }
 
-/// `value` with six significant digits, for messages.
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
+/// Messages show numbers with six significant digits.
+constexpr int kDigits = 6;
 
 /// One extraction: collects the blocks, runs the two passes and owns the mesh being written.
 template <typename GridT>
@@ -670,7 +666,7 @@ class Extractor {
   /// Throws the InputError for an iso-value the band cannot represent (`gapEdges` edges where
   /// the surface leaves the visited cells, 0 when found from the level set's background).
   [[noreturn]] void throwOutsideBand(std::uint64_t gapEdges) const {
-    std::string message = "iso-value " + formatNumber(options_.isoValue) +
+    std::string message = "iso-value " + formatNumber(options_.isoValue, kDigits) +
                           " lies outside what the grid's narrow band can represent";
     if (gapEdges > 0) {
       message += ": the iso-surface leaves the stored band at " + std::to_string(gapEdges) +
@@ -679,15 +675,15 @@ class Extractor {
     if (isLevelSet()) {
       const double limit = levelSetLimit();
       message += (gapEdges > 0 ? "; this" : ": this") + std::string(" level set (background ") +
-                 formatNumber(static_cast<double>(grid_.background())) + ", voxel size " +
-                 formatNumber(grid_.voxelSize()[0]) +
+                 formatNumber(static_cast<double>(grid_.background()), kDigits) + ", voxel size " +
+                 formatNumber(grid_.voxelSize()[0], kDigits) +
                  ") holds iso-surfaces for |iso| up to about " +
-                 formatNumber(std::max(0.0, limit)) +
+                 formatNumber(std::max(0.0, limit), kDigits) +
                  " (background minus one voxel, so that both ends of every crossed edge hold "
                  "stored distances)";
       if (std::abs(options_.isoValue) > limit) {
         message += ", which this iso-value exceeds by " +
-                   formatNumber(std::abs(options_.isoValue) - std::max(0.0, limit));
+                   formatNumber(std::abs(options_.isoValue) - std::max(0.0, limit), kDigits);
       }
       message += "; rebuild the level set with a wider band (--half-width)";
     }

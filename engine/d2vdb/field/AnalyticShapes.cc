@@ -5,29 +5,19 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 
 namespace d2vdb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out.precision(9);
-  out << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
-  return out.str();
-}
-
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(9);
-  out << value;
-  return out.str();
-}
+// Messages show shapes with 9 significant digits.
+constexpr int kDigits = 9;
 
 void requireFinitePoint(const Eigen::Vector3d& p, const char* shape, const char* what) {
   if (!p.allFinite()) {
-    throw InputError(std::string(shape) + ": the " + what + " " + formatPoint(p) +
+    throw InputError(std::string(shape) + ": the " + what + " " + formatPoint(p, kDigits) +
                      " is not finite; give finite coordinates");
   }
 }
@@ -35,7 +25,7 @@ void requireFinitePoint(const Eigen::Vector3d& p, const char* shape, const char*
 void requirePositive(double value, const char* shape, const char* what) {
   if (!std::isfinite(value) || !(value > 0.0)) {
     throw InputError(std::string(shape) + ": the " + what +
-                     " must be a finite positive number, got " + formatNumber(value));
+                     " must be a finite positive number, got " + formatNumber(value, kDigits));
   }
 }
 
@@ -70,7 +60,8 @@ double Sphere::surfaceArea() const {
 }
 
 std::string Sphere::describe() const {
-  return "sphere(centre " + formatPoint(centre_) + ", radius " + formatNumber(radius_) + ")";
+  return "sphere(centre " + formatPoint(centre_, kDigits) + ", radius " +
+         formatNumber(radius_, kDigits) + ")";
 }
 
 SurfacePoint Sphere::closestSurfacePoint(const Eigen::Vector3d& point) const {
@@ -94,8 +85,8 @@ Box::Box(const Eigen::Vector3d& min, const Eigen::Vector3d& max) : min_(min), ma
   requireFinitePoint(min, "box", "minimum corner");
   requireFinitePoint(max, "box", "maximum corner");
   if (!(min.array() < max.array()).all()) {
-    throw InputError("box: the minimum corner " + formatPoint(min) +
-                     " must be below the maximum corner " + formatPoint(max) +
+    throw InputError("box: the minimum corner " + formatPoint(min, kDigits) +
+                     " must be below the maximum corner " + formatPoint(max, kDigits) +
                      " in every coordinate");
   }
 }
@@ -120,7 +111,7 @@ double Box::surfaceArea() const {
 }
 
 std::string Box::describe() const {
-  return "box(min " + formatPoint(min_) + ", max " + formatPoint(max_) + ")";
+  return "box(min " + formatPoint(min_, kDigits) + ", max " + formatPoint(max_, kDigits) + ")";
 }
 
 // ----------------------------------------------------------------------------------------- Torus
@@ -131,9 +122,9 @@ Torus::Torus(const Eigen::Vector3d& centre, double majorRadius, double minorRadi
   requirePositive(majorRadius, "torus", "major radius");
   requirePositive(minorRadius, "torus", "minor radius");
   if (!(minorRadius < majorRadius)) {
-    throw InputError("torus: the minor radius " + formatNumber(minorRadius) +
-                     " must be smaller than the major radius " + formatNumber(majorRadius) +
-                     " (only ring tori are supported)");
+    throw InputError("torus: the minor radius " + formatNumber(minorRadius, kDigits) +
+                     " must be smaller than the major radius " +
+                     formatNumber(majorRadius, kDigits) + " (only ring tori are supported)");
   }
 }
 
@@ -154,8 +145,9 @@ double Torus::surfaceArea() const {
 }
 
 std::string Torus::describe() const {
-  return "torus(centre " + formatPoint(centre_) + ", major radius " + formatNumber(majorRadius_) +
-         ", minor radius " + formatNumber(minorRadius_) + ", axis +z)";
+  return "torus(centre " + formatPoint(centre_, kDigits) + ", major radius " +
+         formatNumber(majorRadius_, kDigits) + ", minor radius " +
+         formatNumber(minorRadius_, kDigits) + ", axis +z)";
 }
 
 SurfacePoint Torus::closestSurfacePoint(const Eigen::Vector3d& point) const {
@@ -210,8 +202,9 @@ double CappedCylinder::surfaceArea() const {
 }
 
 std::string CappedCylinder::describe() const {
-  return "capped cylinder(centre " + formatPoint(centre_) + ", radius " + formatNumber(radius_) +
-         ", height " + formatNumber(height_) + ", axis +z)";
+  return "capped cylinder(centre " + formatPoint(centre_, kDigits) + ", radius " +
+         formatNumber(radius_, kDigits) + ", height " + formatNumber(height_, kDigits) +
+         ", axis +z)";
 }
 
 }  // namespace d2vdb

@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/detail/FieldStorage.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
@@ -44,16 +45,8 @@ constexpr const char* kCurveEstimator =
     "polyline: nearest segment, curvature from vertex circles)";
 constexpr const char* kPointsEstimator = "exact nearest point (k-d tree) at every voxel centre";
 
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(6);
-  out << value;
-  return out.str();
-}
-
-std::string formatPoint(const Eigen::Vector3d& p) {
-  return "(" + formatNumber(p.x()) + ", " + formatNumber(p.y()) + ", " + formatNumber(p.z()) + ")";
-}
+// Messages show numbers with 6 significant digits.
+constexpr int kDigits = 6;
 
 openvdb::Coord roundToCoord(const Eigen::Vector3d& p) {
   return openvdb::Coord(nearestInt(p.x()), nearestInt(p.y()), nearestInt(p.z()));
@@ -62,19 +55,19 @@ openvdb::Coord roundToCoord(const Eigen::Vector3d& p) {
 void checkBandParameters(double voxelSize, double halfWidth, const char* what) {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
     throw InputError(std::string(what) + ": the voxel size must be a positive finite number, not " +
-                     formatNumber(voxelSize));
+                     formatNumber(voxelSize, kDigits));
   }
   if (!(halfWidth >= 1.0) || !std::isfinite(halfWidth) || halfWidth > 64.0) {
     throw InputError(std::string(what) +
                      ": the band half-width must be between 1 and 64 voxels, "
                      "not " +
-                     formatNumber(halfWidth));
+                     formatNumber(halfWidth, kDigits));
   }
 }
 
 void checkBudget(double estimate, std::uint64_t limit, const std::string& what) {
   if (estimate > static_cast<double>(limit)) {
-    throw InputError(what + " would need about " + formatNumber(estimate) +
+    throw InputError(what + " would need about " + formatNumber(estimate, kDigits) +
                      " active voxels, above the limit of " + std::to_string(limit) +
                      "; use a larger voxel size or a narrower band");
   }
@@ -91,13 +84,6 @@ struct PointCloud {
   }
 };
 
-/// A unit vector orthogonal to `v`, deterministic.
-Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& v) {
-  const Eigen::Vector3d axis =
-      std::abs(v.x()) < 0.6 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  return axis.cross(v).normalized();
-}
-
 /// Moves an approximant taken at a voxel centre to the nearby query point x (world), to first
 /// order in x - origin: the distance changes by the normal component, the footpoint slides by the
 /// tangential components divided by 1 + d k_i, and the normal turns with it; curvatures stay.
@@ -110,7 +96,7 @@ void transportTo(Approximant& a, const Eigen::Vector3d& x) {
     a.distance = offset.norm();
     if (a.distance > 0.0) a.normal = offset / a.distance;
     Eigen::Vector3d t = a.tangent - a.tangent.dot(a.normal) * a.normal;
-    a.tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : orthogonalTo(a.normal);
+    a.tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : a.normal.unitOrthogonal();
     return;
   }
   if (a.kind == TargetKind::Curve) {
@@ -121,12 +107,12 @@ void transportTo(Approximant& a, const Eigen::Vector3d& x) {
     if (a.distance > 1e-12 * std::max(1.0, x.cwiseAbs().maxCoeff())) {
       a.normal = offset / a.distance;
       Eigen::Vector3d t = a.tangent - a.tangent.dot(a.normal) * a.normal;
-      a.tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : orthogonalTo(a.normal);
+      a.tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : a.normal.unitOrthogonal();
     }
     if (a.k1 > 0.0) {
       Eigen::Vector3d n = a.principalNormal - a.principalNormal.dot(a.tangent) * a.tangent;
       a.principalNormal =
-          n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : orthogonalTo(a.tangent);
+          n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : a.tangent.unitOrthogonal();
     }
     return;
   }
@@ -138,7 +124,7 @@ void transportTo(Approximant& a, const Eigen::Vector3d& x) {
     const Eigen::Vector3d normal =
         (a.normal + a.k1 * t1 / f1 * a.tangent + a.k2 * t2 / f2 * e2).normalized();
     Eigen::Vector3d e1 = a.tangent - a.tangent.dot(normal) * normal;
-    a.tangent = e1.norm() > 1e-9 ? Eigen::Vector3d(e1.normalized()) : orthogonalTo(normal);
+    a.tangent = e1.norm() > 1e-9 ? Eigen::Vector3d(e1.normalized()) : normal.unitOrthogonal();
     a.normal = normal;
     a.distance = (x - a.footpoint).dot(a.normal);
   } else {
@@ -389,7 +375,7 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
   const double halfWidth =
       std::abs(static_cast<double>(levelSet->background())) / frame.voxelSize();
   if (!(halfWidth >= 2.0 - 1e-6)) {
-    throw InputError(source + " has a band half-width of " + formatNumber(halfWidth) +
+    throw InputError(source + " has a band half-width of " + formatNumber(halfWidth, kDigits) +
                      " voxels (background / voxel size); the curvature estimator needs at least 2;"
                      " rebuild it with --half-width 3");
   }
@@ -529,7 +515,7 @@ double ApproximantField::resolution() const {
 std::string ApproximantField::describe() const {
   return std::string(targetKindName(storage_->kind())) + " field (" +
          std::to_string(storage_->records().size()) + " band voxels, voxel size " +
-         formatNumber(storage_->voxelSize()) + ") of " + storage_->label();
+         formatNumber(storage_->voxelSize(), kDigits) + ") of " + storage_->label();
 }
 
 ApproximantField::Accessor::Accessor(const ApproximantField& field)
@@ -540,9 +526,9 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
   if (!point.allFinite()) throw InputError("field query: the point is not finite");
   if (!storage.domain().contains(point)) {
     const double outside = std::sqrt(storage.domain().squaredExteriorDistance(point));
-    throw InputError("the point " + formatPoint(point) + " lies " + formatNumber(outside) +
-                     " outside the field's working domain " + formatPoint(storage.domain().min()) +
-                     " to " + formatPoint(storage.domain().max()));
+    throw InputError("the point " + formatPoint(point, kDigits) + " lies " + formatNumber(outside, kDigits) +
+                     " outside the field's working domain " + formatPoint(storage.domain().min(), kDigits) +
+                     " to " + formatPoint(storage.domain().max(), kDigits));
   }
   const Eigen::Vector3d index = storage.frame().worldToIndex(point);
   const auto lookup = [&](int level, const LeafTable& table,
@@ -583,7 +569,7 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
     }
   }
   throw RuntimeFailure("internal error: no level of the field covers the point " +
-                       formatPoint(point) + " inside its domain");
+                       formatPoint(point, kDigits) + " inside its domain");
 }
 
 std::optional<Approximant> ApproximantField::Accessor::bandApproximant(const openvdb::Coord& ijk) {

@@ -9,24 +9,14 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/measure/PointProjection.h"
 
 namespace d2vdb {
 namespace {
 
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out.precision(9);
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return out.str();
-}
-
-/// A unit vector orthogonal to `v` (|v| = 1), chosen deterministically.
-Eigen::Vector3d anyOrthogonal(const Eigen::Vector3d& v) {
-  const Eigen::Vector3d axis =
-      std::abs(v.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  return v.cross(axis).normalized();
-}
+// Messages show points with 9 significant digits.
+constexpr int kDigits = 9;
 
 /// Completes an approximant's direction fields: `normal` from footpoint toward the point (or any
 /// unit vector orthogonal to the tangent when the point lies on the curve).
@@ -37,7 +27,7 @@ void setDirectionToward(Approximant& result, const Eigen::Vector3d& point) {
   if (result.distance > 1e-12 * scale) {
     result.normal = offset / result.distance;
   } else {
-    result.normal = anyOrthogonal(result.tangent);
+    result.normal = result.tangent.unitOrthogonal();
   }
 }
 
@@ -69,8 +59,8 @@ CurveTarget::CurveTarget(const BSplineCurve& curve, double domainPadding)
   bool allEqual = true;
   for (const auto& p : points) allEqual = allEqual && (p - points.front()).norm() == 0.0;
   if (allEqual) {
-    throw InputError("curve target: all control points coincide at " + formatPoint(points.front()) +
-                     "; the curve has no tangent");
+    throw InputError("curve target: all control points coincide at " +
+                     formatPoint(points.front(), kDigits) + "; the curve has no tangent");
   }
   curveBounds_ = projector_->bounds();
   domain_ = paddedDomain(curveBounds_, domainPadding);
@@ -176,9 +166,10 @@ Approximant CurveTarget::approximantAt(const Eigen::Vector3d& point) const {
     const double outside = std::sqrt(domain_.squaredExteriorDistance(point));
     std::ostringstream message;
     message.precision(6);
-    message << "the point " << formatPoint(point) << " lies " << outside
+    message << "the point " << formatPoint(point, kDigits) << " lies " << outside
             << " outside the working domain of the " << describe() << " (box "
-            << formatPoint(domain_.min()) << " to " << formatPoint(domain_.max()) << ")";
+            << formatPoint(domain_.min(), kDigits) << " to " << formatPoint(domain_.max(), kDigits)
+            << ")";
     throw InputError(message.str());
   }
   return approximantAtAnyPoint(point);
@@ -198,7 +189,7 @@ Approximant CurveTarget::splineApproximant(const Eigen::Vector3d& point) const {
   result.footpoint = nearest.point;
   const double speed = derivatives.first.norm();
   result.tangent = speed > 0.0 ? Eigen::Vector3d(derivatives.first / speed)
-                               : anyOrthogonal(Eigen::Vector3d::UnitZ());
+                               : Eigen::Vector3d::UnitY();  // a stationary point: any unit vector
   setDirectionToward(result, point);
   // An end point (or a corner) when the offset is not orthogonal to the tangent.
   if (result.distance > 0.0 && std::abs(result.normal.dot(result.tangent)) > 1e-6) {
@@ -207,7 +198,7 @@ Approximant CurveTarget::splineApproximant(const Eigen::Vector3d& point) const {
     // Keep the frame orthonormal: the tangent is made orthogonal to the normal.
     const Eigen::Vector3d t = result.tangent - result.tangent.dot(result.normal) * result.normal;
     result.tangent =
-        t.norm() > 1e-12 ? Eigen::Vector3d(t.normalized()) : anyOrthogonal(result.normal);
+        t.norm() > 1e-12 ? Eigen::Vector3d(t.normalized()) : result.normal.unitOrthogonal();
   }
   if (speed > 0.0) {
     const Eigen::Vector3d curvatureVector =
@@ -282,7 +273,7 @@ Approximant CurveTarget::polylineApproximant(const Eigen::Vector3d& point) const
     }
     if (result.distance > 0.0) {
       const Eigen::Vector3d t = tangent - tangent.dot(result.normal) * result.normal;
-      tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : anyOrthogonal(result.normal);
+      tangent = t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : result.normal.unitOrthogonal();
       if (isEnd && std::abs(direction.dot(result.normal)) > 1e-6) result.flags |= kFlagEndPoint;
     }
     result.tangent = tangent;

@@ -6,28 +6,21 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/spline/BasisFunctions.h"
-#include "d2vdb/spline/detail/FormatNumber.h"
 
 namespace d2vdb {
 namespace {
-
-using detail::formatNumber;
-
-std::string describePoint(const Eigen::Vector3d& point) {
-  return "(" + formatNumber(point.x()) + ", " + formatNumber(point.y()) + ", " +
-         formatNumber(point.z()) + ")";
-}
 
 void requireValidControlPoints(const std::vector<Eigen::Vector3d>& points, int dimension) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!points[i].allFinite()) {
       throw InputError("B-spline curve: control point " + std::to_string(i) + " " +
-                       describePoint(points[i]) + " is not finite");
+                       formatPoint(points[i]) + " is not finite");
     }
     if (dimension == 2 && points[i].z() != 0.0) {
       throw InputError("B-spline curve: control point " + std::to_string(i) + " " +
-                       describePoint(points[i]) + " has z != 0, but a 2D curve must have z = 0");
+                       formatPoint(points[i]) + " has z != 0, but a 2D curve must have z = 0");
     }
   }
 }

@@ -5,13 +5,11 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/spline/BasisFunctions.h"
-#include "d2vdb/spline/detail/FormatNumber.h"
 
 namespace d2vdb {
 namespace {
-
-using detail::formatNumber;
 
 // The knot vector one surface direction keeps (see BSplineCurve's equivalent): closed directions
 // must be uniform periodic and keep the exact periodic vector.
@@ -38,9 +36,7 @@ void requireFinite(const std::vector<Eigen::Vector3d>& points, int countV) {
       const int i = static_cast<int>(index) / countV;
       const int j = static_cast<int>(index) % countV;
       throw InputError("B-spline surface: control point [" + std::to_string(i) + "][" +
-                       std::to_string(j) + "] (" + formatNumber(points[index].x()) + ", " +
-                       formatNumber(points[index].y()) + ", " + formatNumber(points[index].z()) +
-                       ") is not finite");
+                       std::to_string(j) + "] " + formatPoint(points[index]) + " is not finite");
     }
   }
 }

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/spline/detail/BernsteinAlgorithms.h"
-#include "d2vdb/spline/detail/FormatNumber.h"
 
 namespace d2vdb {
 namespace {
@@ -30,7 +30,7 @@ void requireValidCoefficients(const double* values, std::size_t count) {
   for (std::size_t i = 0; i < count; ++i) {
     if (!std::isfinite(values[i])) {
       throw InputError("Bernstein polynomial: coefficient " + std::to_string(i) + " is " +
-                       detail::formatNumber(values[i]) + " (expected a finite number)");
+                       formatNumber(values[i]) + " (expected a finite number)");
     }
   }
 }
@@ -81,8 +81,7 @@ BernsteinPolynomial::BernsteinPolynomial(const std::vector<double>& coefficients
 BernsteinPolynomial BernsteinPolynomial::constant(double value, int degree) {
   requireBernsteinDegree(degree, "Bernstein polynomial");
   if (!std::isfinite(value)) {
-    throw InputError("Bernstein polynomial: constant " + detail::formatNumber(value) +
-                     " is not finite");
+    throw InputError("Bernstein polynomial: constant " + formatNumber(value) + " is not finite");
   }
   return BernsteinPolynomial(Unchecked{}, Coefficients::Constant(1, degree + 1, value));
 }
@@ -100,8 +99,8 @@ std::pair<BernsteinPolynomial, BernsteinPolynomial> BernsteinPolynomial::subdivi
 
 BernsteinPolynomial BernsteinPolynomial::restricted(double a, double b) const {
   if (!std::isfinite(a) || !std::isfinite(b) || a == b) {
-    throw InputError("Bernstein polynomial: cannot restrict to [" + detail::formatNumber(a) + ", " +
-                     detail::formatNumber(b) + "] (expected finite a != b)");
+    throw InputError("Bernstein polynomial: cannot restrict to [" + formatNumber(a) + ", " +
+                     formatNumber(b) + "] (expected finite a != b)");
   }
   return BernsteinPolynomial(Unchecked{}, detail::restrictTo<1>(coefficients_, a, b));
 }

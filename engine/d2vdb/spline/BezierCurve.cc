@@ -3,8 +3,8 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/spline/detail/BernsteinAlgorithms.h"
-#include "d2vdb/spline/detail/FormatNumber.h"
 
 namespace d2vdb {
 namespace {
@@ -15,10 +15,8 @@ const BezierCurve::ControlPoints& requireValid(const BezierCurve::ControlPoints&
                      std::to_string(kMaxBernsteinDegree + 1) + ")");
   for (Eigen::Index i = 0; i < points.cols(); ++i) {
     if (!points.col(i).allFinite()) {
-      throw InputError("Bézier curve: control point " + std::to_string(i) + " (" +
-                       detail::formatNumber(points(0, i)) + ", " +
-                       detail::formatNumber(points(1, i)) + ", " +
-                       detail::formatNumber(points(2, i)) + ") is not finite");
+      throw InputError("Bézier curve: control point " + std::to_string(i) + " " +
+                       formatPoint(points.col(i)) + " is not finite");
     }
   }
   return points;
@@ -62,8 +60,8 @@ std::pair<BezierCurve, BezierCurve> BezierCurve::subdivide(double t) const {
 
 BezierCurve BezierCurve::restricted(double a, double b) const {
   if (!std::isfinite(a) || !std::isfinite(b) || a == b) {
-    throw InputError("Bézier curve: cannot restrict to [" + detail::formatNumber(a) + ", " +
-                     detail::formatNumber(b) + "] (expected finite a != b)");
+    throw InputError("Bézier curve: cannot restrict to [" + formatNumber(a) + ", " +
+                     formatNumber(b) + "] (expected finite a != b)");
   }
   return BezierCurve(Unchecked{}, detail::restrictTo<3>(controlPoints_, a, b));
 }

@@ -7,12 +7,10 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/spline/detail/FormatNumber.h"
+#include "d2vdb/core/NumberFormat.h"
 
 namespace d2vdb {
 namespace {
-
-using detail::formatNumber;
 
 void requireDegree(int degree) {
   if (degree < 1 || degree > kMaxSplineDegree) {
