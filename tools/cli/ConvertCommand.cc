@@ -4,6 +4,7 @@
 #include <string>
 
 #include "Command.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/VdbFile.h"
 
 namespace d2vdb::cli {
@@ -30,7 +31,10 @@ void addConvertCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
 
   registry.add(command, [args, &options]() {
     const Stopwatch clock;
-    openvdb::FloatGrid::Ptr grid = readLevelSet(args->input, args->gridName);
+    LoadOptions load;
+    load.purpose = "the input of 'd2vdb convert'";
+    load.gridName = args->gridName;
+    const openvdb::FloatGrid::Ptr grid = loadInputAs<LevelSetInput>(args->input, load).floatGrid();
     grid->setName(args->outputName);
     VdbWriteOptions writeOptions;
     writeOptions.blosc = !args->noCompression;

@@ -1,9 +1,6 @@
 // d2vdb field: the squared-distance approximant field of a mesh, a level set, a point set, a
 // B-spline curve or a polyline, written as one .vdb file (FieldFile.h).
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,11 +12,8 @@
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/io/FieldFile.h"
-#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/PolylineFile.h"
-#include "d2vdb/io/SplineJson.h"
-#include "d2vdb/io/VdbFile.h"
-#include "d2vdb/mesh/MeshIO.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -35,24 +29,6 @@ struct Arguments {
   std::uint64_t maxVoxels = kDefaultMaxActiveVoxels;
   bool half = false, noCompression = false;
 };
-
-std::string lowerExtension(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
-// The "type" of a JSON file, or "" when it has none or is not valid JSON (the reader chosen
-// afterwards then reports the problem with its position).
-std::string jsonType(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
-  if (json.is_object() && json.contains("type") && json["type"].is_string()) {
-    return json["type"].get<std::string>();
-  }
-  return "";
-}
 
 // Voxel size for targets whose size the command measures itself (curves, points).
 double chooseVoxelSize(const Arguments& args, const Eigen::AlignedBox3d& bounds,
@@ -75,33 +51,29 @@ struct BuiltField {
 
 BuiltField buildField(const Arguments& args, const ApproximantFieldOptions& fieldOptions,
                       const GlobalOptions& options) {
-  const std::filesystem::path input(args.input);
-  const std::string extension = lowerExtension(input);
-  const ProgressCallback progress = makeProgressPrinter(options);
+  LoadOptions load;
+  load.purpose = "the input of 'd2vdb field'";
+  load.field = fieldOptions;
+  load.progress = makeProgressPrinter(options);
+  LoadedInput input = loadInput(args.input,
+                                {InputKind::Mesh, InputKind::PointSet, InputKind::Field,
+                                 InputKind::Curve, InputKind::Polylines, InputKind::Surface},
+                                load);
   BuiltField built;
-
-  if (extension == ".vdb") {
-    if (args.voxelSize > 0 || args.resolution > 0) {
-      built.warnings.push_back(
-          "--voxel-size and --resolution are ignored for a .vdb input: the "
-          "field keeps the level set's voxels");
+  switch (input.kind()) {
+    case InputKind::Field: {
+      if (args.voxelSize > 0 || args.resolution > 0) {
+        built.warnings.push_back(
+            "--voxel-size and --resolution are ignored for a .vdb input: the "
+            "field keeps the level set's voxels");
+      }
+      FieldInput field = std::move(input).take<FieldInput>();
+      built.inputKind = field.stored ? "field" : "level set";
+      built.field.emplace(std::move(field.field));
+      return built;
     }
-    const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(input);
-    if (isFieldFile(grids)) {
-      // What readField() does, without reading the file a second time.
-      built.inputKind = "field";
-      built.field.emplace(fieldFromGrids(grids, input.string(), fieldOptions, progress));
-    } else {
-      built.inputKind = "level set";
-      built.field.emplace(
-          ApproximantField::fromLevelSet(readLevelSet(input), fieldOptions, progress));
-    }
-    return built;
-  }
-
-  if (extension == ".obj" || extension == ".stl" || extension == ".ply") {
-    const TriangleMesh mesh = readMesh(input);
-    if (!mesh.triangles.empty() || extension != ".ply") {
+    case InputKind::Mesh: {
+      const TriangleMesh mesh = std::move(input).take<MeshInput>().mesh;
       status(options, "read " + args.input + ": " + std::to_string(mesh.vertexCount()) +
                           " vertices, " + std::to_string(mesh.triangleCount()) + " triangles");
       LevelSetOptions levelSet;
@@ -110,52 +82,49 @@ BuiltField buildField(const Arguments& args, const ApproximantFieldOptions& fiel
           args.voxelSize > 0 ? 0 : (args.resolution > 0 ? args.resolution : kDefaultResolution);
       levelSet.halfWidth = args.halfWidth;
       levelSet.maxActiveVoxels = args.maxVoxels;
-      LevelSetResult result = meshToLevelSet(mesh, levelSet, progress);
+      LevelSetResult result = meshToLevelSet(mesh, levelSet, load.progress);
       built.warnings = result.warnings;
       built.inputKind = "mesh";
-      built.field.emplace(ApproximantField::fromLevelSet(result.grid, fieldOptions, progress));
+      built.field.emplace(ApproximantField::fromLevelSet(result.grid, fieldOptions, load.progress));
       return built;
     }
-    // A .ply without faces is a point set.
-  }
-
-  if (extension == ".xyz" || extension == ".ply") {
-    const std::vector<Eigen::Vector3d> points = readPointSet(input);
-    status(options, "read " + args.input + ": " + std::to_string(points.size()) + " points");
-    Eigen::AlignedBox3d bounds;
-    for (const Eigen::Vector3d& point : points) bounds.extend(point);
-    const double voxelSize = chooseVoxelSize(args, bounds, "point set");
-    built.inputKind = "points";
-    built.field.emplace(
-        ApproximantField::fromPoints(points, voxelSize, args.halfWidth, fieldOptions, progress));
-    return built;
-  }
-
-  if (extension == ".json") {
-    const std::string type = jsonType(input);
-    if (type == "bspline_surface") {
+    case InputKind::PointSet: {
+      const std::vector<Eigen::Vector3d> points = std::move(input).take<PointSetInput>().points;
+      status(options, "read " + args.input + ": " + std::to_string(points.size()) + " points");
+      Eigen::AlignedBox3d bounds;
+      for (const Eigen::Vector3d& point : points) bounds.extend(point);
+      const double voxelSize = chooseVoxelSize(args, bounds, "point set");
+      built.inputKind = "points";
+      built.field.emplace(ApproximantField::fromPoints(points, voxelSize, args.halfWidth,
+                                                       fieldOptions, load.progress));
+      return built;
+    }
+    case InputKind::Curve:
+    case InputKind::Polylines: {
+      const std::filesystem::path path = input.path;
+      std::optional<CurveTarget> curve;
+      if (input.kind() == InputKind::Curve) {
+        curve.emplace(std::move(input).take<BSplineCurve>(), args.padding);
+        built.inputKind = "curve";
+      } else {
+        curve.emplace(onlyPolyline(std::move(input).take<PolylinesInput>().polylines, path),
+                      args.padding);
+        built.inputKind = "polyline";
+      }
+      curve->setLabel(path.filename().string());
+      const double voxelSize = chooseVoxelSize(args, curve->curveBounds(), "curve");
+      built.field.emplace(ApproximantField::fromCurve(*curve, voxelSize, args.halfWidth,
+                                                      fieldOptions, load.progress));
+      return built;
+    }
+    case InputKind::Surface:
       throw InputError("'" + args.input +
                        "' is a B-spline surface; fields are built for curves, point sets and "
                        "closed surfaces given as meshes or level sets (tessellate it first)");
-    }
-    std::optional<CurveTarget> curve;
-    if (type == "bspline_curve") {
-      curve.emplace(readCurveJson(input), args.padding);
-      built.inputKind = "curve";
-    } else {
-      curve.emplace(readPolyline(input), args.padding);
-      built.inputKind = "polyline";
-    }
-    curve->setLabel(input.filename().string());
-    const double voxelSize = chooseVoxelSize(args, curve->curveBounds(), "curve");
-    built.field.emplace(
-        ApproximantField::fromCurve(*curve, voxelSize, args.halfWidth, fieldOptions, progress));
-    return built;
+    default:
+      break;
   }
-
-  throw InputError("cannot tell what '" + args.input + "' is from its extension '" + extension +
-                   "'; 'd2vdb field' reads meshes (.obj, .ply, .stl), level sets (.vdb), point "
-                   "sets (.xyz, .ply without faces), B-spline curves and polylines (.json)");
+  throw RuntimeFailure("d2vdb field: input kind without a field");
 }
 
 }  // namespace

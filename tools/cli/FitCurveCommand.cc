@@ -23,20 +23,12 @@
 #include "d2vdb/fit/InitialCurve.h"
 #include "d2vdb/fit/OffsetTarget.h"
 #include "d2vdb/fit/PointCloudFitter.h"
-#include "d2vdb/io/FieldFile.h"
-#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/PolylineFile.h"
 #include "d2vdb/io/SplineJson.h"
 
 namespace d2vdb::cli {
 namespace {
-
-std::string lowerExtension(const std::string& file) {
-  std::string extension = std::filesystem::path(file).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 // What --target named, loaded.
 struct LoadedTarget {
@@ -52,32 +44,23 @@ struct LoadedTarget {
   }
 };
 
-// A JSON target is a B-spline curve or a polyline (or slice) file, told apart by "type".
-bool isSplineCurveFile(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError("cannot open target file '" + file + "'; check the path");
-  std::stringstream text;
-  text << in.rdbuf();
-  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, false);
-  if (document.is_discarded()) {
-    throw InputError("target file '" + file + "' is not valid JSON");
-  }
-  return document.is_object() && document.value("type", "") == "bspline_curve";
-}
-
 LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
+  LoadOptions load;
+  load.purpose = "the target of 'd2vdb fit-curve'";
+  load.progress = makeProgressPrinter(options);
+  LoadedInput input = loadInput(
+      file, {InputKind::Curve, InputKind::Polylines, InputKind::PointSet, InputKind::Field}, load);
   LoadedTarget loaded;
-  const std::string extension = lowerExtension(file);
-  if (extension == ".json") {
+  if (input.kind() == InputKind::Curve || input.kind() == InputKind::Polylines) {
     std::unique_ptr<CurveTarget> curve;
-    if (isSplineCurveFile(file)) {
-      const BSplineCurve spline = readCurveJson(file);
+    if (input.kind() == InputKind::Curve) {
+      const BSplineCurve spline = std::move(input).take<BSplineCurve>();
       loaded.kind = "curve";
       loaded.closed = spline.isClosed();
       loaded.dimension = spline.dimension();
       curve = std::make_unique<CurveTarget>(spline);
     } else {
-      Polyline polyline = readPolyline(file);
+      Polyline polyline = onlyPolyline(std::move(input).take<PolylinesInput>().polylines, file);
       loaded.kind = "polyline";
       loaded.closed = polyline.closed;
       loaded.dimension = polyline.dimension;
@@ -86,22 +69,17 @@ LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOpti
     curve->setLabel(file);
     loaded.points = curve->samplePoints(curve->length() / 2000.0);
     loaded.target = std::move(curve);
-  } else if (extension == ".xyz" || extension == ".ply") {
+  } else if (input.kind() == InputKind::PointSet) {
     loaded.kind = "points";
-    loaded.points = readPointSet(file);
+    loaded.points = std::move(input).take<PointSetInput>().points;
     loaded.dimension = std::all_of(loaded.points.begin(), loaded.points.end(),
                                    [](const Eigen::Vector3d& p) { return p.z() == 0.0; })
                            ? 2
                            : 3;
-  } else if (extension == ".vdb") {
-    loaded.kind = "field";
-    loaded.target = std::make_unique<ApproximantField>(
-        readField(file, ApproximantFieldOptions{}, makeProgressPrinter(options)));
-    loaded.dimension = 3;
   } else {
-    throw InputError("target file '" + file +
-                     "' has an unsupported extension; use a curve or polyline .json, a point "
-                     "cloud .xyz/.ply or a distance field .vdb");
+    loaded.kind = "field";
+    loaded.target = std::make_unique<ApproximantField>(std::move(input).take<FieldInput>().field);
+    loaded.dimension = 3;
   }
   if (offset != 0.0) {
     if (!loaded.target || loaded.target->kind() != TargetKind::Curve) {
@@ -143,7 +121,9 @@ BSplineCurve initialCurve(const Arguments& args, const LoadedTarget& target) {
         target.points, init == "circle" ? InitialShape::Circle : InitialShape::Ellipse, args.degree,
         args.controlPoints, target.dimension, 1.2 + 2.0 * std::abs(args.offset) / extent);
   }
-  return readCurveJson(init);
+  LoadOptions load;
+  load.purpose = "the initial curve (--init)";
+  return loadInputAs<BSplineCurve>(init, load);
 }
 
 CurveFitResult runFit(const BSplineCurve& initial, const LoadedTarget& target,

@@ -8,7 +8,7 @@
 
 #include "Command.h"
 #include "d2vdb/core/AtomicFile.h"
-#include "d2vdb/io/SplineJson.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/measure/CurveHausdorff.h"
 
 namespace d2vdb::cli {
@@ -146,8 +146,10 @@ void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions
 
   registry.add(command, [args, &options]() {
     const Stopwatch clock;
-    const BSplineCurve a = readCurveJson(args->a);
-    const BSplineCurve b = readCurveJson(args->b);
+    LoadOptions load;
+    load.purpose = "each curve given to 'd2vdb hausdorff'";
+    const BSplineCurve a = loadInputAs<BSplineCurve>(args->a, load);
+    const BSplineCurve b = loadInputAs<BSplineCurve>(args->b, load);
     HausdorffDistance result;
     if (args->oneSided) {
       result.aToB = oneSidedHausdorff(a, b, args->hausdorff);

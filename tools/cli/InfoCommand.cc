@@ -1,7 +1,5 @@
 // d2vdb info: reports on a .vdb file (grids, types, class, voxel size, active voxels, bounding
 // boxes, memory, metadata) or a mesh file (counts and a closed/manifold report).
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -14,19 +12,14 @@
 #include "JsonReports.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/io/VdbFile.h"
-#include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/mesh/MeshMeasures.h"
+#include "d2vdb/mesh/MeshValidation.h"
 
 namespace d2vdb::cli {
 namespace {
-
-std::string lowerExtension(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 nlohmann::json gridInfoJson(const VdbGridInfo& grid) {
   nlohmann::json metadata = nlohmann::json::object();
@@ -104,28 +97,25 @@ void printMeshText(const nlohmann::json& report, const MeshReport& meshReport) {
   }
 }
 
-// For a .vdb holding an approximant field (its distance grid carries kFieldKindMetadata): the
-// field's summary (FieldReports.h) plus "distance_grid" and "companion_grids"; when the field
-// cannot be rebuilt (missing or mismatched companion grids), "error" says why instead.
+// For a .vdb holding an approximant field (isFieldFile()): the field's summary (FieldReports.h)
+// plus "distance_grid" and "companion_grids"; when the field cannot be rebuilt (missing or
+// mismatched companion grids), "error" says why instead.
 std::optional<nlohmann::json> fieldReport(const std::filesystem::path& path,
-                                          const std::vector<VdbGridInfo>& grids) {
-  const auto distance = std::find_if(grids.begin(), grids.end(), [](const VdbGridInfo& grid) {
-    return std::any_of(grid.metadata.begin(), grid.metadata.end(),
-                       [](const auto& entry) { return entry.first == kFieldKindMetadata; });
-  });
-  if (distance == grids.end()) return std::nullopt;
+                                          const std::vector<openvdb::GridBase::Ptr>& grids) {
+  if (!isFieldFile(grids)) return std::nullopt;
+  const std::string distance = findGrid(grids)->getName();
   nlohmann::json report;
   try {
-    const ApproximantField field = readField(path);
+    const ApproximantField field = ApproximantField::fromGrids(grids, path.string());
     field.buildCoarseLevels();  // info shows every level
     report = fieldJson(field);
   } catch (const InputError& error) {
     report = {{"error", error.what()}};
   }
-  report["distance_grid"] = distance->name;
+  report["distance_grid"] = distance;
   nlohmann::json companions = nlohmann::json::array();
-  for (const VdbGridInfo& grid : grids) {
-    if (grid.name != distance->name) companions.push_back(grid.name);
+  for (const openvdb::GridBase::Ptr& grid : grids) {
+    if (grid->getName() != distance) companions.push_back(grid->getName());
   }
   report["companion_grids"] = companions;
   return report;
@@ -173,11 +163,16 @@ nlohmann::json splineJson(const Spline& spline) {
 
 int runInfo(const std::string& file, const GlobalOptions& options) {
   const std::filesystem::path path(file);
-  const std::string extension = lowerExtension(path);
-  if (extension == ".vdb") {
+  LoadOptions load;
+  load.purpose = "the file given to 'd2vdb info'";
+  LoadedInput input = loadInput(
+      path, {InputKind::VdbGrids, InputKind::Mesh, InputKind::Curve, InputKind::Surface}, load);
+  if (input.kind() == InputKind::VdbGrids) {
+    const std::vector<openvdb::GridBase::Ptr> grids = std::move(input).take<VdbGridsInput>().grids;
     nlohmann::json report = {{"file", file}, {"kind", "vdb"}, {"grids", nlohmann::json::array()}};
-    const std::vector<VdbGridInfo> grids = describeVdbFile(path);
-    for (const VdbGridInfo& grid : grids) report["grids"].push_back(gridInfoJson(grid));
+    for (const VdbGridInfo& grid : summarizeGrids(grids)) {
+      report["grids"].push_back(gridInfoJson(grid));
+    }
     if (const auto field = fieldReport(path, grids)) report["field"] = *field;
     if (options.json) {
       printJson(report);
@@ -187,13 +182,14 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
     }
     return kSuccess;
   }
-  if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
-    const TriangleMesh mesh = readMesh(path);
+  if (input.kind() == InputKind::Mesh) {
+    const MeshInput meshInput = std::move(input).take<MeshInput>();
+    const TriangleMesh& mesh = meshInput.mesh;
     const MeshReport meshReport = validateMesh(mesh);
     nlohmann::json report = meshReportJson(meshReport);
     report["file"] = file;
     report["kind"] = "mesh";
-    report["format"] = meshFormatName(meshFormatFromPath(path));
+    report["format"] = meshFormatName(meshInput.format);
     report["has_normals"] = mesh.hasNormals();
     report["bbox"] = boundingBoxJson(boundingBox(mesh));
     report["surface_area"] = surfaceArea(mesh);
@@ -204,8 +200,11 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
     }
     return kSuccess;
   }
-  if (extension == ".json") {
-    nlohmann::json report = splineJson(readSplineJson(path));
+  {
+    const Spline spline = input.kind() == InputKind::Curve
+                              ? Spline(std::move(input).take<BSplineCurve>())
+                              : Spline(std::move(input).take<BSplineSurface>());
+    nlohmann::json report = splineJson(spline);
     report["file"] = file;
     if (options.json) {
       printJson(report);
@@ -217,8 +216,6 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
     }
     return kSuccess;
   }
-  throw InputError("cannot tell what '" + file + "' is from its extension '" + extension +
-                   "'; 'd2vdb info' reads .vdb, .obj, .ply, .stl and curve/surface .json files");
 }
 
 }  // namespace

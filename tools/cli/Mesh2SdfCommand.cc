@@ -5,8 +5,8 @@
 #include "Command.h"
 #include "JsonReports.h"
 #include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/VdbFile.h"
-#include "d2vdb/mesh/MeshIO.h"
 
 namespace d2vdb::cli {
 
@@ -52,7 +52,9 @@ void addMesh2SdfCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       throw CLI::RequiredError("one of --voxel-size or --resolution");
     }
     const Stopwatch clock;
-    const TriangleMesh mesh = readMesh(args->input);
+    LoadOptions load;
+    load.purpose = "the input of 'd2vdb mesh2sdf'";
+    const TriangleMesh mesh = loadInputAs<MeshInput>(args->input, load).mesh;
     status(options, "read " + args->input + ": " + std::to_string(mesh.vertexCount()) +
                         " vertices, " + std::to_string(mesh.triangleCount()) + " triangles");
     const LevelSetResult result =

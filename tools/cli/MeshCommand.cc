@@ -5,9 +5,8 @@
 #include "Command.h"
 #include "JsonReports.h"
 #include "d2vdb/contour/IsoSurface.h"
-#include "d2vdb/contour/ScalarGridSelection.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/MeshValidation.h"
 
@@ -47,8 +46,11 @@ void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
   registry.add(command, [args, &options]() {
     const Stopwatch clock;
     meshFormatFromPath(args->output);  // reject an unsupported extension before working
-    const auto grids = readAllGrids(args->input);
-    const openvdb::GridBase::Ptr grid = selectScalarGrid(grids, args->gridName, args->input);
+    LoadOptions load;
+    load.purpose = "the input of 'd2vdb mesh'";
+    load.gridName = args->gridName;
+    load.gridTypes = ScalarGridTypes::FloatOrDouble;
+    const openvdb::GridBase::Ptr grid = loadInputAs<LevelSetInput>(args->input, load).grid;
     args->surface.computeNormals = !args->noNormals;
     const Stopwatch extraction;
     const TriangleMesh mesh = extractIsoSurface(*grid, args->surface, makeProgressPrinter(options));

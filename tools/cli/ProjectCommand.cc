@@ -5,7 +5,7 @@
 #include <string>
 
 #include "Command.h"
-#include "d2vdb/io/SplineJson.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/measure/PointProjection.h"
 
 namespace d2vdb::cli {
@@ -60,7 +60,9 @@ void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
   command->add_flag("--json", options.json, "Print one JSON document on stdout");
 
   registry.add(command, [args, &options]() {
-    const BSplineCurve curve = readCurveJson(args->curve);
+    LoadOptions load;
+    load.purpose = "the curve given to 'd2vdb project'";
+    const BSplineCurve curve = loadInputAs<BSplineCurve>(args->curve, load);
     const Eigen::Vector3d point(args->x, args->y, args->z);
     const PointProjection projection = projectPoint(curve, point);
     const int dimension = curve.dimension();

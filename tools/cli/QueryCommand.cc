@@ -9,7 +9,7 @@
 #include "FieldReports.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/Approximant.h"
-#include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/InputFile.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -60,7 +60,10 @@ void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
   registry.add(command, [args, &options]() {
     const Eigen::Vector3d point(args->point[0], args->point[1], args->point[2]);
     if (!point.allFinite()) throw InputError("the query point must have finite coordinates");
-    const ApproximantField field = readField(args->field, {}, makeProgressPrinter(options));
+    LoadOptions load;
+    load.purpose = "the field given to 'd2vdb query'";
+    load.progress = makeProgressPrinter(options);
+    const ApproximantField field = loadInputAs<FieldInput>(args->field, load).field;
     ApproximantField::Accessor accessor(field);
     const Approximant approximant = accessor.approximantAt(point);
     const bool curve = approximant.kind == TargetKind::Curve;

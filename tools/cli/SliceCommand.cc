@@ -6,9 +6,8 @@
 #include "Command.h"
 #include "d2vdb/contour/IsoLines.h"
 #include "d2vdb/contour/IsoLinesSvg.h"
-#include "d2vdb/contour/ScalarGridSelection.h"
 #include "d2vdb/core/AtomicFile.h"
-#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/io/InputFile.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -65,8 +64,11 @@ void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
 
   registry.add(command, [args, &options, command]() {
     const Stopwatch clock;
-    const auto grids = readAllGrids(args->input);
-    const openvdb::GridBase::Ptr grid = selectScalarGrid(grids, args->gridName, args->input);
+    LoadOptions load;
+    load.purpose = "the input of 'd2vdb slice'";
+    load.gridName = args->gridName;
+    load.gridTypes = ScalarGridTypes::FloatOrDouble;
+    const openvdb::GridBase::Ptr grid = loadInputAs<LevelSetInput>(args->input, load).grid;
     args->slice.axis = args->axis == "x" ? 0 : (args->axis == "y" ? 1 : 2);
     if (command->count("--offset") == 0) {
       const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();

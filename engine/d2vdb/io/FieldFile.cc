@@ -1,6 +1,8 @@
 // Field .vdb files (FieldFile.h).
 #include "d2vdb/io/FieldFile.h"
 
+#include "d2vdb/io/GridSelection.h"
+
 namespace d2vdb {
 
 void writeField(const std::filesystem::path& path, const ApproximantField& field,
@@ -15,24 +17,9 @@ ApproximantField readField(const std::filesystem::path& path,
 }
 
 bool isFieldFile(const std::vector<openvdb::GridBase::Ptr>& grids) {
-  // The distance grid: the first level set, else (unsigned distance of curves and points) the
-  // first float grid.
-  openvdb::GridBase::Ptr distance;
-  for (const openvdb::GridBase::Ptr& grid : grids) {
-    if (grid && grid->isType<openvdb::FloatGrid>() &&
-        grid->getGridClass() == openvdb::GRID_LEVEL_SET) {
-      distance = grid;
-      break;
-    }
-  }
-  if (!distance) {
-    for (const openvdb::GridBase::Ptr& grid : grids) {
-      if (grid && grid->isType<openvdb::FloatGrid>()) {
-        distance = grid;
-        break;
-      }
-    }
-  }
+  // The distance grid is the grid findGrid() selects: the first float level set (surfaces), else
+  // the first float grid (the unsigned distance of curves and points).
+  const openvdb::GridBase::Ptr distance = findGrid(grids);
   return distance && static_cast<bool>((*distance)[kFieldKindMetadata]);
 }
 

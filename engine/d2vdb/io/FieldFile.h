@@ -29,8 +29,9 @@ ApproximantField readField(const std::filesystem::path& path,
                            const ApproximantFieldOptions& options = {},
                            const ProgressCallback& progress = {});
 
-/// True when `grids` hold a field written by writeField(): the first level set grid, or else the
-/// first float grid, carries the kFieldKindMetadata metadata. Never throws.
+/// True when `grids` hold a field written by writeField(): the grid findGrid() selects (the first
+/// float level set, else the first float grid) carries the kFieldKindMetadata metadata. Never
+/// throws.
 bool isFieldFile(const std::vector<openvdb::GridBase::Ptr>& grids);
 
 }  // namespace d2vdb

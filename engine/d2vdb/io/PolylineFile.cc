@@ -4,6 +4,7 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/detail/JsonDocuments.h"
 #include "d2vdb/io/detail/JsonReader.h"
 #include "d2vdb/io/detail/TextFile.h"
 
@@ -108,6 +109,11 @@ class Reader : public detail::JsonFieldReader {
 
 }  // namespace
 
+std::vector<Polyline> detail::polylinesFromJson(const Json& document,
+                                                const std::string& sourceName) {
+  return Reader(sourceName).polylines(document);
+}
+
 std::vector<Polyline> parsePolylines(const std::string& text, const std::string& sourceName) {
   const Reader reader(sourceName);
   return reader.polylines(reader.parse(text));
@@ -118,7 +124,10 @@ std::vector<Polyline> readPolylines(const std::filesystem::path& file) {
 }
 
 Polyline readPolyline(const std::filesystem::path& file) {
-  std::vector<Polyline> polylines = readPolylines(file);
+  return onlyPolyline(readPolylines(file), file);
+}
+
+Polyline onlyPolyline(std::vector<Polyline> polylines, const std::filesystem::path& file) {
   if (polylines.size() != 1) {
     throw InputError(std::string(kFileKind) + " '" + file.string() + "' holds " +
                      std::to_string(polylines.size()) +

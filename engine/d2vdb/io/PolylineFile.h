@@ -41,6 +41,10 @@ std::vector<Polyline> readPolylines(const std::filesystem::path& file);
 /// is not one.
 Polyline readPolyline(const std::filesystem::path& file);
 
+/// The one polyline of `polylines` (read from `file`, which names it in the message). Throws
+/// InputError saying how many polylines the file holds when that is not one.
+Polyline onlyPolyline(std::vector<Polyline> polylines, const std::filesystem::path& file);
+
 /// Parses polyline or slice JSON text; `sourceName` stands for the file name in messages.
 std::vector<Polyline> parsePolylines(const std::string& text,
                                      const std::string& sourceName = "<string>");

@@ -11,6 +11,7 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/detail/JsonDocuments.h"
 #include "d2vdb/io/detail/JsonReader.h"
 #include "d2vdb/io/detail/TextFile.h"
 
@@ -202,6 +203,14 @@ std::string knotsText(const KnotVector& knots) {
 }
 
 }  // namespace
+
+BSplineCurve detail::curveFromJson(const Json& document, const std::string& sourceName) {
+  return Reader(sourceName).curve(document);
+}
+
+BSplineSurface detail::surfaceFromJson(const Json& document, const std::string& sourceName) {
+  return Reader(sourceName).surface(document);
+}
 
 BSplineCurve parseCurveJson(const std::string& text, const std::string& sourceName) {
   const Reader reader(sourceName);

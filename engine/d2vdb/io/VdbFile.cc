@@ -14,6 +14,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
+#include "d2vdb/io/GridSelection.h"
 
 namespace d2vdb {
 
@@ -241,16 +242,6 @@ void rejectNonFiniteValues(const openvdb::GridBase& grid, const std::filesystem:
   }
 }
 
-std::string describeGridList(const std::vector<openvdb::GridBase::Ptr>& grids) {
-  std::string list;
-  for (const openvdb::GridBase::Ptr& grid : grids) {
-    if (!list.empty()) list += ", ";
-    list += "'" + grid->getName() + "' (" + grid->valueType() + ", " +
-            openvdb::GridBase::gridClassToString(grid->getGridClass()) + ")";
-  }
-  return list;
-}
-
 bool isStandardGridType(const openvdb::GridBase& grid) {
   const std::string& type = grid.type();
   return type == openvdb::BoolGrid::gridType() || type == openvdb::MaskGrid::gridType() ||
@@ -356,26 +347,8 @@ std::vector<openvdb::GridBase::Ptr> readAllGrids(const std::filesystem::path& pa
 
 openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path,
                                      const std::string& gridName) {
-  const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(path);
-  if (!gridName.empty()) {
-    for (const openvdb::GridBase::Ptr& grid : grids) {
-      if (grid->getName() != gridName) continue;
-      if (auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return floatGrid;
-      throw InputError("grid '" + gridName + "' in " + quoted(path) + " holds " +
-                       grid->valueType() + " values; a level set must be a float grid");
-    }
-    throw InputError(quoted(path) + " has no grid named '" + gridName +
-                     "'; its grids are: " + describeGridList(grids));
-  }
-  for (const openvdb::GridBase::Ptr& grid : grids) {
-    if (grid->getGridClass() != openvdb::GRID_LEVEL_SET) continue;
-    if (auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return floatGrid;
-  }
-  for (const openvdb::GridBase::Ptr& grid : grids) {
-    if (auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return floatGrid;
-  }
-  throw InputError(quoted(path) + " has no float grid to use as a level set; its grids are: " +
-                   describeGridList(grids));
+  return openvdb::gridPtrCast<openvdb::FloatGrid>(
+      selectGrid(readAllGrids(path), quoted(path), gridName, ScalarGridTypes::Float));
 }
 
 void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grids,
@@ -408,10 +381,14 @@ void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grid
 }
 
 std::vector<VdbGridInfo> describeVdbFile(const std::filesystem::path& path) {
-  const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(path);
+  return summarizeGrids(readAllGrids(path));
+}
+
+std::vector<VdbGridInfo> summarizeGrids(const std::vector<openvdb::GridBase::Ptr>& grids) {
   std::vector<VdbGridInfo> infos;
   infos.reserve(grids.size());
   for (const openvdb::GridBase::Ptr& grid : grids) {
+    if (!grid) continue;
     VdbGridInfo info;
     info.name = grid->getName();
     info.valueType = grid->valueType();

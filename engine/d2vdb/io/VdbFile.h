@@ -24,10 +24,11 @@ inline constexpr const char* kSourceMetadata = "d2vdb_source";
 /// a file without grids, and non-finite values (with their count and one location).
 std::vector<openvdb::GridBase::Ptr> readAllGrids(const std::filesystem::path& path);
 
-/// Reads one float level set from a .vdb file (written by d2vdb or any OpenVDB tool): the grid
-/// named `gridName` if given (it must be a float grid), otherwise the first float grid of class
-/// level set, otherwise the first float grid. Same checks as readAllGrids(); throws InputError
-/// listing the grids present (name, value type, class) when none fits.
+/// Reads one float level set from a .vdb file (written by d2vdb or any OpenVDB tool), chosen by
+/// selectGrid() (GridSelection.h): the grid named `gridName` if given (it must be a float grid),
+/// otherwise the first float grid of class level set, otherwise the first float grid. Same checks
+/// as readAllGrids(); throws InputError listing the grids present (name, value type, class) when
+/// none fits.
 openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path,
                                      const std::string& gridName = "");
 
@@ -70,5 +71,9 @@ struct VdbGridInfo {
 
 /// Reads `path` like readAllGrids() and summarises each grid, in file order.
 std::vector<VdbGridInfo> describeVdbFile(const std::filesystem::path& path);
+
+/// Summarises each grid of `grids` (e.g. from readAllGrids()), in order; null entries are skipped.
+/// Never throws (beyond std::bad_alloc).
+std::vector<VdbGridInfo> summarizeGrids(const std::vector<openvdb::GridBase::Ptr>& grids);
 
 }  // namespace d2vdb

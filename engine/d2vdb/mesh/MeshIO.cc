@@ -1,9 +1,8 @@
 #include "d2vdb/mesh/MeshIO.h"
 
-#include <cctype>
-
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/detail/FileExtension.h"
 #include "d2vdb/mesh/detail/MeshFileCommon.h"
 #include "d2vdb/mesh/detail/ObjFormat.h"
 #include "d2vdb/mesh/detail/PlyFormat.h"
@@ -22,10 +21,7 @@ using detail::writeStl;
 
 MeshFormat meshFormatFromPath(const std::filesystem::path& path) {
   const std::string extension = path.extension().string();
-  std::string lower;
-  for (const char c : extension) {
-    lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
+  const std::string lower = detail::lowerExtension(path);
   if (lower == ".obj") return MeshFormat::Obj;
   if (lower == ".ply") return MeshFormat::Ply;
   if (lower == ".stl") return MeshFormat::Stl;
@@ -48,7 +44,10 @@ std::string meshFormatName(MeshFormat format) {
 }
 
 TriangleMesh readMesh(const std::filesystem::path& path) {
-  const MeshFormat format = meshFormatFromPath(path);
+  return readMesh(path, meshFormatFromPath(path));
+}
+
+TriangleMesh readMesh(const std::filesystem::path& path, MeshFormat format) {
   const std::string contents = detail::readFileContents(path);
   const std::string name = path.string();
   switch (format) {

@@ -28,6 +28,10 @@ std::string meshFormatName(MeshFormat format);
 /// extension, a missing or unreadable file, and malformed content (with the line or byte offset).
 TriangleMesh readMesh(const std::filesystem::path& path);
 
+/// Reads the mesh in `path` as `format` whatever its extension (for callers that recognised the
+/// format from the content, such as loadInput() in io/InputFile.h). Failure behaviour as above.
+TriangleMesh readMesh(const std::filesystem::path& path, MeshFormat format);
+
 /// How writeMesh encodes the formats that have both text and binary variants.
 struct MeshWriteOptions {
   bool binary = true;      ///< PLY and STL: binary (default) or ASCII; OBJ is always text
