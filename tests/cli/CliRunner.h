@@ -1,13 +1,14 @@
-// Runs the built d2vdb command from tests and captures its exit code and output.
+// Runs the built d2vdb command from tests and captures its exit code and output; the fixture of
+// the CLI tests (a scratch directory to run in).
 #pragma once
 
 #include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "support/ScratchDirectory.h"
 
 namespace d2vdb::test {
 
@@ -17,14 +18,6 @@ struct CliResult {
   std::string out;  ///< stdout
   std::string err;  ///< stderr
 };
-
-/// Reads a whole file; empty string if it does not exist.
-inline std::string readWholeFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 
 /// Runs `d2vdb ARGS` through the shell (arguments are passed verbatim: quote paths with spaces),
 /// with stdout and stderr captured into files under `scratch`.
@@ -40,5 +33,15 @@ inline CliResult runCli(const std::string& arguments, const std::filesystem::pat
   result.err = readWholeFile(errPath);
   return result;
 }
+
+/// Fixture of the CLI tests: a fresh scratch directory (ScratchDirectoryTest) where the command
+/// runs and its output is captured.
+class CliFixture : public ScratchDirectoryTest {
+ protected:
+  /// Runs `d2vdb ARGS` (runCli()).
+  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
+  /// `name` inside the scratch directory, quoted for the shell.
+  std::string path(const std::string& name) const { return "'" + file(name).string() + "'"; }
+};
 
 }  // namespace d2vdb::test

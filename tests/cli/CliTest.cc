@@ -18,38 +18,17 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
 const fs::path kSourceDir = D2VDB_SOURCE_DIR;
 
-class CliTest : public ::testing::Test {
+class CliTest : public d2vdb::test::CliFixture {
  protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  fs::path write(const std::string& name, const std::string& contents) const {
-    const fs::path path = scratch_ / name;
-    std::ofstream(path, std::ios::binary) << contents;
-    return path;
-  }
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-
   /// A closed unit cube as OBJ text (12 triangles, outward winding).
   static std::string cubeObj() {
     return "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
            "f 1 4 3\nf 1 3 2\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\n"
            "f 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
   }
-
-  fs::path scratch_;
 };
 
 TEST_F(CliTest, VersionAndHelp) {

@@ -23,7 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 using Eigen::Vector3d;
 
 // volumes/README.md: torus about +z, major radius 1, minor radius 0.35, voxel size 0.025.
@@ -58,20 +57,8 @@ TorusReference torusAt(const Vector3d& p) {
           Vector3d::UnitZ().cross(radial)};
 }
 
-class FieldCliTest : public ::testing::Test {
+class FieldCliTest : public d2vdb::test::CliFixture {
  protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-field-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
   static std::string torusVdb() {
     return std::string("'") + D2VDB_SOURCE_DIR + "/volumes/torus.vdb'";
   }
@@ -87,8 +74,6 @@ class FieldCliTest : public ::testing::Test {
     EXPECT_EQ(result.exitCode, 0) << result.err;
     return nlohmann::json::parse(result.out);
   }
-
-  fs::path scratch_;
 };
 
 TEST_F(FieldCliTest, TorusFieldAnswersLikeTheAnalyticTorus) {

@@ -19,19 +19,13 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
 constexpr double kTwoPi = 6.283185307179586476925;
 
-class FitCurveCliTest : public ::testing::Test {
+class FitCurveCliTest : public d2vdb::test::CliFixture {
  protected:
   void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-fit-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
+    d2vdb::test::CliFixture::SetUp();
     // Ellipse a = 1, b = 0.6 as a closed 2D polyline, and as a point cloud.
     std::ostringstream polyline;
     polyline.precision(17);
@@ -47,13 +41,6 @@ class FitCurveCliTest : public ::testing::Test {
     write("ellipse.json", polyline.str());
     write("ellipse.xyz", cloud.str());
   }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  void write(const std::string& name, const std::string& contents) const {
-    std::ofstream(scratch_ / name, std::ios::binary) << contents;
-  }
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
 
   // Largest |(x/a)^2 + (y/b)^2 - 1| scaled to a distance (first order) over the fitted curve.
   static double ellipseError(const d2vdb::BSplineCurve& curve) {
@@ -64,8 +51,6 @@ class FitCurveCliTest : public ::testing::Test {
     }
     return worst;
   }
-
-  fs::path scratch_;
 };
 
 TEST_F(FitCurveCliTest, HelpHasAnExample) {

@@ -17,37 +17,23 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
-class HausdorffCliTest : public ::testing::Test {
+class HausdorffCliTest : public d2vdb::test::CliFixture {
  protected:
   void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-hausdorff-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
+    d2vdb::test::CliFixture::SetUp();
     write("a.json", curveJson(3, "[0, 0, 0, 0, 1, 1, 1, 1]",
                               "[[193, 226], [227, 230], [297, 134], [421, 135]]"));
     write("b.json", curveJson(3, "[0, 0, 0, 0, 1, 1, 1, 1]",
                               "[[258, 481], [294, 438], [302, 268], [435, 213]]"));
     write("quadratic.json", curveJson(2, "[0, 0, 0, 1, 1, 1]", "[[-1, 0], [0, 2], [1, 0]]"));
   }
-  void TearDown() override { fs::remove_all(scratch_); }
 
   static std::string curveJson(int degree, const std::string& knots, const std::string& points) {
     return R"({"type": "bspline_curve", "version": 1, "dimension": 2, "degree": )" +
            std::to_string(degree) + R"(, "knots": )" + knots + R"(, "control_points": )" + points +
            "}\n";
   }
-  void write(const std::string& name, const std::string& contents) const {
-    std::ofstream(scratch_ / name, std::ios::binary) << contents;
-  }
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-
-  fs::path scratch_;
 };
 
 TEST_F(HausdorffCliTest, HelpHasExamples) {

@@ -16,27 +16,15 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
-class MeshCliTest : public ::testing::Test {
+class MeshCliTest : public d2vdb::test::CliFixture {
  protected:
   void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-mesh-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
+    d2vdb::test::CliFixture::SetUp();
     const CliResult torus = run("primitive torus --major 1 --minor 0.35 --voxel-size 0.05 " +
                                 path("torus.vdb") + " --quiet");
     ASSERT_EQ(torus.exitCode, 0) << torus.err;
   }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-
-  fs::path scratch_;
 };
 
 TEST_F(MeshCliTest, MeshesAndChecksATorus) {

@@ -8,41 +8,25 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "support/ScratchDirectory.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using d2vdb::test::readWholeFile;
 
-class AtomicFileTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    directory_ =
-        fs::temp_directory_path() /
-        ("d2vdb-atomic-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(directory_);
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-  fs::path directory_;
-};
+class AtomicFileTest : public d2vdb::test::ScratchDirectoryTest {};
 
 TEST_F(AtomicFileTest, WritesNewFile) {
-  const fs::path target = directory_ / "a.txt";
+  const fs::path target = scratch_ / "a.txt";
   d2vdb::writeStreamAtomically(target, [](std::ostream& out) { out << "hello"; });
-  EXPECT_EQ(slurp(target), "hello");
-  EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1);
+  EXPECT_EQ(readWholeFile(target), "hello");
+  EXPECT_EQ(std::distance(fs::directory_iterator(scratch_), fs::directory_iterator()), 1);
 }
 
 TEST_F(AtomicFileTest, FailureLeavesExistingFileUntouchedAndNoTemporary) {
-  const fs::path target = directory_ / "a.txt";
+  const fs::path target = scratch_ / "a.txt";
   d2vdb::writeStreamAtomically(target, [](std::ostream& out) { out << "good"; });
   EXPECT_THROW(d2vdb::writeStreamAtomically(target,
                                             [](std::ostream& out) {
@@ -50,12 +34,12 @@ TEST_F(AtomicFileTest, FailureLeavesExistingFileUntouchedAndNoTemporary) {
                                               throw d2vdb::RuntimeFailure("boom");
                                             }),
                d2vdb::RuntimeFailure);
-  EXPECT_EQ(slurp(target), "good");
-  EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1);
+  EXPECT_EQ(readWholeFile(target), "good");
+  EXPECT_EQ(std::distance(fs::directory_iterator(scratch_), fs::directory_iterator()), 1);
 }
 
 TEST_F(AtomicFileTest, MissingDirectoryIsAClearError) {
-  const fs::path target = directory_ / "no" / "such" / "dir" / "a.txt";
+  const fs::path target = scratch_ / "no" / "such" / "dir" / "a.txt";
   try {
     d2vdb::writeStreamAtomically(target, [](std::ostream& out) { out << "x"; });
     FAIL() << "expected an exception";
@@ -65,10 +49,10 @@ TEST_F(AtomicFileTest, MissingDirectoryIsAClearError) {
 }
 
 TEST_F(AtomicFileTest, ReplacesExistingFile) {
-  const fs::path target = directory_ / "a.txt";
+  const fs::path target = scratch_ / "a.txt";
   d2vdb::writeStreamAtomically(target, [](std::ostream& out) { out << "old"; });
   d2vdb::writeStreamAtomically(target, [](std::ostream& out) { out << "new"; });
-  EXPECT_EQ(slurp(target), "new");
+  EXPECT_EQ(readWholeFile(target), "new");
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ using Eigen::Vector3d;
 using d2vdb::test::expectInputError;
 using d2vdb::test::sameBits;
 
-class PointSetFileTest : public d2vdb::test::TemporaryDirectoryTest {};
+class PointSetFileTest : public d2vdb::test::ScratchDirectoryTest {};
 
 TEST_F(PointSetFileTest, XyzRoundTripIsBitExact) {
   std::mt19937 rng(5);
@@ -82,16 +82,16 @@ TEST_F(PointSetFileTest, MalformedXyzNamesFileAndLine) {
                    {"'empty.xyz'", "contains no points"});
   expectInputError([] { d2vdb::parseXyz("", "zero.xyz"); }, {"contains no points"});
   expectInputError([&] { d2vdb::readPointSet(file("absent.xyz")); }, {"does not exist"});
-  writeText("points.txt", "1 2 3\n");
+  write("points.txt", "1 2 3\n");
   expectInputError([&] { d2vdb::readPointSet(file("points.txt")); }, {"'.txt'", ".xyz and .ply"});
 }
 
 TEST_F(PointSetFileTest, PlyVerticesAreReadWithOrWithoutFaces) {
-  const fs::path cloud = writeText("cloud.ply",
-                                   "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                   "property float x\nproperty float y\nproperty float z\n"
-                                   "property uchar red\nend_header\n"
-                                   "0.5 1 2 10\n-3 4.25 5 20\n6 7 -8 30\n");
+  const fs::path cloud = write("cloud.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 3\n"
+                               "property float x\nproperty float y\nproperty float z\n"
+                               "property uchar red\nend_header\n"
+                               "0.5 1 2 10\n-3 4.25 5 20\n6 7 -8 30\n");
   const std::vector<Vector3d> points = d2vdb::readPointSet(cloud);
   ASSERT_EQ(points.size(), 3u);
   EXPECT_EQ(points[0], Vector3d(0.5, 1, 2));
@@ -107,18 +107,18 @@ TEST_F(PointSetFileTest, PlyVerticesAreReadWithOrWithoutFaces) {
   ASSERT_EQ(vertices.size(), 4u);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(vertices[i], mesh.positions[i].cast<double>());
 
-  writeText("nan.ply",
-            "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
-            "property float z\nend_header\n0 0 0\n1 nan 0\n");
+  write("nan.ply",
+        "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n0 0 0\n1 nan 0\n");
   expectInputError([&] { d2vdb::readPointSet(file("nan.ply")); }, {"nan.ply", "line 9"});
-  writeText("short.ply",
-            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-            "property float z\nend_header\n0 0 0\n1 1 0\n");
+  write("short.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n0 0 0\n1 1 0\n");
   expectInputError([&] { d2vdb::readPointSet(file("short.ply")); }, {"short.ply"});
 }
 
 TEST_F(PointSetFileTest, WriterRefusesBadInputAndKeepsExistingFile) {
-  writeText("keep.xyz", "1 2 3\n");
+  write("keep.xyz", "1 2 3\n");
   expectInputError([&] { d2vdb::writePointSet(file("keep.xyz"), {}); }, {"empty point set"});
   const double nan = std::numeric_limits<double>::quiet_NaN();
   expectInputError(
@@ -130,7 +130,7 @@ TEST_F(PointSetFileTest, WriterRefusesBadInputAndKeepsExistingFile) {
                    {"written as .xyz"});
   EXPECT_EQ(d2vdb::readPointSet(file("keep.xyz")), std::vector<Vector3d>{Vector3d(1, 2, 3)});
   EXPECT_FALSE(fs::exists(file("cloud.ply")));
-  EXPECT_THROW(d2vdb::writePointSet(directory_ / "missing-dir" / "a.xyz", {Vector3d(0, 0, 0)}),
+  EXPECT_THROW(d2vdb::writePointSet(scratch_ / "missing-dir" / "a.xyz", {Vector3d(0, 0, 0)}),
                d2vdb::RuntimeFailure);
 }
 

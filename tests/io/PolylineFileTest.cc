@@ -28,7 +28,7 @@ using Eigen::Vector3d;
 using d2vdb::test::expectInputError;
 using d2vdb::test::sameBits;
 
-class PolylineFileTest : public d2vdb::test::TemporaryDirectoryTest {};
+class PolylineFileTest : public d2vdb::test::ScratchDirectoryTest {};
 
 void expectSamePolyline(const Polyline& a, const Polyline& b) {
   EXPECT_EQ(a.dimension, b.dimension);
@@ -80,8 +80,8 @@ TEST_F(PolylineFileTest, HandWrittenFileDefaultsToOpen) {
 }
 
 TEST_F(PolylineFileTest, SliceFilesGiveEveryLineInPlaneCoordinates) {
-  writeText("slice.json",
-            R"({"axis": "z", "offset": 0.1, "iso": 0, "plane_axes": ["x", "y"],
+  write("slice.json",
+        R"({"axis": "z", "offset": 0.1, "iso": 0, "plane_axes": ["x", "y"],
                 "polylines": [{"closed": true, "points": [[0, 0], [1, 0], [0.5, 0.75]]},
                               {"closed": false, "points": [[2, 2], [3, 2.5]]}]})");
   const std::vector<Polyline> lines = d2vdb::readPolylines(file("slice.json"));
@@ -94,11 +94,11 @@ TEST_F(PolylineFileTest, SliceFilesGiveEveryLineInPlaneCoordinates) {
   expectInputError([&] { d2vdb::readPolyline(file("slice.json")); },
                    {"slice.json", "holds 2 polylines", "exactly one"});
 
-  writeText("one.json", R"({"axis": "x", "offset": -1, "iso": 0.5, "plane_axes": ["y", "z"],
+  write("one.json", R"({"axis": "x", "offset": -1, "iso": 0.5, "plane_axes": ["y", "z"],
                            "polylines": [{"closed": false, "points": [[2, 2], [3, 2.5]]}]})");
   EXPECT_EQ(d2vdb::readPolyline(file("one.json")).points.size(), 2u);
-  writeText("none.json",
-            R"({"axis": "x", "offset": -1, "iso": 0, "plane_axes": ["y", "z"], "polylines": []})");
+  write("none.json",
+        R"({"axis": "x", "offset": -1, "iso": 0, "plane_axes": ["y", "z"], "polylines": []})");
   EXPECT_TRUE(d2vdb::readPolylines(file("none.json")).empty());
   expectInputError([&] { d2vdb::readPolyline(file("none.json")); }, {"holds 0 polylines"});
 }
@@ -162,7 +162,7 @@ TEST_F(PolylineFileTest, MalformedFilesNameFileAndField) {
 }
 
 TEST_F(PolylineFileTest, WriterRefusesBadPolylinesAndKeepsExistingFile) {
-  writeText("keep.json", "old");
+  write("keep.json", "old");
   Polyline flat;
   flat.dimension = 2;
   flat.points = {Vector3d(0, 0, 0), Vector3d(1, 1, 0.5)};

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
+#include "io/IoTestSupport.h"
 
 namespace {
 
@@ -23,10 +24,7 @@ using d2vdb::InputError;
 using d2vdb::KnotVector;
 using Eigen::Vector3d;
 
-// Bitwise equality (distinguishes -0.0 from 0.0).
-bool sameBits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof(double)) == 0;
-}
+using d2vdb::test::sameBits;
 
 void expectSamePoints(const std::vector<Vector3d>& a, const std::vector<Vector3d>& b) {
   ASSERT_EQ(a.size(), b.size());
@@ -105,18 +103,7 @@ std::string surfaceWith(const std::string& from, const std::string& to) {
   return at == std::string::npos ? text : text.replace(at, from.size(), to);
 }
 
-class SplineJsonFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    directory_ = fs::temp_directory_path() /
-                 ("d2vdb-splinejson-" + std::to_string(::getpid()) + "-" +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(directory_);
-    fs::create_directories(directory_);
-  }
-  void TearDown() override { fs::remove_all(directory_); }
-  fs::path directory_;
-};
+class SplineJsonFiles : public d2vdb::test::ScratchDirectoryTest {};
 
 TEST(SplineJson, OpenCurveRoundTripIsBitExact) {
   for (const int dimension : {2, 3}) {
@@ -269,7 +256,7 @@ TEST(SplineJson, MalformedSurfacesAreRejectedNamingTheField) {
 
 TEST_F(SplineJsonFiles, FileRoundTripAndTypeDispatch) {
   const BSplineCurve curve = BSplineCurve::clamped(3, awkwardPoints(7, false));
-  const fs::path curveFile = directory_ / "curve.json";
+  const fs::path curveFile = scratch_ / "curve.json";
   d2vdb::writeCurveJson(curveFile, curve);
   const BSplineCurve read = d2vdb::readCurveJson(curveFile);
   expectSameKnots(read.knots(), curve.knots());
@@ -277,7 +264,7 @@ TEST_F(SplineJsonFiles, FileRoundTripAndTypeDispatch) {
   EXPECT_TRUE(std::holds_alternative<BSplineCurve>(d2vdb::readSplineJson(curveFile)));
 
   const BSplineSurface surface = d2vdb::parseSurfaceJson(kValidSurface);
-  const fs::path surfaceFile = directory_ / "surface.json";
+  const fs::path surfaceFile = scratch_ / "surface.json";
   d2vdb::writeSurfaceJson(surfaceFile, surface);
   expectSamePoints(d2vdb::readSurfaceJson(surfaceFile).controlPoints(), surface.controlPoints());
   EXPECT_TRUE(std::holds_alternative<BSplineSurface>(d2vdb::readSplineJson(surfaceFile)));
@@ -293,7 +280,7 @@ TEST_F(SplineJsonFiles, FileRoundTripAndTypeDispatch) {
 }
 
 TEST_F(SplineJsonFiles, MissingFilesAndBadTargetsAreReported) {
-  const fs::path missing = directory_ / "missing.json";
+  const fs::path missing = scratch_ / "missing.json";
   try {
     d2vdb::readCurveJson(missing);
     FAIL();
@@ -302,8 +289,8 @@ TEST_F(SplineJsonFiles, MissingFilesAndBadTargetsAreReported) {
     EXPECT_NE(message.find(missing.string()), std::string::npos) << message;
     EXPECT_NE(message.find("does not exist"), std::string::npos) << message;
   }
-  EXPECT_THROW(d2vdb::readSurfaceJson(directory_), InputError);
-  const fs::path broken = directory_ / "broken.json";
+  EXPECT_THROW(d2vdb::readSurfaceJson(scratch_), InputError);
+  const fs::path broken = scratch_ / "broken.json";
   std::ofstream(broken) << "{\"type\": ";
   try {
     d2vdb::readSplineJson(broken);
@@ -315,7 +302,7 @@ TEST_F(SplineJsonFiles, MissingFilesAndBadTargetsAreReported) {
         << message;
   }
   const BSplineCurve curve = BSplineCurve::clamped(1, {{0, 0, 0}, {1, 0, 0}});
-  EXPECT_THROW(d2vdb::writeCurveJson(directory_ / "no" / "such" / "c.json", curve),
+  EXPECT_THROW(d2vdb::writeCurveJson(scratch_ / "no" / "such" / "c.json", curve),
                d2vdb::RuntimeFailure);
 }
 

@@ -18,23 +18,13 @@
 #include "d2vdb/core/Version.h"
 #include "d2vdb/field/Primitives.h"
 #include "field/FieldTestSupport.h"
+#include "io/IoTestSupport.h"
 
 namespace d2vdb {
 namespace {
 
-class VdbFileTest : public ::testing::Test {
+class VdbFileTest : public test::ScratchDirectoryTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    directory_ = std::filesystem::temp_directory_path() /
-                 ("d2vdb-vdbfile-" + std::to_string(::getpid()) + "-" + info->name());
-    std::filesystem::remove_all(directory_);
-    std::filesystem::create_directories(directory_);
-  }
-  void TearDown() override { std::filesystem::remove_all(directory_); }
-
-  std::filesystem::path file(const std::string& name) const { return directory_ / name; }
-
   static openvdb::FloatGrid::Ptr torusLevelSet() {
     const Torus torus({0.1, -0.05, 0.02}, 1.0, 0.35);
     openvdb::FloatGrid::Ptr grid = primitiveLevelSet(torus, {0.05, 3.0});
@@ -42,28 +32,11 @@ class VdbFileTest : public ::testing::Test {
     return grid;
   }
 
-  static std::string readBytes(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
-
-  static void writeBytes(const std::filesystem::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  }
-
   // Expects InputError whose message contains `text`.
   template <typename Call>
   static void expectInputError(Call&& call, const std::string& text) {
-    try {
-      call();
-      ADD_FAILURE() << "expected InputError containing '" << text << "'";
-    } catch (const InputError& error) {
-      EXPECT_NE(std::string(error.what()).find(text), std::string::npos) << error.what();
-    }
+    test::expectInputError(std::forward<Call>(call), {text});
   }
-
-  std::filesystem::path directory_;
 };
 
 TEST_F(VdbFileTest, RoundTripIsExactWithAndWithoutBlosc) {
@@ -278,22 +251,22 @@ TEST_F(VdbFileTest, WriterNamesUnnamedGridsAndRejectsBadRequests) {
 
 TEST_F(VdbFileTest, RejectsMissingEmptyAndNonVdbFiles) {
   expectInputError([&] { readLevelSet(file("absent.vdb")); }, "does not exist");
-  writeBytes(file("empty.vdb"), "");
+  test::writeWholeFile(file("empty.vdb"), "");
   expectInputError([&] { readLevelSet(file("empty.vdb")); }, "is empty");
   std::mt19937 random(7);
   std::string noise(4096, '\0');
   for (char& c : noise) c = static_cast<char>(random() & 0xff);
-  writeBytes(file("noise.vdb"), noise);
+  test::writeWholeFile(file("noise.vdb"), noise);
   expectInputError([&] { readLevelSet(file("noise.vdb")); }, "not a .vdb file");
-  expectInputError([&] { readAllGrids(directory_); }, "not a regular file");
+  expectInputError([&] { readAllGrids(scratch_); }, "not a regular file");
   // The magic number followed by noise.
-  std::string magicThenNoise = readBytes([&] {
+  std::string magicThenNoise = test::readWholeFile([&] {
                                  writeVdb(file("valid.vdb"), {torusLevelSet()});
                                  return file("valid.vdb");
                                }())
                                    .substr(0, 8) +
                                noise;
-  writeBytes(file("magic-noise.vdb"), magicThenNoise);
+  test::writeWholeFile(file("magic-noise.vdb"), magicThenNoise);
   EXPECT_THROW(readAllGrids(file("magic-noise.vdb")), InputError);
 }
 
@@ -303,7 +276,7 @@ TEST_F(VdbFileTest, RejectsTruncatedFilesAtEveryCut) {
   vectors->tree().topologyUnion(surface->tree());
   vectors->setName("vectors");
   writeVdb(file("whole.vdb"), {surface, vectors});
-  const std::string whole = readBytes(file("whole.vdb"));
+  const std::string whole = test::readWholeFile(file("whole.vdb"));
   ASSERT_GT(whole.size(), 10000u);
   std::vector<std::size_t> cuts = {whole.size() / 10, whole.size() / 2, whole.size() * 9 / 10,
                                    whole.size() - 1};
@@ -311,10 +284,10 @@ TEST_F(VdbFileTest, RejectsTruncatedFilesAtEveryCut) {
   for (std::size_t i = 1; i < 40; ++i) cuts.push_back(whole.size() * i / 40);
   for (const std::size_t cut : cuts) {
     SCOPED_TRACE("truncated to " + std::to_string(cut) + " of " + std::to_string(whole.size()));
-    writeBytes(file("cut.vdb"), whole.substr(0, cut));
+    test::writeWholeFile(file("cut.vdb"), whole.substr(0, cut));
     expectInputError([&] { readAllGrids(file("cut.vdb")); }, "cut.vdb");
   }
-  writeBytes(file("cut.vdb"), whole.substr(0, whole.size() / 2));
+  test::writeWholeFile(file("cut.vdb"), whole.substr(0, whole.size() / 2));
   expectInputError([&] { readLevelSet(file("cut.vdb")); }, "truncated");
 }
 

@@ -1,5 +1,5 @@
-// Shared helpers for the mesh tests: hand-built meshes with known topology, a scratch directory,
-// file helpers, and checks on InputError messages.
+// Shared helpers for the mesh tests: hand-built meshes with known topology and byte-level file
+// assembly, plus the scratch directory, file helpers and InputError checks of tests/support.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -17,6 +17,8 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/mesh/TriangleMesh.h"
+#include "support/ExpectInputError.h"
+#include "support/ScratchDirectory.h"
 
 namespace d2vdb::test {
 
@@ -117,52 +119,6 @@ inline void expectIdentical(const TriangleMesh& actual, const TriangleMesh& expe
     }
   }
 }
-
-/// Runs `action`, expecting an InputError whose message contains every fragment.
-template <typename Action>
-void expectInputError(Action&& action, std::initializer_list<std::string> fragments) {
-  try {
-    action();
-    ADD_FAILURE() << "expected an InputError";
-  } catch (const InputError& error) {
-    const std::string message = error.what();
-    for (const std::string& fragment : fragments) {
-      EXPECT_NE(message.find(fragment), std::string::npos)
-          << "message \"" << message << "\" lacks \"" << fragment << "\"";
-    }
-  }
-}
-
-/// Whole content of a file.
-inline std::string readWholeFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
-/// Fixture with a fresh scratch directory per test, removed afterwards.
-class ScratchDirectoryTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    scratch_ = fs::temp_directory_path() / (std::string("d2vdb-mesh-") + info->test_suite_name() +
-                                            "-" + info->name() + "-" + std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  /// Writes `contents` to scratch/name byte for byte and returns the path.
-  fs::path write(const std::string& name, const std::string& contents) const {
-    const fs::path path = scratch_ / name;
-    std::ofstream out(path, std::ios::binary);
-    out.write(contents.data(), static_cast<std::streamsize>(contents.size()));
-    return path;
-  }
-
-  fs::path scratch_;
-};
 
 /// Little helpers to assemble binary files in tests, independent of the library's encoder.
 class ByteWriter {
