@@ -75,13 +75,14 @@ TEST(IsoLines, TorusSliceHasTwoLoopsAndSvgIsWritten) {
   text << in.rdbuf();
   std::filesystem::remove(path);
   EXPECT_NE(text.str().find("<svg"), std::string::npos);
-  std::size_t paths = 0;
-  for (std::size_t at = text.str().find("<path"); at != std::string::npos;
-       at = text.str().find("<path", at + 1)) {
-    ++paths;
+  // Both loops are closed: one <polygon> each, no open <polyline>.
+  std::size_t polygons = 0;
+  for (std::size_t at = text.str().find("<polygon"); at != std::string::npos;
+       at = text.str().find("<polygon", at + 1)) {
+    ++polygons;
   }
-  EXPECT_EQ(paths, 2u);
-  EXPECT_NE(text.str().find(" Z\""), std::string::npos);
+  EXPECT_EQ(polygons, 2u);
+  EXPECT_EQ(text.str().find("<polyline"), std::string::npos);
 }
 
 TEST(IsoLines, RejectsBadParameters) {

@@ -2,20 +2,15 @@
 // distance field by squared distance minimisation (PDM, TDM, SDM, TDM+PDM), printing
 // the iteration history and optionally drawing the iterates and the convergence as SVG.
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <fstream>
-#include <iostream>
-#include <limits>
+#include <cstdio>
 #include <memory>
-#include <optional>
-#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Command.h"
 #include "ConvergencePlot.h"
-#include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
@@ -26,6 +21,7 @@
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/PolylineFile.h"
 #include "d2vdb/io/SplineJson.h"
+#include "d2vdb/plot/SvgCanvas.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -173,56 +169,33 @@ void writeIterationSvg(const std::string& file, const LoadedTarget& target,
                        const CurveFitResult& result, int every) {
   std::vector<std::vector<Eigen::Vector3d>> iterates;
   for (const BSplineCurve& curve : result.iterates) iterates.push_back(curve.sample(600));
-  Eigen::AlignedBox3d box;
-  for (const auto& samples : iterates) {
-    for (const Eigen::Vector3d& p : samples) box.extend(p);
+  std::vector<Eigen::Vector3d> everything = target.points;
+  for (const auto& samples : iterates)
+    everything.insert(everything.end(), samples.begin(), samples.end());
+  SvgCanvas canvas = SvgCanvas::forPoints(everything);
+  const double stroke = 0.0027 * canvas.extent();  // 0.3% of the drawing's extent
+  canvas.comment("d2vdb fit-curve: target (grey), initial curve (dashed blue), every " +
+                 std::to_string(every) +
+                 "-th iterate (light blue), final curve (red); xy projection");
+  if (target.kind == "points") {
+    const SvgStyle dot = SvgStyle::filled("#808080");
+    const std::size_t stride = std::max<std::size_t>(1, target.points.size() / 5000);
+    for (std::size_t i = 0; i < target.points.size(); i += stride) {
+      canvas.circle(target.points[i], stroke, dot);
+    }
+  } else {
+    canvas.polyline(target.points, SvgStyle::stroked("#808080", 2.0 * stroke), target.closed);
   }
-  for (const Eigen::Vector3d& p : target.points) box.extend(p);
-  const double extent = std::max({box.sizes().x(), box.sizes().y(), 1e-300});
-  const double margin = 0.05 * extent;
-  const double width = box.sizes().x() + 2.0 * margin;
-  const double height = box.sizes().y() + 2.0 * margin;
-  const double stroke = 0.003 * extent;
-  const auto x = [&](const Eigen::Vector3d& p) { return p.x() - box.min().x() + margin; };
-  const auto y = [&](const Eigen::Vector3d& p) { return box.max().y() - p.y() + margin; };
-  const auto polyline = [&](const std::vector<Eigen::Vector3d>& points, const std::string& colour,
-                            double strokeWidth, const std::string& extra) {
-    std::ostringstream text;
-    text.precision(9);
-    text << "  <polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"" << strokeWidth
-         << "\"" << extra << " points=\"";
-    for (const Eigen::Vector3d& p : points) text << x(p) << ',' << y(p) << ' ';
-    text << "\"/>\n";
-    return text.str();
-  };
-  writeStreamAtomically(file, [&](std::ostream& out) {
-    out.precision(9);
-    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-        << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << width << ' ' << height
-        << "\" width=\"800\" height=\"" << 800.0 * height / width << "\">\n"
-        << "  <!-- d2vdb fit-curve: target (grey), initial curve (dashed blue), every " << every
-        << "-th iterate (light blue), final curve (red); xy projection -->\n";
-    if (target.kind == "points") {
-      const std::size_t stride = std::max<std::size_t>(1, target.points.size() / 5000);
-      for (std::size_t i = 0; i < target.points.size(); i += stride) {
-        out << "  <circle cx=\"" << x(target.points[i]) << "\" cy=\"" << y(target.points[i])
-            << "\" r=\"" << stroke << "\" fill=\"#808080\"/>\n";
-      }
-    } else if (!target.points.empty()) {
-      std::vector<Eigen::Vector3d> loop = target.points;
-      if (target.closed) loop.push_back(loop.front());
-      out << polyline(loop, "#808080", 2.0 * stroke, "");
+  for (std::size_t k = 1; k + 1 < iterates.size(); ++k) {
+    if (static_cast<int>(k) % every == 0) {
+      canvas.polyline(iterates[k], SvgStyle::stroked("#9db4d8", 0.6 * stroke));
     }
-    for (std::size_t k = 1; k + 1 < iterates.size(); ++k) {
-      if (static_cast<int>(k) % every == 0)
-        out << polyline(iterates[k], "#9db4d8", 0.6 * stroke, "");
-    }
-    if (!iterates.empty()) {
-      out << polyline(iterates.front(), "#1f4e9c", stroke, " stroke-dasharray=\"6 4\"");
-      out << polyline(iterates.back(), "#b3261e", stroke, "");
-    }
-    out << "</svg>\n";
-  });
+  }
+  if (!iterates.empty()) {
+    canvas.polyline(iterates.front(), SvgStyle::stroked("#1f4e9c", stroke, "6 4"));
+    canvas.polyline(iterates.back(), SvgStyle::stroked("#b3261e", stroke));
+  }
+  canvas.write(file);
 }
 
 }  // namespace

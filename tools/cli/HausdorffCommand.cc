@@ -7,17 +7,14 @@
 #include <vector>
 
 #include "Command.h"
-#include "d2vdb/core/AtomicFile.h"
+#include "JsonReports.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/measure/CurveHausdorff.h"
+#include "d2vdb/plot/SvgCanvas.h"
 
 namespace d2vdb::cli {
 namespace {
-
-nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension) {
-  if (dimension == 2) return {point.x(), point.y()};
-  return {point.x(), point.y(), point.z()};
-}
 
 const char* caseName(HausdorffCase pairCase) {
   switch (pairCase) {
@@ -53,11 +50,9 @@ std::string oneSidedText(const std::string& name, const OneSidedHausdorff& resul
   text.precision(15);
   text << "  " << name << " = " << result.distance << "  bracket [" << result.lowerBound << ", "
        << result.upperBound << "]\n"
-       << "    pair u = " << result.fromParameter << " (" << result.fromPoint.x() << ", "
-       << result.fromPoint.y() << ", " << result.fromPoint.z() << "), v = " << result.toParameter
-       << " (" << result.toPoint.x() << ", " << result.toPoint.y() << ", " << result.toPoint.z()
-       << "), case " << static_cast<int>(result.pairCase) << ": " << caseName(result.pairCase)
-       << '\n';
+       << "    pair u = " << result.fromParameter << " " << formatPoint(result.fromPoint, 15)
+       << ", v = " << result.toParameter << " " << formatPoint(result.toPoint, 15) << ", case "
+       << static_cast<int>(result.pairCase) << ": " << caseName(result.pairCase) << '\n';
   return text.str();
 }
 
@@ -69,46 +64,25 @@ void writeSvg(const std::string& file, const BSplineCurve& a, const BSplineCurve
   const int samples = static_cast<int>(std::clamp<std::size_t>(64 * segments, 512, 20000));
   const std::vector<Eigen::Vector3d> pointsA = a.sample(samples);
   const std::vector<Eigen::Vector3d> pointsB = b.sample(samples);
-  Eigen::AlignedBox3d box;
-  for (const auto* points : {&pointsA, &pointsB, &a.controlPoints(), &b.controlPoints()}) {
-    for (const Eigen::Vector3d& point : *points) box.extend(point);
+  std::vector<Eigen::Vector3d> everything = pointsA;
+  for (const auto* points : {&pointsB, &a.controlPoints(), &b.controlPoints()}) {
+    everything.insert(everything.end(), points->begin(), points->end());
   }
-  const double extent = std::max({box.sizes().x(), box.sizes().y(), 1e-300});
-  const double margin = 0.05 * extent;
-  const double width = box.sizes().x() + 2.0 * margin;
-  const double height = box.sizes().y() + 2.0 * margin;
-  const double stroke = 0.004 * extent;
-  const auto x = [&](const Eigen::Vector3d& point) { return point.x() - box.min().x() + margin; };
-  const auto y = [&](const Eigen::Vector3d& point) { return box.max().y() - point.y() + margin; };
-  const auto polyline = [&](const std::vector<Eigen::Vector3d>& points, const char* colour,
-                            double strokeWidth, const char* extra) {
-    std::ostringstream text;
-    text.precision(12);
-    text << "  <polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"" << strokeWidth
-         << "\"" << extra << " points=\"";
-    for (const Eigen::Vector3d& point : points) text << x(point) << ',' << y(point) << ' ';
-    text << "\"/>\n";
-    return text.str();
-  };
-  writeStreamAtomically(file, [&](std::ostream& out) {
-    out.precision(12);
-    out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-        << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " << width << ' ' << height
-        << "\" width=\"800\" height=\"" << 800.0 * height / width << "\">\n"
-        << "  <!-- d2vdb hausdorff: curve A (blue), curve B (red), control polygons (thin), "
-           "Hausdorff pair (black); 3D curves are drawn projected onto the xy plane -->\n"
-        << polyline(a.controlPoints(), "#9db4d8", 0.5 * stroke, " stroke-dasharray=\"4 3\"")
-        << polyline(b.controlPoints(), "#e0a8a8", 0.5 * stroke, " stroke-dasharray=\"4 3\"")
-        << polyline(pointsA, "#1f4e9c", stroke, "") << polyline(pointsB, "#b3261e", stroke, "")
-        << "  <line x1=\"" << x(pair.fromPoint) << "\" y1=\"" << y(pair.fromPoint) << "\" x2=\""
-        << x(pair.toPoint) << "\" y2=\"" << y(pair.toPoint) << "\" stroke=\"black\" stroke-width=\""
-        << stroke << "\"/>\n";
-    for (const Eigen::Vector3d& point : {pair.fromPoint, pair.toPoint}) {
-      out << "  <circle cx=\"" << x(point) << "\" cy=\"" << y(point) << "\" r=\"" << 2.5 * stroke
-          << "\" fill=\"black\"/>\n";
-    }
-    out << "</svg>\n";
-  });
+  SvgCanvas canvas = SvgCanvas::forPoints(everything);
+  const double stroke = 0.0036 * canvas.extent();  // 0.4% of the curves' extent
+  canvas.comment(
+      "d2vdb hausdorff: curve A (blue), curve B (red), control polygons (thin), Hausdorff pair "
+      "(black); 3D curves are drawn projected onto the xy plane");
+  canvas.polyline(a.controlPoints(), SvgStyle::stroked("#9db4d8", 0.5 * stroke, "4 3"));
+  canvas.polyline(b.controlPoints(), SvgStyle::stroked("#e0a8a8", 0.5 * stroke, "4 3"));
+  canvas.polyline(pointsA, SvgStyle::stroked("#1f4e9c", stroke));
+  canvas.polyline(pointsB, SvgStyle::stroked("#b3261e", stroke));
+  canvas.line(pair.fromPoint, pair.toPoint, SvgStyle::stroked("black", stroke));
+  const SvgStyle dot = SvgStyle::filled("black");
+  for (const Eigen::Vector3d& point : {pair.fromPoint, pair.toPoint}) {
+    canvas.circle(point, 2.5 * stroke, dot);
+  }
+  canvas.write(file);
 }
 
 }  // namespace
