@@ -1,16 +1,10 @@
 #include "FieldReports.h"
 
+#include "JsonReports.h"
+
 #include <sstream>
 
 namespace d2vdb::cli {
-
-nlohmann::json vectorJson(const Eigen::Vector3d& value) {
-  return {value.x(), value.y(), value.z()};
-}
-
-nlohmann::json boxJson(const Eigen::AlignedBox3d& box) {
-  return {{"min", vectorJson(box.min())}, {"max", vectorJson(box.max())}};
-}
 
 nlohmann::json fieldJson(const ApproximantField& field) {
   const FieldStatistics statistics = field.statistics();
@@ -30,7 +24,7 @@ nlohmann::json fieldJson(const ApproximantField& field) {
           {"estimator", statistics.estimator},
           {"voxel_size", field.voxelSize()},
           {"half_width", field.halfWidth()},
-          {"domain", boxJson(field.domain())},
+          {"domain", boxJson(field.domain().min(), field.domain().max())},
           {"levels", levels},
           {"coarse_levels_built", statistics.coarseLevelsBuilt},
           {"active_voxels", bandVoxels},
@@ -107,7 +101,7 @@ nlohmann::json quadraticFormJson(const QuadraticForm& form) {
   for (int row = 0; row < 3; ++row) {
     rows.push_back({form.A(row, 0), form.A(row, 1), form.A(row, 2)});
   }
-  return {{"A", rows}, {"b", vectorJson(form.b)}, {"c", form.c}};
+  return {{"A", rows}, {"b", pointJson(form.b)}, {"c", form.c}};
 }
 
 }  // namespace d2vdb::cli

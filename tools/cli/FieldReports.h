@@ -15,12 +15,6 @@
 
 namespace d2vdb::cli {
 
-/// [x, y, z]
-nlohmann::json vectorJson(const Eigen::Vector3d& value);
-
-/// {"min": [x, y, z], "max": [x, y, z]}
-nlohmann::json boxJson(const Eigen::AlignedBox3d& box);
-
 /// {"kind", "estimator", "voxel_size", "half_width", "domain", "levels": [{"level",
 ///  "voxel_size", "half_width", "active_voxels", "memory_bytes", "distance_error_bound"}],
 ///  "active_voxels" (band), "memory_bytes" (all levels), "distance_grid_bytes", "dense_bytes",

@@ -11,6 +11,7 @@
 #include "FieldReports.h"
 #include "JsonReports.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/FieldFile.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
@@ -21,6 +22,16 @@
 namespace d2vdb::cli {
 namespace {
 
+Eigen::Vector3d toEigen(const openvdb::Vec3d& value) {
+  return {value.x(), value.y(), value.z()};
+}
+
+// {"min": [i, j, k], "max": [i, j, k]} as integers.
+nlohmann::json indexBoxJson(const openvdb::CoordBBox& box) {
+  return {{"min", {box.min().x(), box.min().y(), box.min().z()}},
+          {"max", {box.max().x(), box.max().y(), box.max().z()}}};
+}
+
 nlohmann::json gridInfoJson(const VdbGridInfo& grid) {
   nlohmann::json metadata = nlohmann::json::object();
   for (const auto& [key, value] : grid.metadata) metadata[key] = value;
@@ -28,32 +39,18 @@ nlohmann::json gridInfoJson(const VdbGridInfo& grid) {
       {"name", grid.name},
       {"value_type", grid.valueType},
       {"class", grid.gridClass},
-      {"voxel_size", {grid.voxelSize[0], grid.voxelSize[1], grid.voxelSize[2]}},
+      {"voxel_size", pointJson(toEigen(grid.voxelSize))},
       {"active_voxels", grid.activeVoxelCount},
-      {"index_bbox",
-       {{"min",
-         {grid.indexBoundingBox.min().x(), grid.indexBoundingBox.min().y(),
-          grid.indexBoundingBox.min().z()}},
-        {"max",
-         {grid.indexBoundingBox.max().x(), grid.indexBoundingBox.max().y(),
-          grid.indexBoundingBox.max().z()}}}},
+      {"index_bbox", indexBoxJson(grid.indexBoundingBox)},
       {"world_bbox",
-       {{"min",
-         {grid.worldBoundingBox.min().x(), grid.worldBoundingBox.min().y(),
-          grid.worldBoundingBox.min().z()}},
-        {"max",
-         {grid.worldBoundingBox.max().x(), grid.worldBoundingBox.max().y(),
-          grid.worldBoundingBox.max().z()}}}},
+       boxJson(toEigen(grid.worldBoundingBox.min()), toEigen(grid.worldBoundingBox.max()))},
       {"memory_bytes", grid.memoryBytes},
       {"metadata", metadata},
   };
 }
 
 std::string vector3Text(const nlohmann::json& values) {
-  std::ostringstream text;
-  text << '(' << values.at(0).get<double>() << ", " << values.at(1).get<double>() << ", "
-       << values.at(2).get<double>() << ')';
-  return text.str();
+  return formatPoint(pointFromJson(values), 6);
 }
 
 void printVdbText(const nlohmann::json& report) {
@@ -191,7 +188,8 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
     report["kind"] = "mesh";
     report["format"] = meshFormatName(meshInput.format);
     report["has_normals"] = mesh.hasNormals();
-    report["bbox"] = boundingBoxJson(boundingBox(mesh));
+    const BoundingBox bounds = boundingBox(mesh);
+    report["bbox"] = boxJson(bounds.min, bounds.max);
     report["surface_area"] = surfaceArea(mesh);
     if (options.json) {
       printJson(report);

@@ -22,9 +22,17 @@ nlohmann::json meshReportJson(const MeshReport& report) {
   };
 }
 
-nlohmann::json boundingBoxJson(const BoundingBox& box) {
-  return {{"min", {box.min.x(), box.min.y(), box.min.z()}},
-          {"max", {box.max.x(), box.max.y(), box.max.z()}}};
+nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension) {
+  if (dimension == 2) return {point.x(), point.y()};
+  return {point.x(), point.y(), point.z()};
+}
+
+Eigen::Vector3d pointFromJson(const nlohmann::json& values) {
+  return {values.at(0).get<double>(), values.at(1).get<double>(), values.at(2).get<double>()};
+}
+
+nlohmann::json boxJson(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+  return {{"min", pointJson(min)}, {"max", pointJson(max)}};
 }
 
 }  // namespace d2vdb::cli

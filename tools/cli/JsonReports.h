@@ -4,7 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "d2vdb/mesh/MeshMeasures.h"
+#include <Eigen/Core>
+
 #include "d2vdb/mesh/MeshValidation.h"
 
 namespace d2vdb::cli {
@@ -14,7 +15,13 @@ namespace d2vdb::cli {
 ///  "inconsistently_oriented_edges", "unreferenced_vertices", "components", "euler_characteristic"}
 nlohmann::json meshReportJson(const MeshReport& report);
 
+/// [x, y, z], or [x, y] when `dimension` is 2.
+nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension = 3);
+
+/// The point of a JSON array [x, y, z] (as written by pointJson()).
+Eigen::Vector3d pointFromJson(const nlohmann::json& values);
+
 /// {"min": [x, y, z], "max": [x, y, z]}
-nlohmann::json boundingBoxJson(const BoundingBox& box);
+nlohmann::json boxJson(const Eigen::Vector3d& min, const Eigen::Vector3d& max);
 
 }  // namespace d2vdb::cli

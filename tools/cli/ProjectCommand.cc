@@ -5,25 +5,16 @@
 #include <string>
 
 #include "Command.h"
+#include "JsonReports.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/measure/PointProjection.h"
 
 namespace d2vdb::cli {
 namespace {
 
-// A point as a JSON array with the curve's number of coordinates.
-nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension) {
-  if (dimension == 2) return {point.x(), point.y()};
-  return {point.x(), point.y(), point.z()};
-}
-
 std::string pointText(const Eigen::Vector3d& point, int dimension) {
-  std::ostringstream text;
-  text.precision(15);
-  text << '(' << point.x() << ", " << point.y();
-  if (dimension == 3) text << ", " << point.z();
-  text << ')';
-  return text.str();
+  return formatPoint(point, 15, dimension);
 }
 
 const char* kindName(ExtremumKind kind) {

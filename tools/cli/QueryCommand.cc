@@ -7,7 +7,9 @@
 
 #include "Command.h"
 #include "FieldReports.h"
+#include "JsonReports.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/io/InputFile.h"
 
@@ -15,9 +17,7 @@ namespace d2vdb::cli {
 namespace {
 
 std::string vectorText(const Eigen::Vector3d& value) {
-  std::ostringstream text;
-  text << std::setprecision(9) << '(' << value.x() << ", " << value.y() << ", " << value.z() << ')';
-  return text.str();
+  return formatPoint(value, 9);
 }
 
 std::string formText(const char* name, const QuadraticForm& form) {
@@ -76,17 +76,17 @@ void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
     }
     nlohmann::json report = {
         {"field", args->field},
-        {"point", vectorJson(point)},
+        {"point", pointJson(point)},
         {"kind", targetKindName(approximant.kind)},
         {"level", accessor.lastLevel()},
         {"distance", approximant.distance},
-        {"origin", vectorJson(approximant.origin)},
-        {"footpoint", vectorJson(approximant.footpoint)},
-        {"normal", vectorJson(approximant.normal)},
-        {"tangent", vectorJson(approximant.tangent)},
-        {"bitangent", vectorJson(approximant.bitangent())},
+        {"origin", pointJson(approximant.origin)},
+        {"footpoint", pointJson(approximant.footpoint)},
+        {"normal", pointJson(approximant.normal)},
+        {"tangent", pointJson(approximant.tangent)},
+        {"bitangent", pointJson(approximant.bitangent())},
         {"flags", flagNamesJson(approximant.flags)},
-        {"sdm_weights", vectorJson(approximant.sdmWeights())},
+        {"sdm_weights", pointJson(approximant.sdmWeights())},
         {"squared_distance_estimate", approximant.form(ErrorTerm::SDM)(point)},
         {"forms", forms},
     };
@@ -96,7 +96,7 @@ void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
     }
     if (curve) {
       report["curvature"] = approximant.k1;
-      report["principal_normal"] = vectorJson(approximant.principalNormal);
+      report["principal_normal"] = pointJson(approximant.principalNormal);
     }
     if (options.json) {
       printJson(report);

@@ -1,26 +1,18 @@
 #include "d2vdb/io/PointSetFile.h"
 
-#include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <system_error>
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/detail/FileExtension.h"
 #include "d2vdb/io/detail/TextFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 
 namespace d2vdb {
 namespace {
-
-std::string lowerExtension(const std::filesystem::path& file) {
-  std::string extension = file.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 bool isBlank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
@@ -110,7 +102,7 @@ std::vector<Eigen::Vector3d> parseXyz(std::string_view text, const std::string& 
 }
 
 std::vector<Eigen::Vector3d> readPointSet(const std::filesystem::path& file) {
-  const std::string extension = lowerExtension(file);
+  const std::string extension = detail::lowerExtension(file);
   if (extension == ".xyz") return parseXyz(detail::readTextFile(file, "point file"), file.string());
   if (extension == ".ply") {
     // The mesh reader is strict (line / byte positions) and rejects a file without vertices.
@@ -144,7 +136,7 @@ std::string pointSetToXyz(const std::vector<Eigen::Vector3d>& points) {
 }
 
 void writePointSet(const std::filesystem::path& file, const std::vector<Eigen::Vector3d>& points) {
-  if (lowerExtension(file) != ".xyz") {
+  if (detail::lowerExtension(file) != ".xyz") {
     throw InputError("cannot write point file '" + file.string() +
                      "': point sets are written as .xyz files");
   }

@@ -37,16 +37,7 @@ class Reader : public detail::JsonFieldReader {
 
  private:
   Polyline polyline(const Json& root) const {
-    const std::string type = string(root, "type");
-    if (type != kPolylineType) {
-      fail("type", "is \"" + type + "\", expected \"" + kPolylineType + "\"");
-    }
-    const int version = integer(root, "version");
-    if (version != kFormatVersion) {
-      fail("version", "version " + std::to_string(version) +
-                          " is not supported (this reader reads version " +
-                          std::to_string(kFormatVersion) + ")");
-    }
+    checkTypeAndVersion(root, kPolylineType, kFormatVersion);
     rejectUnknownFields(root, {"type", "version", "dimension", "closed", "points"}, kPolylineType);
     const int dimension = integer(root, "dimension");
     if (dimension != 2 && dimension != 3) {

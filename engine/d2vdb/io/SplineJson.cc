@@ -35,16 +35,7 @@ class Reader : public detail::JsonFieldReader {
                    std::initializer_list<const char*> allowed) const {
     if (!root.is_object())
       fail("", "expected a JSON object, got " + detail::describeJsonType(root));
-    const std::string type = string(root, "type");
-    if (type != expectedType) {
-      fail("type", "is \"" + type + "\", expected \"" + expectedType + "\"");
-    }
-    const int version = integer(root, "version");
-    if (version != kFormatVersion) {
-      fail("version", "version " + std::to_string(version) +
-                          " is not supported (this reader reads version " +
-                          std::to_string(kFormatVersion) + ")");
-    }
+    checkTypeAndVersion(root, expectedType, kFormatVersion);
     rejectUnknownFields(root, allowed, expectedType);
   }
 

@@ -63,6 +63,20 @@ const Json& JsonFieldReader::object(const Json& value, const std::string& path) 
   return value;
 }
 
+void JsonFieldReader::checkTypeAndVersion(const Json& root, const std::string& expectedType,
+                                          int version) const {
+  const std::string type = string(root, "type");
+  if (type != expectedType) {
+    fail("type", "is \"" + type + "\", expected \"" + expectedType + "\"");
+  }
+  const int found = integer(root, "version");
+  if (found != version) {
+    fail("version", "version " + std::to_string(found) +
+                        " is not supported (this reader reads version " + std::to_string(version) +
+                        ")");
+  }
+}
+
 void JsonFieldReader::rejectUnknownFields(const Json& object,
                                           std::initializer_list<const char*> allowed,
                                           const std::string& objectKind,

@@ -44,6 +44,10 @@ class JsonFieldReader {
   /// `value` itself when it is an object, else fails at `path`.
   const Json& object(const Json& value, const std::string& path) const;
 
+  /// Checks the root object's "type" (must be `expectedType`) and "version" (must be
+  /// `version`), failing at that field otherwise.
+  void checkTypeAndVersion(const Json& root, const std::string& expectedType, int version) const;
+
   /// Fails for the first member of `object` whose name is not in `allowed`, saying it is not a
   /// field of `objectKind` and listing the allowed names.
   void rejectUnknownFields(const Json& object, std::initializer_list<const char*> allowed,
