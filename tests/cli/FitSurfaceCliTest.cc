@@ -19,30 +19,15 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
-class FitSurfaceCliTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-fit-surface-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-  fs::path scratch_;
-};
+class FitSurfaceCliTest : public d2vdb::test::CliFixture {};
 
 TEST_F(FitSurfaceCliTest, TorusLevelSetGivesSurfaceMeshPlotAndReport) {
   const std::string torus = std::string(D2VDB_SOURCE_DIR) + "/volumes/torus.vdb";
   const CliResult result =
-      runCli("fit-surface --target '" + torus + "' --init torus --ctrl 8,6 --iterations 20 --out " +
-                 path("torus.json") + " --mesh " + path("torus.ply") + " --plot " +
-                 path("conv.svg") + " --json -q",
-             scratch_);
+      run("fit-surface --target '" + torus + "' --init torus --ctrl 8,6 --iterations 20 --out " +
+          path("torus.json") + " --mesh " + path("torus.ply") + " --plot " + path("conv.svg") +
+          " --json -q");
   ASSERT_EQ(result.exitCode, 0) << result.err;
   const nlohmann::json report = nlohmann::json::parse(result.out);
   for (const char* key :
@@ -63,7 +48,7 @@ TEST_F(FitSurfaceCliTest, TorusLevelSetGivesSurfaceMeshPlotAndReport) {
   const std::string ply = readWholeFile(scratch_ / "torus.ply");
   EXPECT_NE(ply.find("property float distance\nproperty uchar red"), std::string::npos);
   EXPECT_NE(readWholeFile(scratch_ / "conv.svg").find("fit-surface"), std::string::npos);
-  const CliResult info = runCli("info --json " + path("torus.json"), scratch_);
+  const CliResult info = run("info --json " + path("torus.json"));
   ASSERT_EQ(info.exitCode, 0) << info.err;
   EXPECT_EQ(nlohmann::json::parse(info.out)["kind"], "bspline_surface");
 }
@@ -75,10 +60,9 @@ TEST_F(FitSurfaceCliTest, RuledSurfaceOnAnExactTargetWritesItsRulings) {
             "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
             "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]})";
   const CliResult result =
-      runCli("fit-surface --target " + path("hp.json") +
-                 " --init plane --ruled --degree 1,3 --ctrl 2,4 --smoothness 0 --out " +
-                 path("fit.json") + " --rulings " + path("rulings.json") + " --json -q",
-             scratch_);
+      run("fit-surface --target " + path("hp.json") +
+          " --init plane --ruled --degree 1,3 --ctrl 2,4 --smoothness 0 --out " + path("fit.json") +
+          " --rulings " + path("rulings.json") + " --json -q");
   ASSERT_EQ(result.exitCode, 0) << result.err;
   const nlohmann::json report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report["degree"], nlohmann::json({1, 3}));
@@ -105,8 +89,7 @@ TEST_F(FitSurfaceCliTest, BadInputExitsWithTwoAndWritesNothing) {
         "--target " + path("few.xyz"), "--target " + torus + " --init torus --ctrl 3,8",
         "--target " + torus + " --init plane --degree 3,3 --ctrl 8,3",
         "--target " + torus + " --init plane --rulings " + path("r.json")}) {
-    const CliResult result =
-        runCli("fit-surface " + arguments + " --out " + path("out.json") + " -q", scratch_);
+    const CliResult result = run("fit-surface " + arguments + " --out " + path("out.json") + " -q");
     EXPECT_EQ(result.exitCode, 2) << arguments << ": " << result.err;
     EXPECT_FALSE(result.err.empty());
     EXPECT_FALSE(fs::exists(scratch_ / "out.json")) << arguments;

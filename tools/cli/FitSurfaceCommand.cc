@@ -6,7 +6,6 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,21 +26,13 @@
 #include "d2vdb/fit/OffsetTarget.h"
 #include "d2vdb/fit/RuledSurface.h"
 #include "d2vdb/fit/SurfaceFitter.h"
-#include "d2vdb/io/FieldFile.h"
-#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/SurfaceTessellation.h"
 
 namespace d2vdb::cli {
 namespace {
-
-std::string lowerExtension(const std::string& file) {
-  std::string extension = std::filesystem::path(file).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
 
 /// Nearest-point distances to a point cloud through a uniform hash grid (exact: the search grows
 /// ring by ring until no closer point can exist).
@@ -123,12 +114,15 @@ std::vector<Eigen::Vector3d> fieldSurfaceSamples(const ApproximantField& field, 
 }
 
 LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
+  LoadOptions load;
+  load.purpose = "the target of 'd2vdb fit-surface'";
+  load.progress = makeProgressPrinter(options);
+  LoadedInput input = loadInput(
+      file, {InputKind::Field, InputKind::Surface, InputKind::PointSet, InputKind::Mesh}, load);
   LoadedTarget loaded;
-  const std::string extension = lowerExtension(file);
-  if (extension == ".vdb") {
+  if (input.kind() == InputKind::Field) {
     loaded.kind = "field";
-    auto field = std::make_unique<ApproximantField>(
-        readField(file, ApproximantFieldOptions{}, makeProgressPrinter(options)));
+    auto field = std::make_unique<ApproximantField>(std::move(input).take<FieldInput>().field);
     if (field->statistics().kind != TargetKind::Surface) {
       throw InputError("target file '" + file +
                        "' is not the field of a surface (a level set); fit-surface fits surfaces "
@@ -139,20 +133,20 @@ LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOpti
       throw InputError("target file '" + file + "' has no voxels on its zero level set");
     }
     loaded.target = std::move(field);
-  } else if (extension == ".json") {
+  } else if (input.kind() == InputKind::Surface) {
     loaded.kind = "surface";
-    const BSplineSurface surface = readSurfaceJson(file);
+    const BSplineSurface surface = std::move(input).take<BSplineSurface>();
     auto target = std::make_unique<SurfaceTarget>(surface);
     target->setLabel(file);
     loaded.points = target->samplePoints(101, 101);
     loaded.target = std::move(target);
-  } else if (extension == ".xyz" || extension == ".ply") {
+  } else if (input.kind() == InputKind::PointSet) {
     loaded.kind = "points";
-    loaded.points = readPointSet(file);
+    loaded.points = std::move(input).take<PointSetInput>().points;
   } else {
     throw InputError("target file '" + file +
-                     "' has an unsupported extension; use a level-set or field .vdb (meshes: "
-                     "d2vdb mesh2sdf first), a B-spline surface .json or a point cloud .xyz/.ply");
+                     "' is a triangle mesh; use a level-set or field .vdb (meshes: d2vdb mesh2sdf "
+                     "first), a B-spline surface .json or a point cloud .xyz/.ply");
   }
   if (offset != 0.0) {
     if (!loaded.target) {
@@ -176,7 +170,9 @@ struct Arguments {
 
 BSplineSurface initialSurface(const Arguments& args, const LoadedTarget& target, bool& ruled) {
   if (args.init != "plane" && args.init != "cylinder" && args.init != "torus") {
-    const BSplineSurface surface = readSurfaceJson(args.init);
+    LoadOptions load;
+    load.purpose = "the initial surface (--init)";
+    const BSplineSurface surface = loadInputAs<BSplineSurface>(args.init, load);
     ruled = surface.degreeU() == 1;
     return surface;
   }
