@@ -1,6 +1,7 @@
 #include "FieldReports.h"
 
 #include "JsonReports.h"
+#include "d2vdb/core/NumberFormat.h"
 
 #include <sstream>
 
@@ -41,10 +42,7 @@ nlohmann::json fieldJson(const ApproximantField& field) {
 std::string fieldText(const nlohmann::json& report, const std::string& indent) {
   std::ostringstream text;
   const auto vector3 = [](const nlohmann::json& values) {
-    std::ostringstream out;
-    out << '(' << values.at(0).get<double>() << ", " << values.at(1).get<double>() << ", "
-        << values.at(2).get<double>() << ')';
-    return out.str();
+    return formatPoint(pointFromJson(values), 6);
   };
   const double memory = report.at("memory_bytes").get<double>();
   const double dense = report.at("dense_bytes").get<double>();

@@ -6,18 +6,15 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/SurfaceGeometry.h"
 
 namespace d2vdb {
 namespace {
 
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out.precision(9);
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return out.str();
-}
+// Messages show points with 9 significant digits.
+constexpr int kDigits = 9;
 
 }  // namespace
 
@@ -28,7 +25,8 @@ SurfaceTarget::SurfaceTarget(const BSplineSurface& surface, double domainPadding
   for (const Eigen::Vector3d& point : surface.controlPoints()) surfaceBounds_.extend(point);
   if (!(surfaceBounds_.sizes().maxCoeff() > 0.0)) {
     throw InputError("surface target: all control points coincide at " +
-                     formatPoint(surface.controlPoints().front()) + "; the surface is a point");
+                     formatPoint(surface.controlPoints().front(), kDigits) +
+                     "; the surface is a point");
   }
   projector_ = std::make_unique<SurfaceProjector>(surface);
   domain_ = surfaceBounds_;
@@ -59,10 +57,11 @@ Approximant SurfaceTarget::approximantAt(const Eigen::Vector3d& point) const {
   if (!domain_.contains(point)) {
     std::ostringstream message;
     message.precision(6);
-    message << "the point " << formatPoint(point) << " lies "
+    message << "the point " << formatPoint(point, kDigits) << " lies "
             << std::sqrt(domain_.squaredExteriorDistance(point))
             << " outside the working domain of the " << describe() << " (box "
-            << formatPoint(domain_.min()) << " to " << formatPoint(domain_.max()) << ")";
+            << formatPoint(domain_.min(), kDigits) << " to " << formatPoint(domain_.max(), kDigits)
+            << ")";
     throw InputError(message.str());
   }
   return approximantAtAnyPoint(point);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/fit/SensorBasis.h"
 #include "d2vdb/fit/detail/FitLoop.h"
 
@@ -107,10 +108,9 @@ class TargetProblem final : public detail::FitProblem {
   std::vector<double> squared_;
 };
 
+// Messages show points with 6 significant digits.
 std::string pointText(const Eigen::Vector3d& p) {
-  std::ostringstream text;
-  text << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
-  return text.str();
+  return formatPoint(p, 6);
 }
 
 }  // namespace

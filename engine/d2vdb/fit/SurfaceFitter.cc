@@ -10,6 +10,7 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/fit/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/FitLoop.h"
 #include "d2vdb/measure/SurfaceProjection.h"
@@ -18,11 +19,9 @@
 namespace d2vdb {
 namespace {
 
+// Messages show points with 9 significant digits.
 std::string pointText(const Eigen::Vector3d& p) {
-  std::ostringstream text;
-  text.precision(9);
-  text << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
-  return text.str();
+  return formatPoint(p, 9);
 }
 
 // SDM I: sensors at fixed parameters, approximants from the target.
