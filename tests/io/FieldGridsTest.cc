@@ -35,7 +35,7 @@ using test::randomPoints;
 
 constexpr double kPi = 3.14159265358979323846;
 
-class FieldGridsTest : public test::TemporaryDirectoryTest {};
+class FieldGridsTest : public test::ScratchDirectoryTest {};
 
 /// Random points of the domain plus points off the target at distances growing geometrically
 /// (so that every coarse level answers some), and how many of them each level answered.

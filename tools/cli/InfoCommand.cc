@@ -13,6 +13,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/FieldGrids.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/io/VdbFile.h"
@@ -103,7 +104,7 @@ std::optional<nlohmann::json> fieldReport(const std::filesystem::path& path,
   const std::string distance = findGrid(grids)->getName();
   nlohmann::json report;
   try {
-    const ApproximantField field = ApproximantField::fromGrids(grids, path.string());
+    const ApproximantField field = fieldFromGrids(grids, path.string());
     field.buildCoarseLevels();  // info shows every level
     report = fieldJson(field);
   } catch (const InputError& error) {

@@ -10,6 +10,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/detail/FileExtension.h"
 #include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/FieldGrids.h"
 #include "d2vdb/io/PointSetFile.h"
 #include "d2vdb/io/VdbFile.h"
 #include "d2vdb/io/detail/JsonDocuments.h"
@@ -200,9 +201,9 @@ LoadedInput loadVdb(const std::filesystem::path& path, InputKinds accepted,
   if (accepted.contains(InputKind::Field) &&
       (storesField || !accepted.contains(InputKind::LevelSet))) {
     if (storesField) {
-      return {path, FieldInput{ApproximantField::fromGrids(grids, path.string(), options.field,
-                                                           options.progress),
-                               true}};
+      return {
+          path,
+          FieldInput{fieldFromGrids(grids, path.string(), options.field, options.progress), true}};
     }
     const openvdb::FloatGrid::Ptr levelSet = openvdb::gridPtrCast<openvdb::FloatGrid>(
         selectGrid(grids, quoted(path), options.gridName, ScalarGridTypes::Float));
