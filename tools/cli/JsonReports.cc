@@ -1,6 +1,20 @@
 #include "JsonReports.h"
 
+#include "d2vdb/field/MeshToLevelSet.h"
+
 namespace d2vdb::cli {
+
+nlohmann::json signReportJson(const SignReport& report) {
+  return {
+      {"method", signMethodName(report.method)},
+      {"corrected_voxels", report.correctedVoxels},
+      {"winding_number_queries", report.windingNumberQueries},
+      {"reoriented_triangles", report.reorientedTriangles},
+      {"watertight", report.watertight},
+      {"holes_closed", report.holesClosed},
+      {"self_intersecting", report.selfIntersecting},
+  };
+}
 
 nlohmann::json meshReportJson(const MeshReport& report) {
   return {

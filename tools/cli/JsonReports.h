@@ -8,12 +8,21 @@
 
 #include "d2vdb/mesh/MeshValidation.h"
 
+namespace d2vdb {
+struct SignReport;  // d2vdb/field/MeshToLevelSet.h
+}  // namespace d2vdb
+
 namespace d2vdb::cli {
 
 /// {"vertices", "triangles", "edges", "closed", "manifold", "oriented", "boundary_edges",
 ///  "boundary_loops", "non_manifold_edges", "non_manifold_vertices", "degenerate_triangles",
 ///  "inconsistently_oriented_edges", "unreferenced_vertices", "components", "euler_characteristic"}
 nlohmann::json meshReportJson(const MeshReport& report);
+
+/// {"method": "closest feature" | "winding number" | "none", "corrected_voxels",
+///  "winding_number_queries", "reoriented_triangles", "watertight", "holes_closed",
+///  "self_intersecting"}: how mesh2sdf decided inside and outside.
+nlohmann::json signReportJson(const SignReport& report);
 
 /// [x, y, z], or [x, y] when `dimension` is 2.
 nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension = 3);

@@ -91,15 +91,13 @@ struct LevelSetResult {
 /// method and the number of corrected voxels; a correction, holes and self-intersections produce
 /// warnings.
 ///
-/// Without exact signs, the sign does not depend on triangle orientation and holes up to about 3
-/// voxels across are bridged by the voxels the surrounding triangles touch (measured on a sphere
-/// of radius 20 voxels: 3.2-voxel holes keep every sign, 4-voxel holes let the outside in).
-/// A mesh that is not closed produces a warning, and a signed field with no inside voxel
+/// Without exact signs, the sign does not depend on triangle orientation and holes a few voxels
+/// across are bridged by the voxels the surrounding triangles touch; wider holes let the outside
+/// in. A mesh that is not closed produces a warning, and a signed field with no inside voxel
 /// another one.
-/// Accuracy (measured on a sphere of radius 20 voxels, 5120 triangles): where |d| < 1 voxel the
-/// values are the exact distance to the mesh (to 1e-5 voxel); further out OpenVDB extends the
-/// band from neighbouring voxels' closest triangles and renormalises, which errs by up to about
-/// 0.11 voxel.
+/// Values: where |d| < 1 voxel, the exact distance to the mesh; further out OpenVDB extends the
+/// band from neighbouring voxels' closest triangles and the band is renormalised (the README
+/// gives the measured accuracy).
 /// Deterministic: the same input gives a bitwise-identical grid for any thread count.
 /// `progress` receives stage "mesh to level set" with fractions 0..1, from the calling thread.
 /// Throws InputError for an empty mesh, out-of-range indices, non-finite coordinates, a bounding
