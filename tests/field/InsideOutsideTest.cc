@@ -153,6 +153,44 @@ TEST(InsideOutside, SelfIntersectionTestCases) {
       detail::hasSelfIntersection(pair.points, pair.triangles, pair.degenerate, pairBvh, 1e-9));
 }
 
+TEST(InsideOutside, SelfIntersectionBroadPhaseFindsWhatAllPairsFind) {
+  // Random soups of small triangles, some sharing corners: the hierarchical search must answer
+  // as the test of every pair does, both ways.
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int intersecting = 0;
+  for (int soup = 0; soup < 150; ++soup) {
+    const double size = 0.05 + 0.25 * unit(random);
+    std::vector<Eigen::Vector3d> points;
+    std::vector<TriangleIndices> triangles;
+    for (int t = 0; t < 24; ++t) {
+      const Eigen::Vector3d centre(unit(random), unit(random), unit(random));
+      const auto corner = [&] {
+        points.push_back(centre + size * Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5,
+                                                         unit(random) - 0.5));
+        return static_cast<std::uint32_t>(points.size() - 1);
+      };
+      // Every fourth triangle reuses a corner of the previous one.
+      const std::uint32_t first = (t % 4 == 3) ? triangles.back()[0] : corner();
+      triangles.push_back({first, corner(), corner()});
+    }
+    std::vector<bool> degenerate(triangles.size(), false);
+    bool bruteForce = false;
+    for (std::size_t a = 0; a < triangles.size() && !bruteForce; ++a) {
+      for (std::size_t b = a + 1; b < triangles.size() && !bruteForce; ++b) {
+        bruteForce = detail::trianglesIntersect(points, triangles[a], triangles[b], 1e-9);
+      }
+    }
+    const detail::TriangleBvh bvh(points, triangles, 2);
+    EXPECT_EQ(detail::hasSelfIntersection(points, triangles, degenerate, bvh, 1e-9), bruteForce)
+        << "soup " << soup;
+    intersecting += bruteForce ? 1 : 0;
+  }
+  // Both answers occur often enough for the comparison to mean something.
+  EXPECT_GT(intersecting, 20);
+  EXPECT_LT(intersecting, 130);
+}
+
 TEST(InsideOutside, PreparedMeshIsRepairedAndCapped) {
   TriangleMesh sphere = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
   // Unweld one vertex (a seam), flip two triangles, cut two holes.

@@ -70,11 +70,48 @@ bool crossesInterior(const Vector& p0, const Vector& p1, const Corners& t, doubl
   return true;
 }
 
+/// Whether some axis proves the segment and the triangle farther apart than `margin`: their
+/// projections onto it are separated by more than `margin` times its length. The axes tried are
+/// those of the separating axis theorem for a segment and a flat triangle (the triangle's normal,
+/// its in-plane edge normals, and the segment's direction crossed with each edge), so that a
+/// segment clear of the triangle is almost always proved so here, with a few dot products.
+/// Projections are taken relative to a corner, so that their rounding is relative to the
+/// triangle's size, far below any margin derived from the coordinates' magnitude.
+bool provablyApart(const Vector& p0, const Vector& p1, const Corners& t, double margin) {
+  const Vector q0 = p0 - t[0];
+  const Vector q1 = p1 - t[0];
+  const Vector c1 = t[1] - t[0];
+  const Vector c2 = t[2] - t[0];
+  const auto separates = [&](const Vector& axis) {
+    const double s0 = axis.dot(q0);
+    const double s1 = axis.dot(q1);
+    const double d1 = axis.dot(c1);
+    const double d2 = axis.dot(c2);
+    const double gap = std::max(std::min(s0, s1) - std::max({0.0, d1, d2}),
+                                std::min({0.0, d1, d2}) - std::max(s0, s1));
+    return gap > 0.0 && gap * gap > margin * margin * axis.squaredNorm();
+  };
+  const Vector normal = c1.cross(c2);
+  if (separates(normal)) return true;
+  const std::array<Vector, 3> edges{c1, t[2] - t[1], -c2};
+  for (const Vector& edge : edges) {
+    if (separates(normal.cross(edge))) return true;
+  }
+  const Vector direction = q1 - q0;
+  for (const Vector& edge : edges) {
+    if (separates(direction.cross(edge))) return true;
+  }
+  return false;
+}
+
 /// Whether the segment comes within `tolerance` of the triangle. Complete: if the segment
 /// touches the triangle but does not cross its interior with room to spare, an end lies within
 /// `tolerance` of the triangle or the segment passes within it of an edge (the part of the
 /// segment near the plane enters the triangle across its boundary).
 bool segmentMeetsTriangle(const Vector& p0, const Vector& p1, const Corners& t, double tolerance) {
+  // Every way of meeting below puts the segment within `tolerance` of the triangle (up to
+  // rounding far below it); twice that separation rules them all out.
+  if (provablyApart(p0, p1, t, 2.0 * tolerance)) return false;
   if (crossesInterior(p0, p1, t, tolerance)) return true;
   if (pointTriangleDistance(p0, t) <= tolerance || pointTriangleDistance(p1, t) <= tolerance) {
     return true;
@@ -148,44 +185,76 @@ bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<TriangleIndices>& triangles,
                          const std::vector<bool>& degenerate, const TriangleBvh& bvh,
                          double tolerance) {
-  if (bvh.nodes().empty()) return false;
-  std::atomic<bool> found{false};
   const std::vector<TriangleBvh::Node>& nodes = bvh.nodes();
-  tbb::parallel_for(
-      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(triangles.size()), 256),
-      [&](const tbb::blocked_range<std::uint32_t>& range) {
-        std::uint32_t stack[128];
-        for (std::uint32_t t = range.begin(); t != range.end(); ++t) {
-          if (found.load(std::memory_order_relaxed)) return;
-          if (degenerate[t]) continue;
-          const TriangleIndices& tri = triangles[t];
-          const Vector low = points[tri[0]].cwiseMin(points[tri[1]]).cwiseMin(points[tri[2]]) -
-                             Vector::Constant(tolerance);
-          const Vector high = points[tri[0]].cwiseMax(points[tri[1]]).cwiseMax(points[tri[2]]) +
-                              Vector::Constant(tolerance);
-          int top = 0;
-          stack[top++] = 0;
-          while (top > 0) {
-            const std::uint32_t index = stack[--top];
-            const TriangleBvh::Node& node = nodes[index];
-            if ((node.low.array() > high.array()).any() || (node.high.array() < low.array()).any())
-              continue;
-            if (!node.isLeaf()) {
-              stack[top++] = node.right;
-              stack[top++] = index + 1;
-              continue;
-            }
-            for (std::uint32_t i = node.begin; i < node.end; ++i) {
-              const std::uint32_t other = bvh.order()[i];
-              if (other <= t || degenerate[other]) continue;
-              if (trianglesIntersect(points, tri, triangles[other], tolerance)) {
-                found.store(true, std::memory_order_relaxed);
-                return;
-              }
+  if (nodes.empty()) return false;
+  const std::vector<std::uint32_t>& order = bvh.order();
+  // Each triangle's box, grown by the tolerance, in leaf order (contiguous for the pair loops).
+  struct Box {
+    Vector low, high;
+  };
+  std::vector<Box> boxes(order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const TriangleIndices& tri = triangles[order[i]];
+      const Vector& a = points[tri[0]];
+      const Vector& b = points[tri[1]];
+      const Vector& c = points[tri[2]];
+      boxes[i].low = a.cwiseMin(b).cwiseMin(c) - Vector::Constant(tolerance);
+      boxes[i].high = a.cwiseMax(b).cwiseMax(c) + Vector::Constant(tolerance);
+    }
+  });
+  std::vector<std::uint32_t> leaves;
+  for (std::uint32_t index = 0; index < nodes.size(); ++index) {
+    if (nodes[index].isLeaf()) leaves.push_back(index);
+  }
+  // Grown boxes that do not overlap hold their triangles more than `tolerance` apart (the
+  // growth on one side alone would prove it; both sides keep the test symmetric).
+  const auto apart = [](const Vector& low, const Vector& high, const Box& other) {
+    return (other.low.array() > high.array()).any() || (other.high.array() < low.array()).any();
+  };
+  const auto pairIntersects = [&](std::uint32_t i, std::uint32_t j) {
+    const std::uint32_t t = order[i];
+    const std::uint32_t u = order[j];
+    if (degenerate[t] || degenerate[u]) return false;
+    if (apart(boxes[i].low, boxes[i].high, boxes[j])) return false;
+    return trianglesIntersect(points, triangles[t], triangles[u], tolerance);
+  };
+  // Leaf against leaf: each leaf meets the leaves (its own included) whose boxes overlap its
+  // own, taking each pair of leaves once (from the lower node index). A subtree's nodes occupy a
+  // contiguous index range [index, end), so subtrees entirely below the leaf are skipped.
+  std::atomic<bool> found{false};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16), [&](const auto& range) {
+    std::array<std::uint32_t, 2> stack[128];
+    for (std::size_t n = range.begin(); n != range.end(); ++n) {
+      if (found.load(std::memory_order_relaxed)) return;
+      const std::uint32_t self = leaves[n];
+      const TriangleBvh::Node& leaf = nodes[self];
+      const Vector low = leaf.low - Vector::Constant(tolerance);
+      const Vector high = leaf.high + Vector::Constant(tolerance);
+      int top = 0;
+      stack[top++] = {0, static_cast<std::uint32_t>(nodes.size())};
+      while (top > 0) {
+        const auto [index, end] = stack[--top];
+        if (end <= self) continue;
+        const TriangleBvh::Node& node = nodes[index];
+        if ((node.low.array() > high.array()).any() || (node.high.array() < low.array()).any())
+          continue;
+        if (!node.isLeaf()) {
+          stack[top++] = {node.right, end};
+          stack[top++] = {index + 1, node.right};
+          continue;
+        }
+        for (std::uint32_t i = leaf.begin; i < leaf.end; ++i) {
+          for (std::uint32_t j = index == self ? i + 1 : node.begin; j < node.end; ++j) {
+            if (pairIntersects(i, j)) {
+              found.store(true, std::memory_order_relaxed);
+              return;
             }
           }
         }
-      });
+      }
+    }
+  });
   return found.load();
 }
 

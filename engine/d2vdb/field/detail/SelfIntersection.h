@@ -14,7 +14,8 @@ namespace d2vdb::detail {
 /// its neighbour, two triangles on the same three corners. Conservative: configurations closer
 /// than `tolerance` (absolute, in the points' units) to touching count as intersecting, so that
 /// rounding can only ever add an intersection, never hide one. Triangles marked `degenerate` are
-/// left out (they enclose nothing). Parallel (TBB) over triangles with the BVH as broad phase; the
+/// left out (they enclose nothing). Parallel (TBB) over the BVH's leaves, each tested against the
+/// leaves whose boxes overlap its own, then triangle boxes, then the pairwise test below; the
 /// answer does not depend on the thread count.
 bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<TriangleIndices>& triangles,
