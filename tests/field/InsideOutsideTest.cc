@@ -191,6 +191,35 @@ TEST(InsideOutside, SelfIntersectionBroadPhaseFindsWhatAllPairsFind) {
   EXPECT_LT(intersecting, 130);
 }
 
+TEST(InsideOutside, RepairedClosedMeshHasTheAdjacencyOfAWellWoundOne) {
+  // Flipped triangles of a closed mesh are reversed back; the mates found through the repaired
+  // half-edges equal those of the mesh that was never flipped, and every mate is mutual and
+  // joins the same two corners the other way.
+  const TriangleMesh sphere = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
+  TriangleMesh flipped = sphere;
+  for (const std::size_t t : {3u, 50u, 51u, 52u, 200u}) {
+    std::swap(flipped.triangles[t][1], flipped.triangles[t][2]);
+  }
+  const detail::InsideOutsideMesh reference =
+      detail::prepareInsideOutsideMesh(toDouble(sphere), toIndices(sphere));
+  const detail::InsideOutsideMesh repaired =
+      detail::prepareInsideOutsideMesh(toDouble(flipped), toIndices(flipped));
+  EXPECT_EQ(reference.reorientedTriangles, 0u);
+  EXPECT_EQ(repaired.reorientedTriangles, 5u);
+  EXPECT_TRUE(repaired.watertight);
+  EXPECT_EQ(repaired.triangles, reference.triangles);
+  EXPECT_EQ(repaired.mate, reference.mate);
+  for (std::uint32_t h = 0; h < repaired.mate.size(); ++h) {
+    const std::uint32_t other = repaired.mate[h];
+    ASSERT_NE(other, detail::InsideOutsideMesh::kNoMate) << "half-edge " << h;
+    EXPECT_EQ(repaired.mate[other], h);
+    const TriangleIndices& a = repaired.triangles[h / 3];
+    const TriangleIndices& b = repaired.triangles[other / 3];
+    EXPECT_EQ(a[h % 3], b[(other % 3 + 1) % 3]);
+    EXPECT_EQ(a[(h % 3 + 1) % 3], b[other % 3]);
+  }
+}
+
 TEST(InsideOutside, PreparedMeshIsRepairedAndCapped) {
   TriangleMesh sphere = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
   // Unweld one vertex (a seam), flip two triangles, cut two holes.

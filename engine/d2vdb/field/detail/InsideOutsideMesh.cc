@@ -76,12 +76,38 @@ double triangleArea(const std::vector<Eigen::Vector3d>& p, const TriangleIndices
   return 0.5 * (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]).norm();
 }
 
+/// The half-edges of `keys` (sortedHalfEdges() of some triangles) after reversing the triangles
+/// marked in `flip`: reversing (c0, c1, c2) to (c0, c2, c1) turns half-edge k into half-edge
+/// 2 - k running the other way. Equal edges stay together; within them the order by half-edge
+/// is restored, so that the result equals sortedHalfEdges() of the reversed triangles.
+void reverseHalfEdges(std::vector<HalfEdgeKey>& keys, const std::vector<std::uint8_t>& flip) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      HalfEdgeKey& key = keys[i];
+      const std::uint32_t t = key.halfEdge / 3;
+      if (!flip[t]) continue;
+      key.halfEdge = 3 * t + (2 - key.halfEdge % 3);
+      key.forward = !key.forward;
+    }
+  });
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
+    if (j - i > 1) {
+      std::sort(keys.begin() + i, keys.begin() + j,
+                [](const HalfEdgeKey& x, const HalfEdgeKey& y) { return x.halfEdge < y.halfEdge; });
+    }
+    i = j;
+  }
+}
+
 /// Reverses triangles so that edges shared by two triangles are traversed once each way (see
-/// the header). Returns the number of reversed triangles.
+/// the header). `keys` are sortedHalfEdges(triangles) before and after. Returns the number of
+/// reversed triangles.
 std::size_t repairOrientation(const std::vector<Eigen::Vector3d>& p,
-                              std::vector<TriangleIndices>& triangles) {
+                              std::vector<TriangleIndices>& triangles,
+                              std::vector<HalfEdgeKey>& keys) {
   const auto count = static_cast<std::uint32_t>(triangles.size());
-  const std::vector<HalfEdgeKey> keys = sortedHalfEdges(triangles);
   std::vector<std::uint32_t> pairedWith(3 * std::size_t{count}, kNoMate);
   std::vector<bool> sameDirection(3 * std::size_t{count}, false);
   for (std::size_t i = 0; i < keys.size();) {
@@ -148,6 +174,7 @@ std::size_t repairOrientation(const std::vector<Eigen::Vector3d>& p,
     std::swap(triangles[t][1], triangles[t][2]);
     ++reversed;
   }
+  if (reversed > 0) reverseHalfEdges(keys, flip);
   return reversed;
 }
 
@@ -235,12 +262,13 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
   mesh.points = std::move(points);
   mesh.meshTriangleCount = static_cast<std::uint32_t>(input.size());
   mesh.triangles = weld(mesh.points, input);
-  mesh.reorientedTriangles = repairOrientation(mesh.points, mesh.triangles);
+  // M's half-edges sorted by edge, kept up to date through the repair and extended by the caps'.
+  std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
+  mesh.reorientedTriangles = repairOrientation(mesh.points, mesh.triangles, keys);
 
   // Close the holes: a cone from each boundary loop's mean vertex; triangle (apex, b, a) for the
   // boundary edge a -> b, so that the cap traverses the loop the other way.
   {
-    const std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
     const std::vector<std::vector<std::uint32_t>> loops =
         boundaryLoops(keys, mesh.points.size(), mesh.boundaryEdges);
     mesh.watertight = !input.empty() && loops.empty();
@@ -258,6 +286,7 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
       }
     }
     mesh.triangles.insert(mesh.triangles.end(), mesh.caps.begin(), mesh.caps.end());
+    if (!mesh.caps.empty()) keys = sortedHalfEdges(mesh.triangles);
   }
   const std::vector<Eigen::Vector3d>& p = mesh.points;
   const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
@@ -283,7 +312,6 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
   // Mates: edges of M + S shared by exactly two triangles traversed once each way.
   mesh.mate.assign(3 * std::size_t{triangleCount}, kNoMate);
   {
-    const std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
     for (std::size_t i = 0; i < keys.size();) {
       std::size_t j = i + 1;
       while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
