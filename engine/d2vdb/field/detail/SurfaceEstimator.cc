@@ -4,10 +4,16 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace d2vdb::detail {
 namespace {
@@ -28,55 +34,104 @@ constexpr double kFootpointStep = 0.02;
 /// footpoint often has one or two such corners; renormalising over the others keeps the measured
 /// curvature error below 0.3% on the test shapes, so only larger losses are flagged.
 constexpr double kDegradedWeight = 0.5;
-constexpr int kPad = 1;              // margin of the gathered block
-constexpr int kSpan = 8 + 2 * kPad;  // 10
 
-/// Pass-1 results of one record (index units: d in voxels).
+/// Pass-1 results of one band voxel (index units: d in voxels): the value of the quadric fit and
+/// its gradient and Hessian (xx, yy, zz, xy, xz, yz) where the voxel has a fit (its bit in the
+/// leaf's FitMask), else the distance and a finite-difference gradient (Hessian unused).
 struct StencilData {
-  std::array<float, 3> gradient{};
-  std::array<float, 6> hessian{};  // xx, yy, zz, xy, xz, yz
   float distance = 0.0f;
-  bool hasHessian = false;
+  std::array<float, 3> gradient{};
+  std::array<float, 6> hessian{};
 };
 
-/// Values and active flags of a leaf and a 1-voxel margin, x-major with z contiguous.
-struct Block {
-  std::array<float, kSpan * kSpan * kSpan> values{};
-  std::array<std::uint8_t, kSpan * kSpan * kSpan> active{};
+/// The voxels of one leaf that have a quadric fit, in LeafEntry::mask order.
+using FitMask = std::array<std::uint64_t, 8>;
 
-  static int index(int x, int y, int z) {
-    return ((x + kPad) * kSpan + (y + kPad)) * kSpan + (z + kPad);
+// ---- Pass 1: quadric fits ----------------------------------------------------------------------
+
+/// Pass 1 for the voxels of one leaf. The leaf and a 1-voxel margin are gathered (values and
+/// active bits); the fit's ten moments sum f times {1, x, y, z, x^2, y^2, z^2, xy, xz, yz} over a
+/// voxel's 3x3x3 stencil, and each is a product of three 3-tap filters along the axes (S = sum,
+/// D = difference, C = centre), so they are computed separably: along z over the whole block,
+/// then along y, then along x at the voxels that have a fit.
+class LeafFitter {
+ public:
+  /// Fills `out` (the leaf's records, in mask order) and `fits` for the leaf `entry`; `scale`
+  /// converts grid values to voxels.
+  template <typename AccessorT>
+  void fit(AccessorT& accessor, const LeafEntry& entry, double scale, StencilData* out,
+           FitMask& fits) {
+    gather(accessor, entry.origin);
+    filter(scale);
+    // Voxels whose 27-voxel stencil is active: the active rows (bit z + 1 = voxel z), eroded.
+    std::array<std::uint16_t, 64> full{};
+    for (int x = 0; x < 8; ++x) {
+      for (int y = 0; y < 8; ++y) {
+        unsigned rows = 0x3FF;
+        for (int dx = 0; dx <= 2; ++dx) {
+          for (int dy = 0; dy <= 2; ++dy) rows &= active_[x + dx][y + dy];
+        }
+        full[static_cast<std::size_t>(x * 8 + y)] =
+            static_cast<std::uint16_t>(rows & (rows >> 1) & (rows << 1));
+      }
+    }
+    fits = FitMask{};
+    int record = 0;
+    entry.forEachOn([&](int offset) {
+      const int x = offset >> 6, y = (offset >> 3) & 7, z = offset & 7;
+      StencilData& result = out[record++];
+      const double centre = scaled_[x + 1][y + 1][z + 1];
+      result.distance = static_cast<float>(centre);
+      if (((full[static_cast<std::size_t>(x * 8 + y)] >> (z + 1)) & 1u) != 0 &&
+          std::abs(centre) <= kNearSurface) {
+        fitVoxel(x, y, z, result);
+        fits[static_cast<std::size_t>(offset >> 6)] |= std::uint64_t{1} << (offset & 63);
+      } else {
+        differences(x, y, z, scale, result);
+      }
+    });
   }
 
+ private:
+  static constexpr int kSpan = 10;  // the leaf and a 1-voxel margin
+
+  /// Values (unscaled) and active bits of the leaf and its margin: block (bx, by, bz) is voxel
+  /// origin + (bx - 1, by - 1, bz - 1). Voxels of absent leaves read 0 and are inactive.
   template <typename AccessorT>
   void gather(AccessorT& accessor, const openvdb::Coord& origin) {
+    for (auto& plane : active_) plane.fill(0);
     for (int ox = -1; ox <= 1; ++ox) {
-      const int x0 = std::max(-kPad, ox * 8), x1 = std::min(7 + kPad, ox * 8 + 7);
+      const int bx0 = ox < 0 ? 0 : (ox == 0 ? 1 : 9), bx1 = ox < 0 ? 0 : (ox == 0 ? 8 : 9);
       for (int oy = -1; oy <= 1; ++oy) {
-        const int y0 = std::max(-kPad, oy * 8), y1 = std::min(7 + kPad, oy * 8 + 7);
+        const int by0 = oy < 0 ? 0 : (oy == 0 ? 1 : 9), by1 = oy < 0 ? 0 : (oy == 0 ? 8 : 9);
         for (int oz = -1; oz <= 1; ++oz) {
-          const int z0 = std::max(-kPad, oz * 8), z1 = std::min(7 + kPad, oz * 8 + 7);
-          const openvdb::Coord neighbour = origin + openvdb::Coord(ox * 8, oy * 8, oz * 8);
-          if (const LeafT* leaf = accessor.probeConstLeaf(neighbour)) {
-            const float* data = leaf->buffer().data();
-            const auto& mask = leaf->getValueMask();
-            for (int x = x0; x <= x1; ++x) {
-              for (int y = y0; y <= y1; ++y) {
-                for (int z = z0; z <= z1; ++z) {
-                  const int offset = ((x - ox * 8) << 6) | ((y - oy * 8) << 3) | (z - oz * 8);
-                  values[index(x, y, z)] = data[offset];
-                  active[index(x, y, z)] = mask.isOn(offset) ? 1 : 0;
-                }
+          const int bz0 = oz < 0 ? 0 : (oz == 0 ? 1 : 9), bz1 = oz < 0 ? 0 : (oz == 0 ? 8 : 9);
+          const LeafT* leaf =
+              accessor.probeConstLeaf(origin + openvdb::Coord(ox * 8, oy * 8, oz * 8));
+          for (int bx = bx0; bx <= bx1; ++bx) {
+            const int lx = bx - 1 - ox * 8;
+            for (int by = by0; by <= by1; ++by) {
+              const int ly = by - 1 - oy * 8;
+              float* row = values_[bx][by].data();
+              if (leaf == nullptr) {
+                for (int bz = bz0; bz <= bz1; ++bz) row[bz] = 0.0f;
+                continue;
               }
-            }
-          } else {
-            const float fill = accessor.getValue(neighbour);
-            for (int x = x0; x <= x1; ++x) {
-              for (int y = y0; y <= y1; ++y) {
-                for (int z = z0; z <= z1; ++z) {
-                  values[index(x, y, z)] = fill;
-                  active[index(x, y, z)] = 0;
-                }
+              const float* data = leaf->buffer().data() + ((lx << 6) | (ly << 3));
+              for (int bz = bz0; bz <= bz1; ++bz) row[bz] = data[bz - 1 - oz * 8];
+              // The row's 8 active bits (z = 0..7) sit in byte ly of mask word lx.
+              const unsigned bits =
+                  static_cast<unsigned>((leaf->getValueMask().template getWord<std::uint64_t>(
+                                             static_cast<openvdb::Index>(lx)) >>
+                                         (8 * ly)) &
+                                        0xFFu);
+              unsigned& rowBits = active_[bx][by];
+              if (oz < 0) {
+                rowBits |= (bits >> 7) & 1u;  // z = 7 of the leaf below: bz = 0
+              } else if (oz == 0) {
+                rowBits |= bits << 1;
+              } else {
+                rowBits |= (bits & 1u) << 9;  // z = 0 of the leaf above: bz = 9
               }
             }
           }
@@ -84,82 +139,141 @@ struct Block {
       }
     }
   }
-};
 
-/// Pass 1 for one voxel at local (x, y, z) of a gathered block; `scale` converts values to voxels.
-StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
-  StencilData result;
-  const double centre = block.values[Block::index(x, y, z)] * scale;
-  result.distance = static_cast<float>(centre);
-  bool full = true;
-  for (int dx = -1; dx <= 1 && full; ++dx) {
-    for (int dy = -1; dy <= 1 && full; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        if (!block.active[Block::index(x + dx, y + dy, z + dz)]) {
-          full = false;
-          break;
+  /// Scaled values and the partial filters along z, then y (see the class comment).
+  void filter(double scale) {
+    for (int bx = 0; bx < kSpan; ++bx) {
+      for (int by = 0; by < kSpan; ++by) {
+        for (int bz = 0; bz < kSpan; ++bz) scaled_[bx][by][bz] = values_[bx][by][bz] * scale;
+      }
+    }
+    for (int bx = 0; bx < kSpan; ++bx) {
+      for (int by = 0; by < kSpan; ++by) {
+        const double* f = scaled_[bx][by].data();
+        for (int z = 0; z < 8; ++z) {
+          sz_[bx][by][z] = f[z] + f[z + 1] + f[z + 2];
+          dz_[bx][by][z] = f[z + 2] - f[z];
+        }
+      }
+    }
+    for (int bx = 0; bx < kSpan; ++bx) {
+      for (int y = 0; y < 8; ++y) {
+        for (int z = 0; z < 8; ++z) {
+          ss_[bx][y][z] = sz_[bx][y][z] + sz_[bx][y + 1][z] + sz_[bx][y + 2][z];
+          ds_[bx][y][z] = sz_[bx][y + 2][z] - sz_[bx][y][z];
+          sd_[bx][y][z] = dz_[bx][y][z] + dz_[bx][y + 1][z] + dz_[bx][y + 2][z];
+          dd_[bx][y][z] = dz_[bx][y + 2][z] - dz_[bx][y][z];
+          sc_[bx][y][z] =
+              scaled_[bx][y][z + 1] + scaled_[bx][y + 1][z + 1] + scaled_[bx][y + 2][z + 1];
         }
       }
     }
   }
-  if (full && std::abs(centre) <= kNearSurface) {
-    double gx = 0, gy = 0, gz = 0, sxx = 0, syy = 0, szz = 0, hxy = 0, hxz = 0, hyz = 0;
-    double sumX0 = 0, sumY0 = 0, sumZ0 = 0, total = 0;
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          const double f = block.values[Block::index(x + dx, y + dy, z + dz)] * scale;
-          total += f;
-          gx += dx * f;
-          gy += dy * f;
-          gz += dz * f;
-          if (dx == 0) sumX0 += f;
-          if (dy == 0) sumY0 += f;
-          if (dz == 0) sumZ0 += f;
-          hxy += dx * dy * f;
-          hxz += dx * dz * f;
-          hyz += dy * dz * f;
-        }
-      }
-    }
-    // sum over x = +-1 is total - sumX0.
-    sxx = ((total - sumX0) - 2.0 * sumX0) / 9.0;
-    syy = ((total - sumY0) - 2.0 * sumY0) / 9.0;
-    szz = ((total - sumZ0) - 2.0 * sumZ0) / 9.0;
+
+  /// The quadric fit at leaf voxel (x, y, z): gradient = sum x f / 18, H_xx = (sum_{x=+-1} f -
+  /// 2 sum_{x=0} f) / 9, H_xy = sum x y f / 12 (orthogonal monomials on the symmetric stencil).
+  void fitVoxel(int x, int y, int z, StencilData& result) const {
+    const auto sumX = [&](const auto& a) { return a[x][y][z] + a[x + 1][y][z] + a[x + 2][y][z]; };
+    const auto diffX = [&](const auto& a) { return a[x + 2][y][z] - a[x][y][z]; };
+    const double total = sumX(ss_);
+    const double sumX0 = ss_[x + 1][y][z];
+    const double sumY0 = sz_[x][y + 1][z] + sz_[x + 1][y + 1][z] + sz_[x + 2][y + 1][z];
+    const double sumZ0 = sumX(sc_);
+    const double gx = diffX(ss_), gy = sumX(ds_), gz = sumX(sd_);
+    const double hxy = diffX(ds_), hxz = diffX(sd_), hyz = sumX(dd_);
+    // The sum over x = +-1 is total - sumX0.
+    const double sxx = ((total - sumX0) - 2.0 * sumX0) / 9.0;
+    const double syy = ((total - sumY0) - 2.0 * sumY0) / 9.0;
+    const double szz = ((total - sumZ0) - 2.0 * sumZ0) / 9.0;
     result.gradient = {static_cast<float>(gx / 18.0), static_cast<float>(gy / 18.0),
                        static_cast<float>(gz / 18.0)};
     result.hessian = {static_cast<float>(sxx),        static_cast<float>(syy),
                       static_cast<float>(szz),        static_cast<float>(hxy / 12.0),
                       static_cast<float>(hxz / 12.0), static_cast<float>(hyz / 12.0)};
-    result.hasHessian = true;
-    return result;
   }
-  // Central or one-sided differences where the neighbours allow.
-  for (int axis = 0; axis < 3; ++axis) {
-    const int ax = axis == 0, ay = axis == 1, az = axis == 2;
-    const int plus = Block::index(x + ax, y + ay, z + az);
-    const int minus = Block::index(x - ax, y - ay, z - az);
-    double derivative = 0.0;
-    if (block.active[plus] && block.active[minus]) {
-      derivative = 0.5 * (block.values[plus] - block.values[minus]) * scale;
-    } else if (block.active[plus]) {
-      derivative = block.values[plus] * scale - centre;
-    } else if (block.active[minus]) {
-      derivative = centre - block.values[minus] * scale;
+
+  /// Central or one-sided differences where the neighbours of leaf voxel (x, y, z) allow.
+  void differences(int x, int y, int z, double scale, StencilData& result) const {
+    const double centre = scaled_[x + 1][y + 1][z + 1];
+    for (int axis = 0; axis < 3; ++axis) {
+      const int ax = axis == 0, ay = axis == 1, az = axis == 2;
+      const int px = x + 1 + ax, py = y + 1 + ay, pz = z + 1 + az;
+      const int mx = x + 1 - ax, my = y + 1 - ay, mz = z + 1 - az;
+      const bool plus = ((active_[px][py] >> pz) & 1u) != 0;
+      const bool minus = ((active_[mx][my] >> mz) & 1u) != 0;
+      double derivative = 0.0;
+      if (plus && minus) {
+        derivative = 0.5 * (values_[px][py][pz] - values_[mx][my][mz]) * scale;
+      } else if (plus) {
+        derivative = scaled_[px][py][pz] - centre;
+      } else if (minus) {
+        derivative = centre - scaled_[mx][my][mz];
+      }
+      result.gradient[static_cast<std::size_t>(axis)] = static_cast<float>(derivative);
     }
-    result.gradient[axis] = static_cast<float>(derivative);
   }
-  return result;
-}
+
+  template <typename T, int Y, int Z>
+  using Planes = std::array<std::array<std::array<T, Z>, Y>, kSpan>;
+
+  Planes<float, kSpan, kSpan> values_{};
+  std::array<std::array<unsigned, kSpan>, kSpan> active_{};  ///< bit bz of row (bx, by)
+  Planes<double, kSpan, kSpan> scaled_{};                    ///< values in voxels
+  Planes<double, kSpan, 8> sz_{}, dz_{};                     ///< S_z f, D_z f at (bx, by, z)
+  Planes<double, 8, 8> ss_{}, ds_{}, sd_{}, dd_{}, sc_{};    ///< S_y S_z f, ... at (bx, y, z)
+};
+
+// ---- Pass 2: footpoints ------------------------------------------------------------------------
+
+/// Two doubles operated on together (SSE2 on x86-64; element by element elsewhere, with the same
+/// IEEE operations, so both give the same bits).
+struct Pair {
+#if defined(__SSE2__)
+  __m128d v;
+  static Pair load(const double* p) {
+    return {_mm_load_pd(p)};
+  }
+  static Pair broadcast(double a) {
+    return {_mm_set1_pd(a)};
+  }
+  void store(double* p) const {
+    _mm_store_pd(p, v);
+  }
+  friend Pair operator*(Pair a, Pair b) {
+    return {_mm_mul_pd(a.v, b.v)};
+  }
+  friend Pair operator+(Pair a, Pair b) {
+    return {_mm_add_pd(a.v, b.v)};
+  }
+#else
+  double v[2];
+  static Pair load(const double* p) {
+    return {{p[0], p[1]}};
+  }
+  static Pair broadcast(double a) {
+    return {{a, a}};
+  }
+  void store(double* p) const {
+    p[0] = v[0], p[1] = v[1];
+  }
+  friend Pair operator*(Pair a, Pair b) {
+    return {{a.v[0] * b.v[0], a.v[1] * b.v[1]}};
+  }
+  friend Pair operator+(Pair a, Pair b) {
+    return {{a.v[0] + b.v[0], a.v[1] + b.v[1]}};
+  }
+#endif
+};
 
 /// Trilinear interpolation of pass-1 data at an index-space point, over the corners that have a
-/// Hessian. Looks voxels up through the 27 leaves around the current one (setLeaf), where every
+/// fit. Looks voxels up through the 27 leaves around the current one (setLeaf), where every
 /// footpoint of a 3-voxel band lies, and through the band's hash elsewhere; keeps the gathered
 /// corners of recent cells (3 in 4 interpolations on the bunny reuse them).
 class Interpolator {
  public:
-  Interpolator(const LeafTable& band, const std::vector<StencilData>& stencils)
-      : band_(band), stencils_(stencils) {}
+  Interpolator(const LeafTable& band, const std::vector<StencilData>& stencils,
+               const std::vector<FitMask>& fits)
+      : band_(band), stencils_(stencils), fits_(fits) {}
 
   /// Makes the leaf with origin `origin` (and its 26 neighbours) the current one.
   void setLeaf(const openvdb::Coord& origin) {
@@ -179,43 +293,55 @@ class Interpolator {
     double weight = 0.0;  ///< trilinear weight of the corners that contributed (1 = all)
   };
 
-  /// The interpolated data at `point` (index space); weight 0 when no corner has a Hessian.
+  /// The interpolated data at `point` (index space, finite); weight 0 when no corner has a fit.
+  /// Every corner adds its weight times its data, in corner order; corners without a fit carry
+  /// zeros, so they add nothing, exactly as if skipped.
   Result at(const Eigen::Vector3d& point) {
-    const Eigen::Vector3d base = point.array().floor();
-    const Eigen::Vector3d t = point - base;
-    const openvdb::Coord corner0(static_cast<int>(base.x()), static_cast<int>(base.y()),
-                                 static_cast<int>(base.z()));
-    const CellCorners& cell = cornersOf(corner0);
-    std::array<double, 11> sum{};
+    if (!(point.cwiseAbs().maxCoeff() < kFarPoint)) return {};
+    const int ix = floorToInt(point.x()), iy = floorToInt(point.y()), iz = floorToInt(point.z());
+    const double tx = point.x() - ix, ty = point.y() - iy, tz = point.z() - iz;
+    const CellCorners& cell = cornersOf(openvdb::Coord(ix, iy, iz));
+    const double wx[2] = {1.0 - tx, tx}, wy[2] = {1.0 - ty, ty}, wz[2] = {1.0 - tz, tz};
+    Pair sum[kLanes / 2];
+    for (auto& s : sum) s = Pair::broadcast(0.0);
     for (int corner = 0; corner < 8; ++corner) {
-      if (((cell.usable >> corner) & 1u) == 0) continue;
-      const int cx = corner & 1, cy = (corner >> 1) & 1, cz = (corner >> 2) & 1;
-      const double w =
-          (cx ? t.x() : 1.0 - t.x()) * (cy ? t.y() : 1.0 - t.y()) * (cz ? t.z() : 1.0 - t.z());
-      if (w <= 0.0) continue;
-      const std::array<float, 10>& data = cell.data[static_cast<std::size_t>(corner)];
-      sum[0] += w;
-      for (int k = 0; k < 10; ++k) sum[1 + k] += w * data[static_cast<std::size_t>(k)];
+      const Pair w = Pair::broadcast(wx[corner & 1] * wy[(corner >> 1) & 1] * wz[corner >> 2]);
+      const double* data = cell.data[static_cast<std::size_t>(corner)].data();
+      for (int k = 0; k < kLanes / 2; ++k) sum[k] = sum[k] + w * Pair::load(data + 2 * k);
     }
+    alignas(16) std::array<double, kLanes> total;
+    for (int k = 0; k < kLanes / 2; ++k) sum[k].store(total.data() + 2 * k);
     Result result;
-    result.weight = sum[0];
-    const double scale = sum[0] > 0.0 ? 1.0 / sum[0] : 0.0;
-    result.distance = sum[1] * scale;
-    result.gradient = Eigen::Vector3d(sum[2], sum[3], sum[4]) * scale;
-    result.hessian << sum[5], sum[8], sum[9],  //
-        sum[8], sum[6], sum[10],               //
-        sum[9], sum[10], sum[7];
+    result.weight = total[0];
+    const double scale = total[0] > 0.0 ? 1.0 / total[0] : 0.0;
+    result.distance = total[1] * scale;
+    result.gradient = Eigen::Vector3d(total[2], total[3], total[4]) * scale;
+    result.hessian << total[5], total[8], total[9],  //
+        total[8], total[6], total[10],               //
+        total[9], total[10], total[7];
     result.hessian *= scale;
     return result;
   }
 
  private:
-  /// The pass-1 data of a cell's eight corners (distance, gradient, Hessian), gathered once: the
-  /// footpoints of the voxels along one normal line share a cell.
+  /// Per corner: 1 (its weight), d, gradient, Hessian (xx, yy, zz, xy, xz, yz), 0; all zero for
+  /// a corner without a fit.
+  static constexpr int kLanes = 12;
+
+  /// Points farther out than this (index units) lie beyond every band (and int coordinates).
+  static constexpr double kFarPoint = 1e9;
+
+  /// floor(value) for |value| < 2^31.
+  static int floorToInt(double value) {
+    const int truncated = static_cast<int>(value);
+    return truncated - (value < static_cast<double>(truncated) ? 1 : 0);
+  }
+
+  /// The pass-1 data of a cell's eight corners, gathered once: the footpoints of the voxels along
+  /// one normal line share a cell.
   struct CellCorners {
+    alignas(16) std::array<std::array<double, kLanes>, 8> data{};
     openvdb::Coord cell{std::numeric_limits<int>::min()};
-    std::uint8_t usable = 0;  ///< bit c: corner c is active and has a Hessian
-    std::array<std::array<float, 10>, 8> data{};
   };
 
   /// The cached corners of the cell at `corner0` (direct-mapped on the low three bits of each
@@ -225,60 +351,154 @@ class Interpolator {
         ((corner0.x() & 7) << 6) | ((corner0.y() & 7) << 3) | (corner0.z() & 7))];
     if (cell.cell == corner0) return cell;
     cell.cell = corner0;
-    cell.usable = 0;
     for (int corner = 0; corner < 8; ++corner) {
-      const std::int64_t record =
-          find(corner0 + openvdb::Coord(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
-      if (record < 0) continue;
-      const StencilData& source = stencils_[static_cast<std::size_t>(record)];
-      if (!source.hasHessian) continue;
-      cell.usable = static_cast<std::uint8_t>(cell.usable | (1u << corner));
       auto& data = cell.data[static_cast<std::size_t>(corner)];
-      data[0] = source.distance;
-      for (int k = 0; k < 3; ++k) data[1 + k] = source.gradient[k];
-      for (int k = 0; k < 6; ++k) data[4 + k] = source.hessian[k];
+      const StencilData* source =
+          fitAt(corner0 + openvdb::Coord(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
+      if (source == nullptr) {
+        data.fill(0.0);
+        continue;
+      }
+      data[0] = 1.0;
+      data[1] = source->distance;
+      for (int k = 0; k < 3; ++k) data[2 + k] = source->gradient[static_cast<std::size_t>(k)];
+      for (int k = 0; k < 6; ++k) data[5 + k] = source->hessian[static_cast<std::size_t>(k)];
+      data[11] = 0.0;
     }
     return cell;
   }
 
-  std::vector<CellCorners> cells_ = std::vector<CellCorners>(512);
-
-  /// Record index of voxel `ijk`, or -1 when it is not in the band.
-  std::int64_t find(const openvdb::Coord& ijk) {
-    if (hasLeaf_) {
-      // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
-      const int sx = (ijk.x() - origin_.x()) >> 3, sy = (ijk.y() - origin_.y()) >> 3,
-                sz = (ijk.z() - origin_.z()) >> 3;
-      if (sx >= -1 && sx <= 1 && sy >= -1 && sy <= 1 && sz >= -1 && sz <= 1) {
-        const std::int64_t leaf =
-            neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
-        if (leaf < 0) return -1;
-        return LeafTable::recordIndex(band_.entries()[static_cast<std::size_t>(leaf)], ijk);
-      }
+  /// The pass-1 data of voxel `ijk` if it is in the band and has a fit, else null.
+  const StencilData* fitAt(const openvdb::Coord& ijk) {
+    std::int64_t leaf = -1;
+    // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
+    const int sx = (ijk.x() - origin_.x()) >> 3, sy = (ijk.y() - origin_.y()) >> 3,
+              sz = (ijk.z() - origin_.z()) >> 3;
+    if (hasLeaf_ && sx >= -1 && sx <= 1 && sy >= -1 && sy <= 1 && sz >= -1 && sz <= 1) {
+      leaf = neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
+    } else {
+      leaf = band_.findLeaf(ijk);
     }
-    return bandCursor_.record(ijk);
+    if (leaf < 0) return nullptr;
+    const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+    const int word = offset >> 6;
+    const std::uint64_t bit = std::uint64_t{1} << (offset & 63);
+    if ((fits_[static_cast<std::size_t>(leaf)][static_cast<std::size_t>(word)] & bit) == 0) {
+      return nullptr;
+    }
+    const LeafEntry& entry = band_.entries()[static_cast<std::size_t>(leaf)];
+    return &stencils_[static_cast<std::size_t>(entry.base) + entry.prefix[word] +
+                      static_cast<std::size_t>(countBits(entry.mask[word] & (bit - 1)))];
   }
 
+  std::vector<CellCorners> cells_ = std::vector<CellCorners>(512);
   const LeafTable& band_;
   const std::vector<StencilData>& stencils_;
-  LeafCursor bandCursor_{band_};
+  const std::vector<FitMask>& fits_;
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
 };
 
+// ---- Records -----------------------------------------------------------------------------------
+// The functions below compute what RecordCodec::encode and its codecs (RecordCodec.cc) compute for
+// a surface, with the same floating-point operations in the same order, so the records are the
+// same bits; they only spare the temporaries of the general path.
+
+struct Vec3 {
+  double x, y, z;
+};
+inline double dot(const Vec3& a, const Vec3& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline Vec3 normalized(const Vec3& v) {
+  const double squared = dot(v, v);
+  if (!(squared > 0.0)) return v;
+  const double length = std::sqrt(squared);
+  return {v.x / length, v.y / length, v.z / length};
+}
+
+/// tangentBasis() of RecordCodec.h.
+inline void basisOf(const Vec3& unit, Vec3& b1, Vec3& b2) {
+  const Vec3 axis = std::abs(unit.x) < 0.6 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0};
+  b1 = normalized(cross(axis, unit));
+  b2 = cross(unit, b1);
+}
+
+/// The record of a surface voxel: distance in world units, unit normal and e1 in the index frame,
+/// curvatures in 1/world units (as RecordCodec::encode takes them).
+BandRecord surfaceRecord(double distance, const Vec3& normal, const Vec3& e1, double k1, double k2,
+                         double voxelSize, std::uint16_t flags) {
+  BandRecord record;
+  record.distance = static_cast<float>(distance);
+  record.flags = flags;
+  // encodeOctahedral
+  const double l1 = std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z);
+  double px = l1 > 0.0 ? normal.x / l1 : 0.0;
+  double py = l1 > 0.0 ? normal.y / l1 : 0.0;
+  if (l1 > 0.0 && normal.z < 0.0) {
+    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    px = fx;
+    py = fy;
+  }
+  const auto quantise = [](double v) {
+    return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
+  };
+  record.normal = {quantise(px), quantise(py)};
+  // decodeOctahedral
+  double qx = record.normal[0] / 32767.0, qy = record.normal[1] / 32767.0;
+  const double qz = 1.0 - std::abs(qx) - std::abs(qy);
+  if (qz < 0.0) {
+    const double fx = (1.0 - std::abs(qy)) * (qx >= 0.0 ? 1.0 : -1.0);
+    const double fy = (1.0 - std::abs(qx)) * (qy >= 0.0 ? 1.0 : -1.0);
+    qx = fx;
+    qy = fy;
+  }
+  const Vec3 decoded = normalized({qx, qy, qz});
+  // The tangent's component in the decoded normal's plane, and its diamond angle there.
+  const double along = dot(e1, decoded);
+  Vec3 tangent{e1.x - along * decoded.x, e1.y - along * decoded.y, e1.z - along * decoded.z};
+  Vec3 b1, b2;
+  basisOf(decoded, b1, b2);
+  if (dot(tangent, tangent) < 1e-18) tangent = b1;
+  const double u = dot(tangent, b1), v = dot(tangent, b2);
+  const double uv = std::abs(u) + std::abs(v);
+  if (uv > 0.0) {
+    double diamond;  // [0, 4): quadrants 1 to 4 of the (u, v) plane
+    if (v >= 0.0) {
+      diamond = u >= 0.0 ? v / uv : 1.0 - u / uv;
+    } else {
+      diamond = u <= 0.0 ? 2.0 - v / uv : 3.0 + u / uv;
+    }
+    record.angle = static_cast<std::uint16_t>(nearestInt(diamond * 16384.0) & 0xFFFF);
+  }
+  record.c0 = encodeHalf(k1 * voxelSize);
+  record.c1 = encodeHalf(k2 * voxelSize);
+  return record;
+}
+
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:
 /// curvatures k1 >= k2 (1/voxel) and the unit direction of k1, in closed form: in the basis
 /// (b0, b1) = tangentBasis(normal) the restriction is [[a, b], [b, c]], and e1 is the direction
 /// at angle atan2(2b, a - c) / 2 from b0 (the one with a non-negative b0 component; b0 at an
-/// umbilic), found without trigonometry.
-void principalCurvatures(const Eigen::Matrix3d& hessian, const Eigen::Vector3d& normal, double& k1,
-                         double& k2, Eigen::Vector3d& e1) {
-  const auto basis = tangentBasis(normal);
-  const Eigen::Vector3d hb0 = hessian * basis[0];
-  const double a = basis[0].dot(hb0);
-  const double b = basis[1].dot(hb0);
-  const double c = basis[1].dot(hessian * basis[1]);
+/// umbilic), found without trigonometry. `hessian` is row-major.
+void principalCurvatures(const std::array<double, 9>& hessian, const Vec3& normal, double& k1,
+                         double& k2, Vec3& e1) {
+  Vec3 b0, b1;
+  basisOf(normal, b0, b1);
+  const auto times = [&](const Vec3& v) {
+    return Vec3{hessian[0] * v.x + hessian[1] * v.y + hessian[2] * v.z,
+                hessian[3] * v.x + hessian[4] * v.y + hessian[5] * v.z,
+                hessian[6] * v.x + hessian[7] * v.y + hessian[8] * v.z};
+  };
+  const Vec3 hb0 = times(b0);
+  const double a = dot(b0, hb0);
+  const double b = dot(b1, hb0);
+  const double c = dot(b1, times(b1));
   const double half = 0.5 * (a - c);
   const double radius = std::sqrt(half * half + b * b);
   k1 = 0.5 * (a + c) + radius;
@@ -289,15 +509,144 @@ void principalCurvatures(const Eigen::Matrix3d& hessian, const Eigen::Vector3d& 
   double v = half >= 0.0 ? b : radius - half;
   const double length = std::sqrt(u * u + v * v);
   if (!(length > 1e-300)) {
-    e1 = basis[0];
+    e1 = b0;
     return;
   }
   if (u < 0.0) {
     u = -u;
     v = -v;
   }
-  e1 = (u / length) * basis[0] + (v / length) * basis[1];
+  const double cu = u / length, cv = v / length;
+  e1 = {cu * b0.x + cv * b1.x, cu * b0.y + cv * b1.y, cu * b0.z + cv * b1.z};
 }
+
+/// Pass 2 for the voxels of one leaf, in stages over all of them (own gradient, footpoint rounds,
+/// curvatures and records).
+class FootpointWork {
+ public:
+  void estimate(const LeafEntry& entry, const std::vector<StencilData>& stencils,
+                const FitMask& ownFits, Interpolator& interpolator, double voxelSize,
+                BandRecord* out) {
+    const double scale = 1.0 / voxelSize;
+    int count = 0;
+    pendingCount_ = 0;
+    // Own gradient: the first normal and footpoint.
+    entry.forEachOn([&](int offset) {
+      const int v = count++;
+      const Eigen::Vector3d p(entry.origin.x() + (offset >> 6),
+                              entry.origin.y() + ((offset >> 3) & 7),
+                              entry.origin.z() + (offset & 7));
+      const StencilData& own = stencils[entry.base + static_cast<std::uint32_t>(v)];
+      const bool hasFit =
+          ((ownFits[static_cast<std::size_t>(offset >> 6)] >> (offset & 63)) & 1u) != 0;
+      const double d = own.distance;
+      const Eigen::Vector3d gradient(own.gradient[0], own.gradient[1], own.gradient[2]);
+      const double gradientLength = gradient.norm();
+      const Eigen::Vector3d normal = gradientLength > 1e-12
+                                         ? Eigen::Vector3d(gradient / gradientLength)
+                                         : Eigen::Vector3d::UnitZ();
+      const bool ok = !(hasFit && gradientLength < kMinimumGradient) && gradientLength > 1e-12;
+      Voxel& voxel = voxels_[static_cast<std::size_t>(v)];
+      voxel.p = p;
+      voxel.ownNormal = normal;
+      voxel.normal = normal;
+      voxel.ownDistance = d;
+      voxel.distance = d;
+      voxel.footpoint = p - d * normal;
+      voxel.ok = ok;
+      voxel.converged = false;
+      voxel.degraded = false;
+      if (ok) pending_[static_cast<std::size_t>(pendingCount_++)] = v;
+    });
+    // Up to three rounds of interpolation, projection onto the zero level and re-aiming through p.
+    for (int round = 0; round < 3 && pendingCount_ > 0; ++round) {
+      int next = 0;
+      for (int j = 0; j < pendingCount_; ++j) {
+        const int v = pending_[static_cast<std::size_t>(j)];
+        Voxel& voxel = voxels_[static_cast<std::size_t>(v)];
+        voxel.at = interpolator.at(voxel.footpoint);
+        const Interpolator::Result& at = voxel.at;
+        const double length = at.gradient.norm();
+        if (at.weight < 0.25 || !(length >= 1e-6)) {
+          voxel.ok = false;
+          continue;
+        }
+        voxel.degraded = voxel.degraded || at.weight < kDegradedWeight;
+        voxel.normal = at.gradient / length;
+        // Project onto the zero level along the normal, then re-aim through p.
+        const Eigen::Vector3d onSurface = voxel.footpoint - (at.distance / length) * voxel.normal;
+        voxel.distance = (voxel.p - onSurface).dot(voxel.normal);
+        const Eigen::Vector3d previous = voxel.footpoint;
+        voxel.footpoint = voxel.p - voxel.distance * voxel.normal;
+        // Converged: the normal and Hessian interpolated at the previous iterate, at most
+        // kFootpointStep away, stand for the footpoint's.
+        if ((voxel.footpoint - previous).squaredNorm() < kFootpointStep * kFootpointStep) {
+          voxel.converged = true;
+          continue;
+        }
+        pending_[static_cast<std::size_t>(next++)] = v;
+      }
+      pendingCount_ = next;
+    }
+    // Not converged in three rounds: the data at the last footpoint, which must lie near the
+    // zero level.
+    for (int j = 0; j < pendingCount_; ++j) {
+      Voxel& voxel = voxels_[static_cast<std::size_t>(pending_[static_cast<std::size_t>(j)])];
+      voxel.at = interpolator.at(voxel.footpoint);
+      if (voxel.at.weight < 0.25 || !(std::abs(voxel.at.distance) <= 0.5)) voxel.ok = false;
+      voxel.degraded = voxel.degraded || voxel.at.weight < kDegradedWeight;
+    }
+    // Curvatures and records.
+    for (int v = 0; v < count; ++v) {
+      const Voxel& voxel = voxels_[static_cast<std::size_t>(v)];
+      bool ok = voxel.ok;
+      std::uint16_t flags = 0;
+      double k1 = 0.0, k2 = 0.0;
+      Vec3 e1{1.0, 0.0, 0.0};  // set below on every path
+      Vec3 normal{voxel.normal.x(), voxel.normal.y(), voxel.normal.z()};
+      double distance = voxel.distance;
+      if (ok) {
+        const Eigen::Matrix3d& h = voxel.at.hessian;
+        principalCurvatures(
+            {h(0, 0), h(0, 1), h(0, 2), h(1, 0), h(1, 1), h(1, 2), h(2, 0), h(2, 1), h(2, 2)},
+            normal, k1, k2, e1);
+        if (1.0 + distance * k1 < kMinimumFocal || 1.0 + distance * k2 < kMinimumFocal) {
+          ok = false;
+        }
+      }
+      if (ok) {
+        if (std::abs(k1) > 1.0 || std::abs(k2) > 1.0) {
+          flags |= kFlagCurvatureClamped;
+          k1 = std::clamp(k1, -1.0, 1.0);
+          k2 = std::clamp(k2, -1.0, 1.0);
+        }
+        if (voxel.degraded) flags |= kFlagDegradedEstimate;
+      } else {
+        // Cut locus or unresolved: the local gradient, no curvature.
+        flags |= kFlagCutLocus;
+        normal = {voxel.ownNormal.x(), voxel.ownNormal.y(), voxel.ownNormal.z()};
+        distance = voxel.ownDistance;
+        k1 = k2 = 0.0;
+        Vec3 unused;
+        basisOf(normal, e1, unused);
+      }
+      out[v] =
+          surfaceRecord(distance * voxelSize, normal, e1, k1 * scale, k2 * scale, voxelSize, flags);
+    }
+  }
+
+ private:
+  /// The state of one voxel's footpoint search (index space, distances in voxels).
+  struct Voxel {
+    Eigen::Vector3d p, normal, footpoint, ownNormal;
+    double distance = 0.0, ownDistance = 0.0;
+    Interpolator::Result at;  ///< the data interpolated last
+    bool ok = false, converged = false, degraded = false;
+  };
+  std::array<Voxel, 512> voxels_;
+  std::array<int, 512> pending_{};  ///< voxels whose footpoint search goes on
+  int pendingCount_ = 0;
+};
 
 }  // namespace
 
@@ -308,113 +657,34 @@ std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const R
   const LeafTable& band = layout.table();
   const auto& entries = band.entries();
   std::vector<StencilData> stencils(band.voxelCount());
+  std::vector<FitMask> fits(entries.size());
   std::vector<BandRecord> records(band.voxelCount());
+  (void)codec;
 
   // Pass 1: quadric fits and gradients.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       auto accessor = layout.grid()->getConstAccessor();
-                      Block block;
+                      auto fitter = std::make_unique<LeafFitter>();
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const LeafEntry& entry = entries[i];
-                        block.gather(accessor, entry.origin);
-                        std::uint32_t record = entry.base;
-                        entry.forEachOn([&](int offset) {
-                          stencils[record++] =
-                              fitStencil(block, offset >> 6, (offset >> 3) & 7, offset & 7, scale);
-                        });
+                        fitter->fit(accessor, entries[i], scale, stencils.data() + entries[i].base,
+                                    fits[i]);
                       }
                     });
   if (progress) progress("field: approximants", 0.4);
 
-  // Pass 2: footpoints, normals, curvatures.
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, entries.size(), 16),
-      [&](const tbb::blocked_range<std::size_t>& range) {
-        Interpolator interpolator(band, stencils);
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const LeafEntry& entry = entries[i];
-          interpolator.setLeaf(entry.origin);
-          std::uint32_t record = entry.base;
-          entry.forEachOn([&](int offset) {
-            const Eigen::Vector3d p(entry.origin.x() + (offset >> 6),
-                                    entry.origin.y() + ((offset >> 3) & 7),
-                                    entry.origin.z() + (offset & 7));
-            const StencilData& own = stencils[record];
-            const double d = own.distance;
-            Eigen::Vector3d gradient(own.gradient[0], own.gradient[1], own.gradient[2]);
-            const double gradientLength = gradient.norm();
-            Approximant a;  // index frame, world distance and curvatures
-            a.kind = TargetKind::Surface;
-            Eigen::Vector3d normal = gradientLength > 1e-12
-                                         ? Eigen::Vector3d(gradient / gradientLength)
-                                         : Eigen::Vector3d::UnitZ();
-            bool ok =
-                !(own.hasHessian && gradientLength < kMinimumGradient) && gradientLength > 1e-12;
-            Eigen::Vector3d footpoint = p - d * normal;
-            double distance = d;
-            Interpolator::Result at;
-            bool degraded = false, converged = false;
-            for (int round = 0; round < 3 && ok; ++round) {
-              at = interpolator.at(footpoint);
-              const double length = at.gradient.norm();
-              if (at.weight < 0.25 || length < 1e-6) {
-                ok = false;
-                break;
-              }
-              degraded = degraded || at.weight < kDegradedWeight;
-              normal = at.gradient / length;
-              // Project onto the zero level along the normal, then re-aim through p.
-              const Eigen::Vector3d onSurface = footpoint - (at.distance / length) * normal;
-              distance = (p - onSurface).dot(normal);
-              const Eigen::Vector3d previous = footpoint;
-              footpoint = p - distance * normal;
-              // Converged: the normal and Hessian interpolated at the previous iterate, at most
-              // kFootpointStep away, stand for the footpoint's.
-              if ((footpoint - previous).squaredNorm() < kFootpointStep * kFootpointStep) {
-                converged = true;
-                break;
-              }
-            }
-            if (ok && !converged) {
-              at = interpolator.at(footpoint);
-              if (at.weight < 0.25 || std::abs(at.distance) > 0.5) ok = false;
-              degraded = degraded || at.weight < kDegradedWeight;
-            }
-            double k1 = 0.0, k2 = 0.0;
-            Eigen::Vector3d e1 = Eigen::Vector3d::UnitX();  // set below on every path
-            if (ok) {
-              principalCurvatures(at.hessian, normal, k1, k2, e1);
-              if (1.0 + distance * k1 < kMinimumFocal || 1.0 + distance * k2 < kMinimumFocal) {
-                ok = false;
-              }
-            }
-            if (ok) {
-              if (std::abs(k1) > 1.0 || std::abs(k2) > 1.0) {
-                a.flags |= kFlagCurvatureClamped;
-                k1 = std::clamp(k1, -1.0, 1.0);
-                k2 = std::clamp(k2, -1.0, 1.0);
-              }
-              if (degraded) a.flags |= kFlagDegradedEstimate;
-            } else {
-              // Cut locus or unresolved: the local gradient, no curvature.
-              a.flags |= kFlagCutLocus;
-              normal = gradientLength > 1e-12 ? Eigen::Vector3d(gradient / gradientLength)
-                                              : Eigen::Vector3d::UnitZ();
-              distance = d;
-              k1 = k2 = 0.0;
-              e1 = tangentBasis(normal)[0];
-            }
-            a.distance = distance * voxelSize;
-            a.normal = normal;
-            a.tangent = e1;
-            a.k1 = k1 * scale;
-            a.k2 = k2 * scale;
-            records[record] = codec.encode(a);
-            ++record;
-          });
-        }
-      });
+  // Pass 2: footpoints, normals, curvatures, leaf by leaf in stages over all of a leaf's voxels.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      Interpolator interpolator(band, stencils, fits);
+                      auto work = std::make_unique<FootpointWork>();
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const LeafEntry& entry = entries[i];
+                        interpolator.setLeaf(entry.origin);
+                        work->estimate(entry, stencils, fits[i], interpolator, voxelSize,
+                                       records.data() + entry.base);
+                      }
+                    });
   if (progress) progress("field: approximants", 1.0);
   return records;
 }
