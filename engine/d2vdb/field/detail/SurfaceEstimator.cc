@@ -414,11 +414,30 @@ inline double dot(const Vec3& a, const Vec3& b) {
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+/// a / d and b / d, in one SSE2 division where available (the same IEEE quotients either way).
+inline void divide(double a, double b, double d, double& aOverD, double& bOverD) {
+#if defined(__SSE2__)
+  const __m128d q = _mm_div_pd(_mm_set_pd(b, a), _mm_set1_pd(d));
+  aOverD = _mm_cvtsd_f64(q);
+  bOverD = _mm_cvtsd_f64(_mm_unpackhi_pd(q, q));
+#else
+  aOverD = a / d;
+  bOverD = b / d;
+#endif
+}
+
+/// v / length, componentwise.
+inline Vec3 divided(const Vec3& v, double length) {
+  Vec3 result;
+  divide(v.x, v.y, length, result.x, result.y);
+  result.z = v.z / length;
+  return result;
+}
+
 inline Vec3 normalized(const Vec3& v) {
   const double squared = dot(v, v);
   if (!(squared > 0.0)) return v;
-  const double length = std::sqrt(squared);
-  return {v.x / length, v.y / length, v.z / length};
+  return divided(v, std::sqrt(squared));
 }
 
 /// tangentBasis() of RecordCodec.h.
@@ -437,8 +456,8 @@ BandRecord surfaceRecord(double distance, const Vec3& normal, const Vec3& e1, do
   record.flags = flags;
   // encodeOctahedral
   const double l1 = std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z);
-  double px = l1 > 0.0 ? normal.x / l1 : 0.0;
-  double py = l1 > 0.0 ? normal.y / l1 : 0.0;
+  double px = 0.0, py = 0.0;
+  if (l1 > 0.0) divide(normal.x, normal.y, l1, px, py);
   if (l1 > 0.0 && normal.z < 0.0) {
     const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
     const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
@@ -450,7 +469,8 @@ BandRecord surfaceRecord(double distance, const Vec3& normal, const Vec3& e1, do
   };
   record.normal = {quantise(px), quantise(py)};
   // decodeOctahedral
-  double qx = record.normal[0] / 32767.0, qy = record.normal[1] / 32767.0;
+  double qx, qy;
+  divide(record.normal[0], record.normal[1], 32767.0, qx, qy);
   const double qz = 1.0 - std::abs(qx) - std::abs(qy);
   if (qz < 0.0) {
     const double fx = (1.0 - std::abs(qy)) * (qx >= 0.0 ? 1.0 : -1.0);
@@ -516,7 +536,8 @@ void principalCurvatures(const std::array<double, 9>& hessian, const Vec3& norma
     u = -u;
     v = -v;
   }
-  const double cu = u / length, cv = v / length;
+  double cu, cv;
+  divide(u, v, length, cu, cv);
   e1 = {cu * b0.x + cv * b1.x, cu * b0.y + cv * b1.y, cu * b0.z + cv * b1.z};
 }
 
@@ -542,9 +563,11 @@ class FootpointWork {
       const double d = own.distance;
       const Eigen::Vector3d gradient(own.gradient[0], own.gradient[1], own.gradient[2]);
       const double gradientLength = gradient.norm();
-      const Eigen::Vector3d normal = gradientLength > 1e-12
-                                         ? Eigen::Vector3d(gradient / gradientLength)
-                                         : Eigen::Vector3d::UnitZ();
+      Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+      if (gradientLength > 1e-12) {
+        divide(gradient.x(), gradient.y(), gradientLength, normal.x(), normal.y());
+        normal.z() = gradient.z() / gradientLength;
+      }
       const bool ok = !(hasFit && gradientLength < kMinimumGradient) && gradientLength > 1e-12;
       Voxel& voxel = voxels_[static_cast<std::size_t>(v)];
       voxel.p = p;
@@ -572,9 +595,11 @@ class FootpointWork {
           continue;
         }
         voxel.degraded = voxel.degraded || at.weight < kDegradedWeight;
-        voxel.normal = at.gradient / length;
+        double step;  // at.distance / length
+        divide(at.gradient.x(), at.gradient.y(), length, voxel.normal.x(), voxel.normal.y());
+        divide(at.gradient.z(), at.distance, length, voxel.normal.z(), step);
         // Project onto the zero level along the normal, then re-aim through p.
-        const Eigen::Vector3d onSurface = voxel.footpoint - (at.distance / length) * voxel.normal;
+        const Eigen::Vector3d onSurface = voxel.footpoint - step * voxel.normal;
         voxel.distance = (voxel.p - onSurface).dot(voxel.normal);
         const Eigen::Vector3d previous = voxel.footpoint;
         voxel.footpoint = voxel.p - voxel.distance * voxel.normal;
