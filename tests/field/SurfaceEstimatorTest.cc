@@ -92,6 +92,13 @@ TEST(SurfaceEstimator, SameRecordsAsTheReferenceOnASphere) {
   compareWithReference(primitiveLevelSet(sphere, {0.025, 3.0}), "sphere");
 }
 
+// A band of 12 voxels: footpoints up to 12 voxels from their voxels, beyond the leaves whose fits
+// the estimator keeps at hand, so that it fits their leaves again on demand.
+TEST(SurfaceEstimator, SameRecordsAsTheReferenceOnAWideBand) {
+  const Sphere sphere(Eigen::Vector3d(0.013, -0.02, 0.005), 0.5);
+  compareWithReference(primitiveLevelSet(sphere, {0.025, 12.0}), "wide band");
+}
+
 // Sharp edges and corners: cut loci inside, where the estimator falls back to the local gradient.
 TEST(SurfaceEstimator, SameRecordsAsTheReferenceOnABox) {
   const Box box(Eigen::Vector3d(-0.3, -0.2, -0.05), Eigen::Vector3d(0.4, 0.25, 0.08));

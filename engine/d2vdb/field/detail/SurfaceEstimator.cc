@@ -2,6 +2,7 @@
 #include "d2vdb/field/detail/SurfaceEstimator.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numeric>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -38,10 +41,27 @@ constexpr double kDegradedWeight = 0.5;
 /// Pass-1 results of one band voxel (index units: d in voxels): the value of the quadric fit and
 /// its gradient and Hessian (xx, yy, zz, xy, xz, yz) where the voxel has a fit (its bit in the
 /// leaf's FitMask), else the distance and a finite-difference gradient (Hessian unused).
+/// Left uninitialised until pass 1 writes it (the Hessian only where the voxel has a fit).
 struct StencilData {
-  float distance = 0.0f;
-  std::array<float, 3> gradient{};
-  std::array<float, 6> hessian{};
+  float distance;
+  std::array<float, 3> gradient;
+  std::array<float, 6> hessian;
+};
+
+/// An uninitialised array of `count` trivial values, for scratch data that is written before it is
+/// read (no zeroing pass over it).
+template <typename T>
+class ScratchArray {
+  static_assert(std::is_trivially_default_constructible_v<T> && std::is_trivially_destructible_v<T>,
+                "scratch values are never constructed nor destroyed");
+
+ public:
+  explicit ScratchArray(std::size_t count) : data_(new T[std::max<std::size_t>(count, 1)]) {}
+  T* data() { return data_.get(); }
+  const T* data() const { return data_.get(); }
+
+ private:
+  std::unique_ptr<T[]> data_;
 };
 
 /// The voxels of one leaf that have a quadric fit, in LeafEntry::mask order.
@@ -223,6 +243,71 @@ class LeafFitter {
   Planes<double, 8, 8> ss_{}, ds_{}, sd_{}, dd_{}, sc_{};    ///< S_y S_z f, ... at (bx, y, z)
 };
 
+/// Pass-1 data of the leaves, kept for three slabs at a time. A slab is the set of leaves with one
+/// origin x; the estimator fits slab s + 1 before it finds the footpoints of slab s, whose cells
+/// lie in slabs s - 1 to s + 1 (the footpoints of a narrow band are within a voxel or two of their
+/// voxels), so three slots of a ring hold all it reads, and they stay in cache instead of a
+/// whole band's pass-1 data going through memory.
+class FittedSlabs {
+ public:
+  explicit FittedSlabs(const LeafTable& band)
+      : order_(band.entries().size()),
+        slabOf_(band.entries().size()),
+        localBase_(band.entries().size()),
+        fits_(band.entries().size()) {
+    const auto& entries = band.entries();
+    std::iota(order_.begin(), order_.end(), std::uint32_t{0});
+    std::stable_sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return entries[a].origin.x() < entries[b].origin.x();
+    });
+    std::size_t slot = 0;
+    for (std::size_t i = 0; i < order_.size(); ++i) {
+      const LeafEntry& entry = entries[order_[i]];
+      if (i == 0 || entry.origin.x() != entries[order_[i - 1]].origin.x()) {
+        starts_.push_back(i);
+        slot = 0;
+      }
+      slabOf_[order_[i]] = static_cast<std::int32_t>(starts_.size() - 1);
+      localBase_[order_[i]] = static_cast<std::uint32_t>(slot);
+      slot += static_cast<std::size_t>(entry.prefix[7] + countBits(entry.mask[7]));
+      slotSize_ = std::max(slotSize_, slot);
+    }
+    starts_.push_back(order_.size());
+    ring_ = std::make_unique<ScratchArray<StencilData>>(kSlots * slotSize_);
+  }
+
+  std::size_t slabCount() const { return starts_.size() - 1; }
+  /// The leaves (entry indices) of slab `slab`, [begin, end).
+  const std::uint32_t* slabBegin(std::size_t slab) const { return order_.data() + starts_[slab]; }
+  const std::uint32_t* slabEnd(std::size_t slab) const { return order_.data() + starts_[slab + 1]; }
+
+  /// Whether the pass-1 data of leaf `leaf` is at hand while slab `current` is estimated.
+  bool atHand(std::size_t leaf, std::size_t current) const {
+    const auto slab = static_cast<std::size_t>(slabOf_[leaf]);
+    return slab + 1 >= current && slab <= current + 1;
+  }
+  /// The leaf's records (mask order) in its slab's slot, and the voxels that have a fit.
+  StencilData* data(std::size_t leaf) {
+    return ring_->data() + static_cast<std::size_t>(slabOf_[leaf]) % kSlots * slotSize_ +
+           localBase_[leaf];
+  }
+  const StencilData* data(std::size_t leaf) const {
+    return const_cast<FittedSlabs*>(this)->data(leaf);
+  }
+  FitMask& fits(std::size_t leaf) { return fits_[leaf]; }
+  const FitMask& fits(std::size_t leaf) const { return fits_[leaf]; }
+
+ private:
+  static constexpr std::size_t kSlots = 3;
+  std::vector<std::uint32_t> order_;      ///< entry indices by origin x
+  std::vector<std::size_t> starts_;       ///< first position in order_ of each slab, and the end
+  std::vector<std::int32_t> slabOf_;      ///< slab of each entry
+  std::vector<std::uint32_t> localBase_;  ///< first record of each entry within its slot
+  std::vector<FitMask> fits_;
+  std::size_t slotSize_ = 0;
+  std::unique_ptr<ScratchArray<StencilData>> ring_;
+};
+
 // ---- Pass 2: footpoints ------------------------------------------------------------------------
 
 /// Two doubles operated on together (SSE2 on x86-64; element by element elsewhere, with the same
@@ -268,16 +353,19 @@ struct Pair {
 /// Trilinear interpolation of pass-1 data at an index-space point, over the corners that have a
 /// fit. Looks voxels up through the 27 leaves around the current one (setLeaf), where every
 /// footpoint of a 3-voxel band lies, and through the band's hash elsewhere; keeps the gathered
-/// corners of recent cells (3 in 4 interpolations on the bunny reuse them).
+/// corners of recent cells (3 in 4 interpolations on the bunny reuse them). The rare footpoint
+/// that strays beyond the slabs at hand (FittedSlabs) gets its leaf fitted again here: pass 1 of
+/// a leaf depends only on the grid, so this gives the same data.
 class Interpolator {
  public:
-  Interpolator(const LeafTable& band, const std::vector<StencilData>& stencils,
-               const std::vector<FitMask>& fits)
-      : band_(band), stencils_(stencils), fits_(fits) {}
+  Interpolator(const LeafTable& band, const FittedSlabs& slabs, const openvdb::FloatGrid& grid,
+               double scale)
+      : band_(band), slabs_(slabs), accessor_(grid.getConstAccessor()), scale_(scale) {}
 
-  /// Makes the leaf with origin `origin` (and its 26 neighbours) the current one.
-  void setLeaf(const openvdb::Coord& origin) {
+  /// Makes the leaf with origin `origin` (and its 26 neighbours), of slab `slab`, the current one.
+  void setLeaf(const openvdb::Coord& origin, std::size_t slab) {
     origin_ = origin;
+    slab_ = slab;
     for (int slot = 0; slot < 27; ++slot) {
       const openvdb::Coord neighbour =
           origin + openvdb::Coord((slot / 9 - 1) * 8, ((slot / 3) % 3 - 1) * 8, (slot % 3 - 1) * 8);
@@ -368,7 +456,8 @@ class Interpolator {
     return cell;
   }
 
-  /// The pass-1 data of voxel `ijk` if it is in the band and has a fit, else null.
+  /// The pass-1 data of voxel `ijk` if it is in the band and has a fit, else null. The data stay
+  /// valid until the next call.
   const StencilData* fitAt(const openvdb::Coord& ijk) {
     std::int64_t leaf = -1;
     // Leaf steps -1, 0, 1 along each axis (arithmetic shift = floor division by 8).
@@ -380,22 +469,45 @@ class Interpolator {
       leaf = band_.findLeaf(ijk);
     }
     if (leaf < 0) return nullptr;
+    const auto index = static_cast<std::size_t>(leaf);
+    const LeafEntry& entry = band_.entries()[index];
+    const StencilData* data;
+    const FitMask* fits;
+    if (slabs_.atHand(index, slab_)) {
+      data = slabs_.data(index);
+      fits = &slabs_.fits(index);
+    } else {
+      if (!stray_) stray_ = std::make_unique<Stray>();
+      if (stray_->leaf != leaf) {
+        stray_->fitter.fit(accessor_, entry, scale_, stray_->data.data(), stray_->fits);
+        stray_->leaf = leaf;
+      }
+      data = stray_->data.data();
+      fits = &stray_->fits;
+    }
     const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
     const int word = offset >> 6;
     const std::uint64_t bit = std::uint64_t{1} << (offset & 63);
-    if ((fits_[static_cast<std::size_t>(leaf)][static_cast<std::size_t>(word)] & bit) == 0) {
-      return nullptr;
-    }
-    const LeafEntry& entry = band_.entries()[static_cast<std::size_t>(leaf)];
-    return &stencils_[static_cast<std::size_t>(entry.base) + entry.prefix[word] +
-                      static_cast<std::size_t>(countBits(entry.mask[word] & (bit - 1)))];
+    if (((*fits)[static_cast<std::size_t>(word)] & bit) == 0) return nullptr;
+    return data + entry.prefix[word] + countBits(entry.mask[word] & (bit - 1));
   }
+
+  /// A leaf beyond the slabs at hand, fitted on demand.
+  struct Stray {
+    LeafFitter fitter;
+    std::array<StencilData, 512> data;
+    FitMask fits{};
+    std::int64_t leaf = -1;
+  };
 
   std::vector<CellCorners> cells_ = std::vector<CellCorners>(512);
   const LeafTable& band_;
-  const std::vector<StencilData>& stencils_;
-  const std::vector<FitMask>& fits_;
+  const FittedSlabs& slabs_;
+  openvdb::FloatGrid::ConstAccessor accessor_;
+  double scale_;
+  std::unique_ptr<Stray> stray_;
   bool hasLeaf_ = false;
+  std::size_t slab_ = 0;
   openvdb::Coord origin_;
   std::array<std::int64_t, 27> neighbours_{};
 };
@@ -545,9 +657,10 @@ void principalCurvatures(const std::array<double, 9>& hessian, const Vec3& norma
 /// curvatures and records).
 class FootpointWork {
  public:
-  void estimate(const LeafEntry& entry, const std::vector<StencilData>& stencils,
-                const FitMask& ownFits, Interpolator& interpolator, double voxelSize,
-                BandRecord* out) {
+  /// Fills `out` with the records of the leaf `entry`, whose pass-1 data are `stencils` (mask
+  /// order) and `ownFits`.
+  void estimate(const LeafEntry& entry, const StencilData* stencils, const FitMask& ownFits,
+                Interpolator& interpolator, double voxelSize, BandRecord* out) {
     const double scale = 1.0 / voxelSize;
     int count = 0;
     pendingCount_ = 0;
@@ -557,7 +670,7 @@ class FootpointWork {
       const Eigen::Vector3d p(entry.origin.x() + (offset >> 6),
                               entry.origin.y() + ((offset >> 3) & 7),
                               entry.origin.z() + (offset & 7));
-      const StencilData& own = stencils[entry.base + static_cast<std::uint32_t>(v)];
+      const StencilData& own = stencils[v];
       const bool hasFit =
           ((ownFits[static_cast<std::size_t>(offset >> 6)] >> (offset & 63)) & 1u) != 0;
       const double d = own.distance;
@@ -681,36 +794,63 @@ std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const R
   const double scale = 1.0 / voxelSize;  // world distance -> voxels
   const LeafTable& band = layout.table();
   const auto& entries = band.entries();
-  std::vector<StencilData> stencils(band.voxelCount());
-  std::vector<FitMask> fits(entries.size());
+  const openvdb::FloatGrid& grid = *layout.grid();
+  FittedSlabs slabs(band);
   std::vector<BandRecord> records(band.voxelCount());
   (void)codec;
 
-  // Pass 1: quadric fits and gradients.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      auto accessor = layout.grid()->getConstAccessor();
-                      auto fitter = std::make_unique<LeafFitter>();
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        fitter->fit(accessor, entries[i], scale, stencils.data() + entries[i].base,
-                                    fits[i]);
-                      }
-                    });
-  if (progress) progress("field: approximants", 0.4);
+  // Per-thread state, reused from slab to slab (its contents never affect a result).
+  struct FitState {
+    explicit FitState(const openvdb::FloatGrid& grid) : accessor(grid.getConstAccessor()) {}
+    openvdb::FloatGrid::ConstAccessor accessor;
+    LeafFitter fitter;
+  };
+  struct EstimateState {
+    EstimateState(const LeafTable& band, const FittedSlabs& slabs, const openvdb::FloatGrid& grid,
+                  double scale)
+        : interpolator(band, slabs, grid, scale) {}
+    Interpolator interpolator;
+    FootpointWork work;
+  };
+  tbb::enumerable_thread_specific<std::unique_ptr<FitState>> fitStates;
+  tbb::enumerable_thread_specific<std::unique_ptr<EstimateState>> estimateStates;
 
-  // Pass 2: footpoints, normals, curvatures, leaf by leaf in stages over all of a leaf's voxels.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      Interpolator interpolator(band, stencils, fits);
-                      auto work = std::make_unique<FootpointWork>();
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const LeafEntry& entry = entries[i];
-                        interpolator.setLeaf(entry.origin);
-                        work->estimate(entry, stencils, fits[i], interpolator, voxelSize,
-                                       records.data() + entry.base);
-                      }
-                    });
-  if (progress) progress("field: approximants", 1.0);
+  // Pass 1: quadric fits and gradients of one slab.
+  const auto fitSlab = [&](std::size_t slab) {
+    tbb::parallel_for(
+        tbb::blocked_range<const std::uint32_t*>(slabs.slabBegin(slab), slabs.slabEnd(slab), 16),
+        [&](const tbb::blocked_range<const std::uint32_t*>& range) {
+          auto& state = fitStates.local();
+          if (!state) state = std::make_unique<FitState>(grid);
+          for (const std::uint32_t leaf : range) {
+            state->fitter.fit(state->accessor, entries[leaf], scale, slabs.data(leaf),
+                              slabs.fits(leaf));
+          }
+        });
+  };
+  // Pass 2: footpoints, normals, curvatures of one slab, leaf by leaf in stages over all of a
+  // leaf's voxels.
+  const auto estimateSlab = [&](std::size_t slab) {
+    tbb::parallel_for(
+        tbb::blocked_range<const std::uint32_t*>(slabs.slabBegin(slab), slabs.slabEnd(slab), 16),
+        [&](const tbb::blocked_range<const std::uint32_t*>& range) {
+          auto& state = estimateStates.local();
+          if (!state) state = std::make_unique<EstimateState>(band, slabs, grid, scale);
+          for (const std::uint32_t leaf : range) {
+            const LeafEntry& entry = entries[leaf];
+            state->interpolator.setLeaf(entry.origin, slab);
+            state->work.estimate(entry, slabs.data(leaf), slabs.fits(leaf), state->interpolator,
+                                 voxelSize, records.data() + entry.base);
+          }
+        });
+  };
+  const std::size_t slabCount = slabs.slabCount();
+  if (slabCount > 0) fitSlab(0);
+  for (std::size_t slab = 0; slab < slabCount; ++slab) {
+    if (slab + 1 < slabCount) fitSlab(slab + 1);
+    estimateSlab(slab);
+    if (progress) progress("field: approximants", static_cast<double>(slab + 1) / slabCount);
+  }
   return records;
 }
 
