@@ -38,8 +38,9 @@ inline constexpr const char* kSurfaceEstimator =
 /// case); kFlagCutLocus where the gradient at p is below 0.7 in length, the projection does not
 /// converge to within 0.5 voxel, or 1 + d k_i < 0.05 (then normal and footpoint come from the local
 /// gradient and the curvatures are 0); kFlagCurvatureClamped where |k| > 1/voxel. Parallel over
-/// leaves (TBB); every record depends only on the input, so the result is identical for any thread
-/// count.
+/// leaves (TBB), slab by slab (pass 1 one slab ahead of pass 2, so that pass-1 data are held for
+/// three slabs, not the whole band); every record depends only on the input, so the result is
+/// identical for any thread count. `progress` receives "field: approximants" after every slab.
 std::vector<BandRecord> estimateSurfaceRecords(const BandLayout& layout, const RecordCodec& codec,
                                                const ProgressCallback& progress);
 
