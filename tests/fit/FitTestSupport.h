@@ -5,11 +5,13 @@
 #include <tbb/global_control.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "d2vdb/spline/BSplineCurve.h"
@@ -56,6 +58,150 @@ inline ParametricCurve helixCurve(double radius, double pitch, double turns) {
       0.0,
       turns * kTwoPi,
       false};
+}
+
+/// The flower-like loop (r cos t, 0.8 r sin t), r = 1 + 0.2 cos 3t: a closed 2D curve with three
+/// lobes and concave stretches between them.
+inline ParametricCurve threeLobedLoop() {
+  const auto radius = [](double t, double& r, double& dr, double& ddr) {
+    r = 1.0 + 0.2 * std::cos(3.0 * t);
+    dr = -0.6 * std::sin(3.0 * t);
+    ddr = -1.8 * std::cos(3.0 * t);
+  };
+  return {[=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d(r * std::cos(t), 0.8 * r * std::sin(t), 0.0);
+          },
+          [=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d(dr * std::cos(t) - r * std::sin(t),
+                                   0.8 * (dr * std::sin(t) + r * std::cos(t)), 0.0);
+          },
+          [=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d((ddr - r) * std::cos(t) - 2.0 * dr * std::sin(t),
+                                   0.8 * ((ddr - r) * std::sin(t) + 2.0 * dr * std::cos(t)), 0.0);
+          },
+          0.0,
+          kTwoPi,
+          true};
+}
+
+/// The open 2D wave (t, 0.3 sin(1.25 pi t)), t in [-1, 1].
+inline ParametricCurve openWave() {
+  const double k = 1.25 * 3.14159265358979323846;
+  return {[=](double t) { return Eigen::Vector3d(t, 0.3 * std::sin(k * t), 0.0); },
+          [=](double t) { return Eigen::Vector3d(1.0, 0.3 * k * std::cos(k * t), 0.0); },
+          [=](double t) { return Eigen::Vector3d(0.0, -0.3 * k * k * std::sin(k * t), 0.0); },
+          -1.0,
+          1.0,
+          false};
+}
+
+/// The closed space curve (r cos t, r sin t, 0.3 sin 3t), r = 1 + 0.25 cos 3t.
+inline ParametricCurve wavySpaceLoop() {
+  const auto radius = [](double t, double& r, double& dr, double& ddr) {
+    r = 1.0 + 0.25 * std::cos(3.0 * t);
+    dr = -0.75 * std::sin(3.0 * t);
+    ddr = -2.25 * std::cos(3.0 * t);
+  };
+  return {[=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d(r * std::cos(t), r * std::sin(t), 0.3 * std::sin(3.0 * t));
+          },
+          [=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d(dr * std::cos(t) - r * std::sin(t),
+                                   dr * std::sin(t) + r * std::cos(t), 0.9 * std::cos(3.0 * t));
+          },
+          [=](double t) {
+            double r, dr, ddr;
+            radius(t, r, dr, ddr);
+            return Eigen::Vector3d((ddr - r) * std::cos(t) - 2.0 * dr * std::sin(t),
+                                   (ddr - r) * std::sin(t) + 2.0 * dr * std::cos(t),
+                                   -2.7 * std::sin(3.0 * t));
+          },
+          0.0,
+          kTwoPi,
+          true};
+}
+
+/// How a generated point cloud samples its curve.
+enum class Sampling {
+  Noisy,       ///< uniform in arc length, Gaussian noise of sigma 0.5 % of the size per coordinate
+  Thick,       ///< uniform in arc length, uniform across a band (2D) or tube (3D) of radius 2.5 %
+               ///< of the size
+  NonUniform,  ///< density 2 + cos(2 pi s / L) along the arc length s (3:1), noise as Noisy
+  Clean,       ///< evenly spaced in arc length, no noise
+};
+
+/// A point cloud sampled from a known curve, with its noise level sigma per normal direction
+/// (world units; 0 for Clean).
+struct GeneratedCloud {
+  std::vector<Eigen::Vector3d> points;
+  double sigma = 0.0;
+};
+
+/// `count` points sampled from `curve` (dimension 2 keeps z = 0) as `sampling` says, `size` the
+/// curve's size for the noise level, random numbers from std::mt19937(seed).
+inline GeneratedCloud generateCloud(const ParametricCurve& curve, int dimension, Sampling sampling,
+                                    int count, double size, unsigned seed) {
+  const int table = 20000;
+  std::vector<double> parameters(table + 1), weight(table + 1, 0.0), arc(table + 1, 0.0);
+  for (int i = 0; i <= table; ++i)
+    parameters[i] = curve.start + (curve.end - curve.start) * i / table;
+  for (int i = 1; i <= table; ++i) {
+    arc[i] = arc[i - 1] + (curve.point(parameters[i]) - curve.point(parameters[i - 1])).norm();
+  }
+  for (int i = 1; i <= table; ++i) {
+    const double s = 0.5 * (arc[i] + arc[i - 1]);
+    const double density =
+        sampling == Sampling::NonUniform ? 2.0 + std::cos(kTwoPi * s / arc.back()) : 1.0;
+    weight[i] = weight[i - 1] + density * (arc[i] - arc[i - 1]);
+  }
+  std::mt19937 engine(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const double sigma = 0.005 * size;
+  const double thickness = 0.025 * size;
+  GeneratedCloud cloud;
+  cloud.sigma = sampling == Sampling::Clean   ? 0.0
+                : sampling == Sampling::Thick ? thickness / (dimension == 2 ? std::sqrt(3.0) : 2.0)
+                                              : sigma;
+  for (int i = 0; i < count; ++i) {
+    // Inverse of the cumulative density by bisection and linear interpolation in the table.
+    const double w =
+        (sampling == Sampling::Clean ? (i + 0.5) / count : uniform(engine)) * weight.back();
+    const std::size_t j = static_cast<std::size_t>(std::max<std::ptrdiff_t>(
+        1, std::lower_bound(weight.begin(), weight.end(), w) - weight.begin()));
+    const double f = (w - weight[j - 1]) / std::max(1e-300, weight[j] - weight[j - 1]);
+    const double t = parameters[j - 1] + f * (parameters[j] - parameters[j - 1]);
+    Eigen::Vector3d p = curve.point(t);
+    const Eigen::Vector3d tangent = curve.first(t).normalized();
+    if (sampling == Sampling::Thick) {
+      if (dimension == 2) {
+        p += (2.0 * uniform(engine) - 1.0) * thickness *
+             Eigen::Vector3d(-tangent.y(), tangent.x(), 0.0);
+      } else {
+        const Eigen::Vector3d n1 = tangent.unitOrthogonal();
+        const Eigen::Vector3d n2 = tangent.cross(n1);
+        double a = 1.0, b = 1.0;
+        while (a * a + b * b > 1.0)
+          a = 2.0 * uniform(engine) - 1.0, b = 2.0 * uniform(engine) - 1.0;
+        p += thickness * (a * n1 + b * n2);
+      }
+    } else if (sampling != Sampling::Clean) {
+      p += sigma *
+           Eigen::Vector3d(gauss(engine), gauss(engine), dimension == 3 ? gauss(engine) : 0.0);
+    }
+    cloud.points.push_back(p);
+  }
+  return cloud;
 }
 
 /// Distance from p to the curve: the best of `samples` uniform parameters, refined by Newton on
@@ -112,6 +258,26 @@ inline DistanceStats splineToCurve(const BSplineCurve& spline, const ParametricC
   }
   stats.rms = std::sqrt(stats.rms / static_cast<double>(points.size()));
   return stats;
+}
+
+/// RMS of the reference distance from `count` samples of the B-spline to the curve, leaving out
+/// the samples whose nearest curve point is an end of an open curve (the part of the fit that
+/// runs on past the curve's ends: noisy data end up to a few sigma beyond them). `overhang` gets
+/// the fraction of samples left out.
+inline double splineToCurveInterior(const BSplineCurve& spline, const ParametricCurve& curve,
+                                    int count, double* overhang = nullptr) {
+  double sum = 0.0;
+  int used = 0;
+  const std::vector<Eigen::Vector3d> points = spline.sample(count);
+  for (const Eigen::Vector3d& p : points) {
+    double t = 0.0;
+    const double d = referenceDistance(curve, p, &t);
+    if (!curve.periodic && (t <= curve.start || t >= curve.end)) continue;
+    sum += d * d;
+    ++used;
+  }
+  if (overhang != nullptr) *overhang = 1.0 - static_cast<double>(used) / points.size();
+  return used > 0 ? std::sqrt(sum / used) : 0.0;
 }
 
 /// Largest distance from any point of `points` to the nearest of `dense` samples of the spline

@@ -9,6 +9,10 @@
 #include "FitTestSupport.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/InitialCurve.h"
+#include "d2vdb/fit/QuadraticModel.h"
+#include "d2vdb/fit/detail/PointCloudProblem.h"
+
+#include <utility>
 
 namespace d2vdb {
 namespace {
@@ -35,9 +39,9 @@ TEST(PointCloudFitter, NoisyEllipseCloudIsFittedWithinHalfTheNoise) {
   options.maxIterations = 100;
   options.smoothness = 1e-8;  // a little bending energy keeps the fit from chasing the noise
   const CurveFitResult result = fitCurveToPoints(initial, cloud, options);
-  // With this much noise the footpoints keep sliding slowly along the curve (the objective still
-  // falls by ~1e-8 per iteration at the cap); what matters is that it never stalls.
-  EXPECT_NE(result.status, FitStatus::Stalled) << result.reason;
+  // The exact second-order terms stop the footpoints sliding along the curve: it converges.
+  EXPECT_EQ(result.status, FitStatus::Converged) << result.reason;
+  EXPECT_LE(result.iterations(), 30);
   const test::DistanceStats clean = test::splineToCurve(result.curve, test::ellipseCurve(1.0, 0.6));
   std::printf(
       "noisy cloud SDM II: %d iterations, RMS to clean %.3g (sigma %.3g), max %.3g, data "
@@ -140,6 +144,83 @@ TEST(PointCloudFitter, BadInputIsRejected) {
   EXPECT_THROW(initialCurveAround(std::vector<Eigen::Vector3d>(5, Eigen::Vector3d::Ones()),
                                   InitialShape::Circle, 3, 8, 3),
                InputError);
+}
+
+}  // namespace
+}  // namespace d2vdb
+
+namespace d2vdb {
+namespace {
+
+// The exact second-order terms of SDM II: with them the model's curvature along a direction is the
+// true objective's (second differences of the projected squared distances); the plain SDM term
+// over-estimates it along the curve's slide, which is what made SDM II crawl.
+TEST(PointCloudFitter, SecondOrderTermsGiveTheObjectivesCurvature) {
+  const test::ParametricCurve loop = test::threeLobedLoop();
+  const test::GeneratedCloud cloud =
+      test::generateCloud(loop, 2, test::Sampling::Noisy, 600, 2.4, 4);
+  CurveFitOptions options;
+  const CurveFitResult fit =
+      fitCurveToPoints(initialCurveAround(cloud.points, InitialShape::Ellipse, 3, 12, 2, 1.2),
+                       cloud.points, options);
+  ASSERT_EQ(fit.status, FitStatus::Converged) << fit.reason;
+  const std::vector<Eigen::Vector3d>& points = fit.curve.controlPoints();
+  const int n = fit.curve.controlPointCount();
+  detail::PointCloudProblem problem(fit.curve, cloud.points, options);
+  const auto objective = [&](const std::vector<Eigen::Vector3d>& net) {
+    const detail::DataError error = problem.measure(net);
+    return error.sum / error.count;
+  };
+  objective(points);
+  problem.accept();
+  detail::FitLinearization linearization;
+  problem.linearize(points, linearization);
+  ASSERT_FALSE(linearization.secondOrder.empty());
+  QuadraticModel model(n, 2, Eigen::SparseMatrix<double>());
+  model.assemble(
+      {{linearization.basis, &linearization.forms,
+        1.0 / static_cast<double>(linearization.forms.size()), &linearization.secondOrder}},
+      points);
+  // Directions: every control point slid along the control polygon (the curve sliding along
+  // itself), and a smooth normal-ish wave.
+  std::vector<Eigen::Vector3d> slide(static_cast<std::size_t>(n));
+  std::vector<Eigen::Vector3d> wave(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d along = points[static_cast<std::size_t>((i + 1) % n)] -
+                                  points[static_cast<std::size_t>((i + n - 1) % n)];
+    slide[static_cast<std::size_t>(i)] = along.normalized();
+    wave[static_cast<std::size_t>(i)] = std::sin(2.0 * test::kTwoPi * i / n) *
+                                        Eigen::Vector3d(-along.y(), along.x(), 0).normalized();
+  }
+  const double e0 = objective(points);
+  for (const auto& [name, direction] :
+       {std::pair<const char*, const std::vector<Eigen::Vector3d>*>{"slide", &slide},
+        std::pair<const char*, const std::vector<Eigen::Vector3d>*>{"wave", &wave}}) {
+    const double h = 1e-3;
+    std::vector<Eigen::Vector3d> plus(points), minus(points), step(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      step[i] = h * (*direction)[i];
+      plus[i] += step[i];
+      minus[i] -= step[i];
+    }
+    const double trueCurvature = (objective(plus) + objective(minus) - 2.0 * e0) / (h * h);
+    std::vector<Eigen::Vector3d> negative(step);
+    for (Eigen::Vector3d& c : negative) c = -c;
+    const auto modelCurvature = [&](double rankOneScale) {
+      model.solveAssembled(rankOneScale, 1e-3);
+      return -(model.predictedDecrease(step) + model.predictedDecrease(negative)) / (h * h);
+    };
+    const double exact = modelCurvature(1.0);
+    const double plain = modelCurvature(0.0);
+    std::printf(
+        "%s: curvature of the objective %.6g, model with second-order terms %.6g, plain "
+        "SDM %.6g\n",
+        name, trueCurvature, exact, plain);
+    EXPECT_NEAR(exact, trueCurvature, 1e-3 * std::abs(trueCurvature)) << name;
+    if (direction == &slide) {
+      EXPECT_GT(plain, 1.1 * trueCurvature);
+    }
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "FitTestSupport.h"
+#include "d2vdb/core/Error.h"
 #include "d2vdb/fit/SensorBasis.h"
 #include "d2vdb/fit/SmoothingMatrix.h"
 
@@ -50,7 +51,7 @@ std::vector<QuadraticForm> randomForms(int count, unsigned seed) {
 
 /// The minimiser of (1/N) sum_k Q_k(x_k(P + c)) + sum_a (P + c)_a^T S (P + c)_a by a dense solve
 /// of its normal equations, built from one Jacobian per sensor.
-std::vector<Eigen::Vector3d> denseStep(const SensorBasis& basis,
+std::vector<Eigen::Vector3d> denseStep(const SensorMap& basis,
                                        const std::vector<QuadraticForm>& forms,
                                        const Eigen::SparseMatrix<double>& smoothing,
                                        const std::vector<Eigen::Vector3d>& points) {
@@ -119,6 +120,134 @@ TEST(QuadraticModel, SolveMatchesADenseSolveAndSurvivesNewSpans) {
   const std::vector<Eigen::Vector3d> again = reused.solve(firstHalf, firstForms, points, 0.0);
   EXPECT_LT(largestDifference(again, fresh.solve(firstHalf, firstForms, points, 0.0)), 1e-12);
   EXPECT_LT(largestDifference(again, firstReference), 1e-9);
+}
+
+/// The model's pieces as dense matrices over the stacked displacement (unknown 3 i + a): H and g
+/// of m(c) = m(0) + g . c + c^T H c (no damping), from one Jacobian per sensor.
+struct DenseModel {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+};
+
+DenseModel denseModel(const std::vector<SensorTerms>& sets, double rankOneScale,
+                      const Eigen::MatrixXd& smoothing,
+                      const std::vector<Eigen::Vector3d>& points) {
+  const int n = static_cast<int>(points.size());
+  DenseModel model{Eigen::MatrixXd::Zero(3 * n, 3 * n), Eigen::VectorXd::Zero(3 * n)};
+  for (const SensorTerms& set : sets) {
+    const SensorMap& basis = *set.basis;
+    for (int k = 0; k < basis.sensorCount(); ++k) {
+      Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(3, 3 * n);
+      Eigen::MatrixXd local = Eigen::MatrixXd::Zero(3 * basis.order(), 3 * n);
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int j = 0; j < basis.order(); ++j) {
+        const int i = basis.index(k, j);
+        jacobian.middleCols(3 * i, 3) += basis.weight(k, j) * Eigen::Matrix3d::Identity();
+        local.block(3 * j, 3 * i, 3, 3) = Eigen::Matrix3d::Identity();
+        x += basis.weight(k, j) * points[static_cast<std::size_t>(i)];
+      }
+      const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
+      model.H += set.weight * jacobian.transpose() * form.A * jacobian;
+      model.g += set.weight * 2.0 * jacobian.transpose() * (form.A * x - form.b);
+      if (set.rankOne == nullptr) continue;
+      const RankOneTerms& terms = *set.rankOne;
+      for (int t = terms.start[static_cast<std::size_t>(k)];
+           t < terms.start[static_cast<std::size_t>(k) + 1]; ++t) {
+        const Eigen::Map<const Eigen::VectorXd> u(
+            terms.vectors.data() + static_cast<std::size_t>(t) * terms.length, terms.length);
+        const Eigen::VectorXd v = local.transpose() * u;
+        model.H += set.weight * rankOneScale * terms.coefficients[static_cast<std::size_t>(t)] * v *
+                   v.transpose();
+      }
+    }
+  }
+  Eigen::VectorXd stacked(3 * n);
+  for (int i = 0; i < n; ++i) stacked.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      model.H.block<3, 3>(3 * i, 3 * j) += smoothing(i, j) * Eigen::Matrix3d::Identity();
+    }
+  }
+  model.g += 2.0 * [&] {
+    Eigen::VectorXd s = Eigen::VectorXd::Zero(3 * n);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        s.segment<3>(3 * i) += smoothing(i, j) * points[static_cast<std::size_t>(j)];
+      }
+    }
+    return s;
+  }();
+  return model;
+}
+
+std::vector<Eigen::Vector3d> unstack(const Eigen::VectorXd& v) {
+  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(v.size() / 3));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = v.segment<3>(3 * static_cast<Eigen::Index>(i));
+  }
+  return points;
+}
+
+TEST(QuadraticModel, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchADenseModel) {
+  const BSplineCurve curve = closedCurve();
+  const int n = curve.controlPointCount();
+  const std::vector<Eigen::Vector3d>& points = curve.controlPoints();
+  // Two sets: one with rank-one terms (one positive, one negative per sensor), one without.
+  const SensorBasis first(curve, sensorsIn(curve, 0.0, 1.0));
+  const SensorBasis second(curve, sensorsIn(curve, 0.2, 0.7));
+  const std::vector<QuadraticForm> firstForms = randomForms(first.sensorCount(), 3);
+  const std::vector<QuadraticForm> secondForms = randomForms(second.sensorCount(), 4);
+  RankOneTerms terms;
+  const int length = 3 * first.order();
+  terms.reset(first.sensorCount(), length);
+  std::mt19937 engine(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 0; k < first.sensorCount(); ++k) {
+    for (const double alpha : {0.3, -0.05}) {
+      terms.coefficients.push_back(alpha);
+      for (int e = 0; e < length; ++e) terms.vectors.push_back(uniform(engine));
+    }
+    terms.start[static_cast<std::size_t>(k) + 1] = static_cast<int>(terms.coefficients.size());
+  }
+  const std::vector<SensorTerms> sets{{&first, &firstForms, 0.7, &terms},
+                                      {&second, &secondForms, 0.2, nullptr}};
+  const Eigen::SparseMatrix<double> fixed = 1e-3 * derivativeGramMatrix(curve, 1);
+  const Eigen::SparseMatrix<double> bending = derivativeGramMatrix(curve, 2);
+  QuadraticModel model(n, 3, fixed, bending);
+  model.setSmoothingScale(2e-4);
+  model.assemble(sets, points);
+  for (const double rankOneScale : {0.0, 0.5, 1.0}) {
+    const std::vector<Eigen::Vector3d> step = model.solveAssembled(rankOneScale, 0.0);
+    const Eigen::MatrixXd smoothing = Eigen::MatrixXd(fixed) + 2e-4 * Eigen::MatrixXd(bending);
+    const DenseModel dense = denseModel(sets, rankOneScale, smoothing, points);
+    const Eigen::VectorXd reference = dense.H.ldlt().solve(-0.5 * dense.g);
+    EXPECT_LT(largestDifference(step, unstack(reference)), 1e-9) << rankOneScale;
+    // m(0) - m(c) for the solution and for another displacement.
+    const Eigen::VectorXd other = 0.3 * reference + 0.01 * Eigen::VectorXd::Ones(3 * n);
+    for (const Eigen::VectorXd& c : {reference, other}) {
+      const double expected = -(dense.g.dot(c) + c.dot(dense.H * c));
+      EXPECT_NEAR(model.predictedDecrease(unstack(c)), expected, 1e-9 * std::abs(expected));
+    }
+    // The scaled smoothing's shift of the minimiser: H^-1 (sigma T P).
+    Eigen::VectorXd bendingForce(3 * n);
+    const Eigen::MatrixXd bendingDense = 2e-4 * Eigen::MatrixXd(bending);
+    for (int i = 0; i < n; ++i) {
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      for (int j = 0; j < n; ++j) f += bendingDense(i, j) * points[static_cast<std::size_t>(j)];
+      bendingForce.segment<3>(3 * i) = f;
+    }
+    EXPECT_LT(largestDifference(model.scaledSmoothingShift(),
+                                unstack(dense.H.ldlt().solve(bendingForce))),
+              1e-9);
+  }
+  // A dominant negative rank-one term makes the system indefinite, and the model says so.
+  RankOneTerms negative = terms;
+  for (double& alpha : negative.coefficients) alpha = -50.0;
+  model.assemble({{&first, &firstForms, 0.7, &negative}}, points);
+  model.solveAssembled(1.0, 0.0);
+  EXPECT_FALSE(model.lastSolvePositiveDefinite());
+  model.solveAssembled(0.0, 0.0);
+  EXPECT_TRUE(model.lastSolvePositiveDefinite());
 }
 
 }  // namespace

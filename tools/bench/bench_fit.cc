@@ -6,30 +6,94 @@
 //    work is not counted.
 //  - BM_FitIterationSpeedup/sensors/controlPoints: the same iteration timed with 1 and 2 threads
 //    alternately in every benchmark iteration (paired); counters t1_ms, t2_ms (medians), speedup.
+//  - BM_CloudIteration/points/threads: one SDM II iteration on a noisy 3000-point cloud and on a
+//    clean 20000-point sampling of a closed 2D curve (fixed bending weight, no early stop), timed
+//    like BM_FitIteration.
+//  - BM_Converge/case/method: a whole fit with default options (cap 1000) from the initial curve
+//    `fit-curve` would use, on generated clouds of known curves: the closed three-lobed loop
+//    (noisy and non-uniformly sampled 3:1, 3000 points, sigma 0.5 % of its size; clean, 20000
+//    points; thick, uniform across a band of 2.5 % of its size), the open 3D helix (noisy, 3000
+//    points); SDM, PDM, TDM+PDM and SDM without the exact second-order terms. Counters:
+//    iterations, converged (1/0), rms_clean (RMS distance of the fit to the clean curve),
+//    data_rms. The source builds against older versions of the library too (side-by-side runs).
 //  - BM_TimeToRms/<target>/<method>/<permille>: wall time for SDM and PDM, from the same initial
 //    curve, to reach the same RMS error ((1 + permille / 1000) x the RMS SDM converges to with
 //    default tolerances), on a noisy point cloud (SDM II) and on a curve field
 //    (ApproximantField::fromCurve, SDM I). Counters: iterations, rms, reached (0 when the
 //    3000-iteration cap came first).
+//  - BM_SurfaceConverge/case/method: a whole surface fit with default options (cap 200): the
+//    torus R = 2, r = 0.5 (its level set from primitiveLevelSet, voxel 0.01, through the
+//    approximant field: SDM I), bicubic closed x closed, 16 x 16 and 8 x 8 control points, from a
+//    torus of radii 1.7 and 0.8; a noisy cloud (SDM II) of z = 0.1 sin(3x) cos(2y) on [0, 2]^2,
+//    sigma 0.002, 20000 points, 12 x 12 bicubic sheet. SDM, PDM, TDM+PDM. Counters: iterations,
+//    converged, max_error and rms_error (to the analytic torus on 161 x 97 samples; for the cloud
+//    the vertical RMS to the clean surface over [0.1, 1.9]^2), data_rms.
+//  - BM_SurfaceTimeToRms/method: the 16 x 16 torus: wall time for SDM and PDM from the same start
+//    to reach 1.02 x the RMS SDM converges to (cap 300 iterations; reached 0 when the cap came
+//    first).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
+#include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/field/Primitives.h"
 #include "d2vdb/fit/CurveFitter.h"
 #include "d2vdb/fit/InitialCurve.h"
+#include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/PointCloudFitter.h"
+#include "d2vdb/fit/SurfaceFitter.h"
 
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925;
+
+// Options of the library version this file is built against (older versions have no
+// moveTolerance or exactSecondOrder).
+template <typename T, typename = void>
+struct HasMoveTolerance : std::false_type {};
+template <typename T>
+struct HasMoveTolerance<T, std::void_t<decltype(std::declval<T&>().moveTolerance)>>
+    : std::true_type {};
+template <typename T, typename = void>
+struct HasExactSecondOrder : std::false_type {};
+template <typename T>
+struct HasExactSecondOrder<T, std::void_t<decltype(std::declval<T&>().exactSecondOrder)>>
+    : std::true_type {};
+
+/// Sets exactSecondOrder where the library has it; false when it has not and `use` is false
+/// (plain SDM cannot be asked for separately there).
+template <typename Options>
+bool useExactSecondOrder(Options& options, bool use) {
+  if constexpr (HasExactSecondOrder<Options>::value) {
+    options.exactSecondOrder = use;
+    return true;
+  } else {
+    (void)options;
+    return use;
+  }
+}
+
+/// Every fit runs exactly maxIterations iterations.
+template <typename Options>
+void noEarlyStop(Options& options) {
+  options.stepTolerance = 0.0;
+  options.objectiveTolerance = 0.0;
+  if constexpr (HasMoveTolerance<Options>::value) options.moveTolerance = 0.0;
+}
 
 // A closed flower-like curve r = 1 + 0.15 cos(7 theta), scaled by (1, 0.7).
 Eigen::Vector3d flower(double theta) {
@@ -54,9 +118,8 @@ const d2vdb::CurveTarget& flowerTarget() {
 struct IterationProblem {
   IterationProblem(int sensors, int controlPoints) : initial(initialCurve(controlPoints)) {
     options.sensorsPerSpan = sensors / controlPoints;
-    options.smoothness = d2vdb::kAutoClosedSmoothness;
-    options.stepTolerance = 0.0;
-    options.objectiveTolerance = 0.0;
+    options.smoothness = 1e-8;
+    noEarlyStop(options);
   }
   static d2vdb::BSplineCurve initialCurve(int controlPoints) {
     std::vector<Eigen::Vector3d> samples;
@@ -159,6 +222,217 @@ BENCHMARK(BM_FitIterationSpeedup)
     ->Iterations(31)
     ->Unit(benchmark::kMillisecond);
 
+// ---- Generated clouds of known curves (BM_CloudIteration, BM_Converge) ----
+
+/// A curve with its first derivative (for normals and arc length).
+struct KnownCurve {
+  Eigen::Vector3d (*point)(double);
+  Eigen::Vector3d (*first)(double);
+  double start, end;
+  bool closed;
+  int dimension;
+  double size;
+};
+
+Eigen::Vector3d lobedPoint(double t) {
+  const double r = 1.0 + 0.2 * std::cos(3.0 * t);
+  return {r * std::cos(t), 0.8 * r * std::sin(t), 0.0};
+}
+Eigen::Vector3d lobedFirst(double t) {
+  const double r = 1.0 + 0.2 * std::cos(3.0 * t), dr = -0.6 * std::sin(3.0 * t);
+  return {dr * std::cos(t) - r * std::sin(t), 0.8 * (dr * std::sin(t) + r * std::cos(t)), 0.0};
+}
+Eigen::Vector3d helixPoint(double t) {
+  return {std::cos(t), std::sin(t), 0.25 * t};
+}
+Eigen::Vector3d helixFirst(double t) {
+  return {-std::sin(t), std::cos(t), 0.25};
+}
+
+const KnownCurve kLobedLoop{lobedPoint, lobedFirst, 0.0, kTwoPi, true, 2, 2.4};
+const KnownCurve kHelix{helixPoint, helixFirst, 0.0, 1.5 * kTwoPi, false, 3, 2.0};
+
+enum class Sampling { Noisy, NonUniformNoisy, Thick, Clean };
+
+/// `count` points of `curve`: uniform in arc length (density 2 + cos(2 pi s / L) for
+/// NonUniformNoisy, evenly spaced for Clean), Gaussian noise of sigma 0.5 % of the size per
+/// coordinate, or uniform across a band / tube of radius 2.5 % of the size (Thick).
+std::vector<Eigen::Vector3d> sampleCurve(const KnownCurve& curve, Sampling sampling, int count,
+                                         unsigned seed) {
+  const int table = 20000;
+  std::vector<double> parameter(table + 1), weight(table + 1, 0.0), arc(table + 1, 0.0);
+  for (int i = 0; i <= table; ++i)
+    parameter[i] = curve.start + (curve.end - curve.start) * i / table;
+  for (int i = 1; i <= table; ++i) {
+    arc[i] = arc[i - 1] + (curve.point(parameter[i]) - curve.point(parameter[i - 1])).norm();
+  }
+  for (int i = 1; i <= table; ++i) {
+    const double s = 0.5 * (arc[i] + arc[i - 1]);
+    const double density =
+        sampling == Sampling::NonUniformNoisy ? 2.0 + std::cos(kTwoPi * s / arc.back()) : 1.0;
+    weight[i] = weight[i - 1] + density * (arc[i] - arc[i - 1]);
+  }
+  std::mt19937 engine(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    const double w =
+        (sampling == Sampling::Clean ? (i + 0.5) / count : uniform(engine)) * weight.back();
+    const std::size_t j = static_cast<std::size_t>(std::max<std::ptrdiff_t>(
+        1, std::lower_bound(weight.begin(), weight.end(), w) - weight.begin()));
+    const double f = (w - weight[j - 1]) / std::max(1e-300, weight[j] - weight[j - 1]);
+    const double t = parameter[j - 1] + f * (parameter[j] - parameter[j - 1]);
+    Eigen::Vector3d p = curve.point(t);
+    const Eigen::Vector3d tangent = curve.first(t).normalized();
+    if (sampling == Sampling::Thick) {
+      const double radius = 0.025 * curve.size;
+      if (curve.dimension == 2) {
+        p += (2.0 * uniform(engine) - 1.0) * radius * Eigen::Vector3d(-tangent.y(), tangent.x(), 0);
+      } else {
+        const Eigen::Vector3d n1 = tangent.unitOrthogonal(), n2 = tangent.cross(n1);
+        double a = 1.0, b = 1.0;
+        while (a * a + b * b > 1.0)
+          a = 2.0 * uniform(engine) - 1.0, b = 2.0 * uniform(engine) - 1.0;
+        p += radius * (a * n1 + b * n2);
+      }
+    } else if (sampling != Sampling::Clean) {
+      const double sigma = 0.005 * curve.size;
+      p += sigma * Eigen::Vector3d(gauss(engine), gauss(engine),
+                                   curve.dimension == 3 ? gauss(engine) : 0.0);
+    }
+    points.push_back(p);
+  }
+  return points;
+}
+
+/// The initial curve `fit-curve` would start from: an ellipse around the cloud (closed), a
+/// least-squares curve through a rough ordered sketch of the curve (open).
+d2vdb::BSplineCurve startingCurve(const KnownCurve& curve,
+                                  const std::vector<Eigen::Vector3d>& cloud, int controlPoints) {
+  if (curve.closed) {
+    return d2vdb::initialCurveAround(cloud, d2vdb::InitialShape::Ellipse, 3, controlPoints,
+                                     curve.dimension, 1.2);
+  }
+  std::vector<Eigen::Vector3d> sketch;
+  for (int i = 0; i < 30; ++i) {
+    sketch.push_back(curve.point(curve.start + (curve.end - curve.start) * i / 29.0) +
+                     0.02 * curve.size *
+                         Eigen::Vector3d(std::sin(1.7 * i), std::cos(2.3 * i),
+                                         curve.dimension == 3 ? std::sin(0.7 * i) : 0.0));
+  }
+  return d2vdb::fitPolylineLeastSquares(sketch, false, 3, controlPoints, curve.dimension);
+}
+
+/// RMS distance from 1000 samples of `fit` to `curve` (brute force against 20000 samples of it),
+/// leaving out samples whose nearest point is an end of an open curve.
+double rmsToCurve(const d2vdb::BSplineCurve& fit, const KnownCurve& curve) {
+  std::vector<Eigen::Vector3d> dense;
+  const int count = 20000;
+  for (int i = 0; i <= count; ++i)
+    dense.push_back(curve.point(curve.start + (curve.end - curve.start) * i / count));
+  double sum = 0.0;
+  int used = 0;
+  for (const Eigen::Vector3d& p : fit.sample(1000)) {
+    double best = std::numeric_limits<double>::infinity();
+    int bestIndex = 0;
+    for (int i = 0; i <= count; ++i) {
+      const double d = (dense[static_cast<std::size_t>(i)] - p).squaredNorm();
+      if (d < best) best = d, bestIndex = i;
+    }
+    if (!curve.closed && (bestIndex == 0 || bestIndex == count)) continue;
+    sum += best;
+    ++used;
+  }
+  return used > 0 ? std::sqrt(sum / used) : 0.0;
+}
+
+/// Seconds per SDM II iteration (as secondsPerIteration()).
+double secondsPerCloudIteration(const d2vdb::BSplineCurve& initial,
+                                const std::vector<Eigen::Vector3d>& cloud) {
+  d2vdb::CurveFitOptions options;
+  options.smoothness = 1e-8;
+  noEarlyStop(options);
+  options.maxIterations = 1;
+  const auto start = std::chrono::steady_clock::now();
+  const d2vdb::CurveFitResult first = d2vdb::fitCurveToPoints(initial, cloud, options);
+  const auto middle = std::chrono::steady_clock::now();
+  options.maxIterations = 1 + kTimedIterations;
+  const d2vdb::CurveFitResult longer = d2vdb::fitCurveToPoints(initial, cloud, options);
+  const auto end = std::chrono::steady_clock::now();
+  if (longer.iterations() != 1 + kTimedIterations || first.iterations() != 1) return -1.0;
+  benchmark::DoNotOptimize(longer.history.data());
+  const std::chrono::duration<double> once = middle - start, more = end - middle;
+  return (more - once).count() / kTimedIterations;
+}
+
+void BM_CloudIteration(benchmark::State& state) {
+  const bool clean = state.range(0) > 5000;
+  const std::vector<Eigen::Vector3d> cloud =
+      sampleCurve(kLobedLoop, clean ? Sampling::Clean : Sampling::NonUniformNoisy,
+                  static_cast<int>(state.range(0)), 3);
+  const d2vdb::BSplineCurve initial = startingCurve(kLobedLoop, cloud, 16);
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(1)));
+  for (auto _ : state) {
+    const double seconds = secondsPerCloudIteration(initial, cloud);
+    if (seconds < 0.0) {
+      state.SkipWithError("a fit stopped early");
+      break;
+    }
+    state.SetIterationTime(seconds);
+  }
+}
+BENCHMARK(BM_CloudIteration)
+    ->Args({3000, 1})
+    ->Args({3000, 2})
+    ->Args({20000, 1})
+    ->Args({20000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime();
+
+void BM_Converge(benchmark::State& state) {
+  struct Case {
+    const char* name;
+    const KnownCurve* curve;
+    Sampling sampling;
+    int points;
+  };
+  static const Case cases[] = {
+      {"closed loop, non-uniform noisy, 3000 points", &kLobedLoop, Sampling::NonUniformNoisy, 3000},
+      {"closed loop, clean, 20000 points", &kLobedLoop, Sampling::Clean, 20000},
+      {"closed loop, thick, 3000 points", &kLobedLoop, Sampling::Thick, 3000},
+      {"open 3D helix, noisy, 3000 points", &kHelix, Sampling::Noisy, 3000},
+  };
+  const Case& c = cases[state.range(0)];
+  const int method = static_cast<int>(state.range(1));
+  const std::vector<Eigen::Vector3d> cloud = sampleCurve(*c.curve, c.sampling, c.points, 17);
+  const d2vdb::BSplineCurve initial = startingCurve(*c.curve, cloud, 16);
+  d2vdb::CurveFitOptions options;
+  options.maxIterations = 1000;
+  options.method = method == 1   ? d2vdb::FitMethod::PDM
+                   : method == 2 ? d2vdb::FitMethod::TDMPlusPDM
+                                 : d2vdb::FitMethod::SDM;
+  if (!useExactSecondOrder(options, method != 3)) {
+    state.SkipWithError("this library has no exact second-order terms (SDM is plain here)");
+    return;
+  }
+  d2vdb::CurveFitResult result{initial, {}, {}, {}, {}};
+  for (auto _ : state) result = d2vdb::fitCurveToPoints(initial, cloud, options);
+  state.counters["iterations"] = result.iterations();
+  state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
+  state.counters["rms_clean"] = rmsToCurve(result.curve, *c.curve);
+  state.counters["data_rms"] = result.history.back().rmsDistance;
+  static const char* methodNames[] = {"sdm", "pdm", "tdm+pdm", "sdm without second-order terms"};
+  state.SetLabel(std::string(c.name) + ", " + methodNames[method]);
+}
+BENCHMARK(BM_Converge)
+    ->ArgNames({"case", "method"})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2, 3}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
 std::vector<Eigen::Vector3d> noisyFlowerCloud() {
   std::mt19937 engine(5);
   std::normal_distribution<double> noise(0.0, 0.005);
@@ -221,6 +495,128 @@ void BM_TimeToRms(benchmark::State& state) {
 BENCHMARK(BM_TimeToRms)
     ->ArgNames({"cloud0_field1", "sdm0_pdm1", "permille"})
     ->ArgsProduct({{0, 1}, {0, 1}, {20, 5, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// ---- Surfaces (BM_SurfaceConverge, BM_SurfaceTimeToRms) ----
+
+const d2vdb::Torus& benchTorus() {
+  static const d2vdb::Torus torus(Eigen::Vector3d::Zero(), 2.0, 0.5);
+  return torus;
+}
+
+const d2vdb::ApproximantField& torusField() {
+  static const d2vdb::ApproximantField field = [] {
+    d2vdb::PrimitiveLevelSetOptions options;
+    options.voxelSize = 0.01;
+    options.halfWidth = 3;
+    return d2vdb::ApproximantField::fromLevelSet(d2vdb::primitiveLevelSet(benchTorus(), options));
+  }();
+  return field;
+}
+
+d2vdb::BSplineSurface torusStart(int controlPoints) {
+  return d2vdb::torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.7, 0.8,
+                             d2vdb::SurfaceLayout{3, 3, controlPoints, controlPoints, true, true});
+}
+
+double waveHeight(double x, double y) {
+  return 0.1 * std::sin(3 * x) * std::cos(2 * y);
+}
+
+const std::vector<Eigen::Vector3d>& waveCloud() {
+  static const std::vector<Eigen::Vector3d> cloud = [] {
+    std::mt19937 engine(4);
+    std::uniform_real_distribution<double> unit(0.0, 2.0);
+    std::normal_distribution<double> noise(0.0, 0.002);
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < 20000; ++i) {
+      const double x = unit(engine), y = unit(engine);
+      points.push_back(Eigen::Vector3d(x, y, waveHeight(x, y)) +
+                       Eigen::Vector3d(noise(engine), noise(engine), noise(engine)));
+    }
+    return points;
+  }();
+  return cloud;
+}
+
+void surfaceErrors(benchmark::State& state, const d2vdb::BSplineSurface& surface, bool torus) {
+  double largest = 0.0, sum = 0.0;
+  int count = 0;
+  for (const Eigen::Vector3d& p : surface.sample(161, 97)) {
+    double d = 0.0;
+    if (torus) {
+      d = std::abs(benchTorus().signedDistance(p));
+    } else {
+      if (p.x() < 0.1 || p.x() > 1.9 || p.y() < 0.1 || p.y() > 1.9) continue;
+      d = std::abs(p.z() - waveHeight(p.x(), p.y()));
+    }
+    largest = std::max(largest, d);
+    sum += d * d;
+    ++count;
+  }
+  state.counters["max_error"] = largest;
+  state.counters["rms_error"] = std::sqrt(sum / std::max(count, 1));
+}
+
+void BM_SurfaceConverge(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const int method = static_cast<int>(state.range(1));
+  static const char* caseNames[] = {"torus field 16 x 16", "torus field 8 x 8",
+                                    "noisy cloud 20000 points, 12 x 12"};
+  d2vdb::SurfaceFitOptions options;
+  options.maxIterations = 200;
+  options.method = method == 1   ? d2vdb::FitMethod::PDM
+                   : method == 2 ? d2vdb::FitMethod::TDMPlusPDM
+                                 : d2vdb::FitMethod::SDM;
+  const bool torus = which < 2;
+  if (torus) torusField();  // built once, outside the timing
+  d2vdb::InitialSurfaceOptions placement;
+  placement.layout = d2vdb::SurfaceLayout{3, 3, 12, 12, false, false};
+  const d2vdb::BSplineSurface initial =
+      torus ? torusStart(which == 0 ? 16 : 8) : d2vdb::initialSurfaceAround(waveCloud(), placement);
+  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
+  for (auto _ : state) {
+    result = torus ? d2vdb::fitSurface(initial, torusField(), options)
+                   : d2vdb::fitSurfaceToPoints(initial, waveCloud(), options);
+  }
+  state.counters["iterations"] = result.iterations();
+  state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
+  state.counters["data_rms"] = result.history.back().rmsDistance;
+  surfaceErrors(state, result.surface, torus);
+  static const char* methodNames[] = {"sdm", "pdm", "tdm+pdm"};
+  state.SetLabel(std::string(caseNames[which]) + ", " + methodNames[method]);
+}
+BENCHMARK(BM_SurfaceConverge)
+    ->ArgNames({"case", "method"})
+    ->ArgsProduct({{0, 1, 2}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+void BM_SurfaceTimeToRms(benchmark::State& state) {
+  static const double sdmRms = [] {
+    d2vdb::SurfaceFitOptions options;
+    options.maxIterations = 200;
+    return d2vdb::fitSurface(torusStart(16), torusField(), options).history.back().rmsDistance;
+  }();
+  d2vdb::SurfaceFitOptions options;
+  options.method = state.range(0) == 0 ? d2vdb::FitMethod::SDM : d2vdb::FitMethod::PDM;
+  options.maxIterations = 300;
+  options.distanceTolerance = 1.02 * sdmRms;
+  const d2vdb::BSplineSurface initial = torusStart(16);
+  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
+  for (auto _ : state) result = d2vdb::fitSurface(initial, torusField(), options);
+  state.counters["iterations"] = result.iterations();
+  state.counters["rms"] = result.history.back().rmsDistance;
+  state.counters["target_rms"] = options.distanceTolerance;
+  state.counters["reached"] = result.history.back().rmsDistance <= options.distanceTolerance;
+  state.SetLabel(std::string("torus field 16 x 16, ") + d2vdb::fitMethodName(options.method));
+}
+BENCHMARK(BM_SurfaceTimeToRms)
+    ->ArgNames({"sdm0_pdm1"})
+    ->DenseRange(0, 1)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);

@@ -95,6 +95,7 @@ struct Arguments {
   double offset = 0.0;
   int every = 1;
   bool compare = false;
+  bool plainSdm = false;
   CurveFitOptions fit;
 };
 
@@ -137,7 +138,10 @@ nlohmann::json historyJson(const CurveFitResult& result) {
                     {"max_distance", row.maxDistance},
                     {"step_length", row.stepLength},
                     {"step_scale", row.stepScale},
-                    {"damping", row.damping}});
+                    {"damping", row.damping},
+                    {"target_move", row.targetMove},
+                    {"smoothness", row.smoothness},
+                    {"second_order_weight", row.secondOrderWeight}});
   }
   return rows;
 }
@@ -149,17 +153,19 @@ nlohmann::json resultJson(const CurveFitResult& result, FitMethod method) {
           {"iterations", result.iterations()},
           {"rms_distance", result.history.back().rmsDistance},
           {"max_distance", result.history.back().maxDistance},
+          {"smoothness", result.history.back().smoothness},
           {"history", historyJson(result)}};
 }
 
 void printHistory(const CurveFitResult& result, FitMethod method) {
   std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
               fitStatusName(result.status), result.iterations(), result.reason.c_str());
-  std::printf("%5s %14s %12s %12s %12s %7s %9s\n", "iter", "objective", "rms", "max", "step",
-              "scale", "damping");
+  std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
+              "step", "move", "scale", "damping", "smooth", "newton");
   for (const FitIteration& row : result.history) {
-    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %7.4f %9.2e\n", row.iteration, row.objective,
-                row.rmsDistance, row.maxDistance, row.stepLength, row.stepScale, row.damping);
+    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
+                row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
+                row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
   }
 }
 
@@ -236,9 +242,16 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       ->check(CLI::Range(1, 1000));
   command
       ->add_option("--smoothness", args->fit.smoothness,
-                   "Weight of int |x''|^2 (dimensionless; default: 0 for open curves, 1e-8 then "
-                   "1e-11 for closed ones)")
+                   "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
+                   "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
+                   "field target)")
       ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
+                   "Automatic smoothness: its shift of the fit as a fraction of the fit's "
+                   "resolution RMS x sqrt(control points / terms)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   command
       ->add_option("--step-smoothness", args->fit.stepSmoothness,
                    "Damping of rough and tangential control-point moves (relative; no bias)")
@@ -257,9 +270,19 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       ->check(CLI::NonNegativeNumber);
   command
       ->add_option("--step-tolerance", args->fit.stepTolerance,
-                   "Stop when no control point moves more than this fraction of the curve's size")
+                   "Converged when the curve moves by less than this fraction of its size")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  command
+      ->add_option("--move-tolerance", args->fit.moveTolerance,
+                   "Converged when the curve's move across the target and its RMS change, "
+                   "extrapolated at their rate of convergence, are below this fraction of the "
+                   "fit's resolution")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--plain-sdm", args->plainSdm,
+                    "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
+                    "Liu 2006 as published; for comparison)");
   command->add_option("--svg", args->svg, "Draw target, initial, iterates and final curve (SVG)");
   command->add_option("--every", args->every, "With --svg: draw every k-th iterate")
       ->capture_default_str()
@@ -276,6 +299,7 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
     const BSplineCurve initial = initialCurve(*args, target);
     CurveFitOptions fit = args->fit;
     fit.method = method;
+    fit.exactSecondOrder = !args->plainSdm;
     fit.keepIterates = !args->svg.empty();
     fit.progress = makeProgressPrinter(options);
     const CurveFitResult result = runFit(initial, target, fit);

@@ -165,6 +165,7 @@ struct Arguments {
   double offset = 0.0;
   int meshSamples = 8;
   int rulingSamples = 4;
+  bool plainSdm = false;
   SurfaceFitOptions fit;
 };
 
@@ -212,7 +213,10 @@ nlohmann::json historyJson(const SurfaceFitResult& result) {
                     {"max_distance", row.maxDistance},
                     {"step_length", row.stepLength},
                     {"step_scale", row.stepScale},
-                    {"damping", row.damping}});
+                    {"damping", row.damping},
+                    {"target_move", row.targetMove},
+                    {"smoothness", row.smoothness},
+                    {"second_order_weight", row.secondOrderWeight}});
   }
   return rows;
 }
@@ -377,6 +381,21 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   command
+      ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
+                   "Automatic smoothness: its shift of the fit as a fraction of the fit's "
+                   "resolution RMS x sqrt(control points / terms)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--move-tolerance", args->fit.moveTolerance,
+                   "Converged when the surface's move across the target and its RMS change, "
+                   "extrapolated at their rate of convergence, are below this fraction of the "
+                   "fit's resolution")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag("--plain-sdm", args->plainSdm,
+                    "SDM without the exact second-order terms (for comparison)");
+  command
       ->add_option("--step-tolerance", args->fit.stepTolerance,
                    "Stop when no control point moves more than this fraction of the size")
       ->capture_default_str()
@@ -397,6 +416,7 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
     }
     SurfaceFitOptions fit = args->fit;
     fit.method = method;
+    fit.exactSecondOrder = !args->plainSdm;
     fit.progress = makeProgressPrinter(options);
     const SurfaceFitResult result = target.kind == "points"
                                         ? fitSurfaceToPoints(initial, target.points, fit)
@@ -411,6 +431,7 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
                              {"iterations", result.iterations()},
                              {"rms_distance", result.history.back().rmsDistance},
                              {"max_distance", result.history.back().maxDistance},
+                             {"smoothness", result.history.back().smoothness},
                              {"history", historyJson(result)},
                              {"target", args->target},
                              {"target_kind", target.kind},
@@ -441,11 +462,12 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
     }
     std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
                 fitStatusName(result.status), result.iterations(), result.reason.c_str());
-    std::printf("%5s %14s %12s %12s %12s %7s %9s\n", "iter", "objective", "rms", "max", "step",
-                "scale", "damping");
+    std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
+                "step", "move", "scale", "damping", "smooth", "newton");
     for (const FitIteration& row : result.history) {
-      std::printf("%5d %14.6e %12.5e %12.5e %12.5e %7.4f %9.2e\n", row.iteration, row.objective,
-                  row.rmsDistance, row.maxDistance, row.stepLength, row.stepScale, row.damping);
+      std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
+                  row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
+                  row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
     }
     status(options, "wrote " + args->out);
     return kSuccess;

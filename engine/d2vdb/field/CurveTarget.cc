@@ -150,6 +150,13 @@ CurveTarget::~CurveTarget() = default;
 CurveTarget::CurveTarget(CurveTarget&&) noexcept = default;
 CurveTarget& CurveTarget::operator=(CurveTarget&&) noexcept = default;
 
+double CurveTarget::resolution() const {
+  if (spline_) return 0.0;
+  const std::size_t n = polyline_.points.size();
+  const std::size_t segments = polyline_.closed ? n : n - 1;
+  return segments > 0 ? length_ / static_cast<double>(segments) : 0.0;
+}
+
 std::string CurveTarget::describe() const {
   std::string what = spline_
                          ? "B-spline curve (degree " + std::to_string(spline_->degree()) + ", " +

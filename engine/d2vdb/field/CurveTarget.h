@@ -59,6 +59,9 @@ class CurveTarget final : public SquaredDistanceTarget {
   Eigen::AlignedBox3d domain() const override { return domain_; }
   Approximant approximantAt(const Eigen::Vector3d& point) const override;
   std::string describe() const override;
+  /// A polyline's mean segment length (its approximants interpolate the curvature between
+  /// vertices, so they resolve nothing finer than the vertex spacing); 0 for a spline.
+  double resolution() const override;
 
   /// The approximant at `point` without the domain check (for field construction, which samples
   /// a padded box). Throws InputError when `point` is not finite.

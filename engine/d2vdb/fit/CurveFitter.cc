@@ -10,7 +10,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/fit/SensorBasis.h"
-#include "d2vdb/fit/detail/FitLoop.h"
+#include "d2vdb/fit/detail/CurveFitLoop.h"
 
 namespace d2vdb {
 namespace {
@@ -27,35 +27,34 @@ class TargetProblem final : public detail::FitProblem {
         pdmWeight_(options.pdmWeight) {}
 
   const SensorBasis& basis() const { return basis_; }
-  const SensorBasis* fixedBasis() const override { return &basis_; }
   double resolution() const override { return target_.resolution(); }
 
-  void linearize(const BSplineCurve& curve, const CurveFitOptions& options,
-                 std::vector<double>& parameters, std::vector<QuadraticForm>& forms) override {
-    parameters = basis_.parameters();
-    // The loop linearises the curve it last accepted, whose forms measure() computed.
-    if (curve.controlPoints() == acceptedControlPoints_ && acceptedFormsValid_ &&
-        options.method == method_ && options.pdmWeight == pdmWeight_) {
+  void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
+                 detail::FitLinearization& linearization) override {
+    linearization.basis = &basis_;
+    linearization.secondOrder.reset(basis_.sensorCount(), 0);
+    std::vector<QuadraticForm>& forms = linearization.forms;
+    // The loop linearises the net it last accepted, whose forms measure() computed.
+    if (controlPoints == acceptedControlPoints_ && acceptedFormsValid_) {
       forms.swap(acceptedForms_);
       acceptedFormsValid_ = false;
       return;
     }
     const std::vector<Approximant> approximants =
-        target_.approximantsAt(basis_.positions(curve.controlPoints()));
+        target_.approximantsAt(basis_.positions(controlPoints));
     forms.resize(approximants.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, approximants.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                          forms[k] = fitForm(approximants[k], options.method, options.pdmWeight);
+                          forms[k] = fitForm(approximants[k], method_, pdmWeight_);
                         }
                       });
   }
 
   // One parallel pass: sensor positions, the domain check, the approximants there, the squared
   // distances they give (as SquaredDistanceTarget::squaredDistanceAt() computes them) and the
-  // fitting forms (kept for linearize() should this curve be accepted).
-  detail::DataError measure(const BSplineCurve& curve) override {
-    const std::vector<Eigen::Vector3d>& controlPoints = curve.controlPoints();
+  // fitting forms (kept for linearize() should this net be accepted).
+  detail::DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override {
     const int count = basis_.sensorCount();
     measuredForms_.resize(static_cast<std::size_t>(count));
     squared_.resize(static_cast<std::size_t>(count));
@@ -100,7 +99,7 @@ class TargetProblem final : public detail::FitProblem {
   SensorBasis basis_;
   FitMethod method_;
   double pdmWeight_;
-  // Sensor forms of the last measured and of the accepted curve, with its control points (an
+  // Sensor forms of the last measured and of the accepted net, with its control points (an
   // empty control-point list: none valid); linearize() hands the accepted forms over once.
   std::vector<Eigen::Vector3d> measuredControlPoints_, acceptedControlPoints_;
   std::vector<QuadraticForm> measuredForms_, acceptedForms_;
@@ -136,7 +135,11 @@ CurveFitResult fitCurve(const BSplineCurve& initial, const SquaredDistanceTarget
                        "padding");
     }
   }
-  return detail::runFitLoop(initial, options, problem);
+  // The one-sided distance (sensors to target) does not hold the ends of an open curve, which a
+  // bending term would pull in along the target: automatic smoothing means none there.
+  CurveFitOptions effective = options;
+  if (effective.smoothness < 0.0 && !initial.isClosed()) effective.smoothness = 0.0;
+  return detail::runCurveFit(initial, effective, problem);
 }
 
 }  // namespace d2vdb

@@ -1,6 +1,6 @@
 // SDM I: fitting a B-spline curve to a target whose squared-distance approximants are known (a
 // curve target, an offset, a surface level set through the approximant field): Pottmann,
-// Leopoldseder and Hofer, "Approximation with active B-spline curves and surfaces", 2002.
+// Leopoldseder and Hofer, "Approximation with active B-spline curves and surfaces" (2002).
 #pragma once
 
 #include "d2vdb/field/SquaredDistanceTarget.h"
@@ -19,8 +19,11 @@ namespace d2vdb {
 /// Levenberg-Marquardt damping schedule for TDM. Errors are measured orthogonal to the target.
 /// A 2D curve (dimension 2) uses only the xy blocks of the forms and stays in z = 0.
 ///
-/// Stops as CurveFitOptions says; the result states why (FitStatus) and holds the history.
-/// Deterministic: bitwise identical for any thread count.
+/// Automatic smoothness (options.smoothness < 0) is as CurveFitOptions says for closed curves and
+/// none for open ones: the one-sided distance (sensors to target) does not hold an open curve's
+/// ends, which a bending term would pull in along the target. Stops as CurveFitOptions says; the
+/// result states why (FitStatus) and holds the history. Deterministic: bitwise identical for any
+/// thread count.
 ///
 /// Throws InputError for invalid options, an initial curve whose control points all coincide, or
 /// a sensor of the initial curve outside target.domain() (the message names the sensor and the

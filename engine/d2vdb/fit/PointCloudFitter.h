@@ -27,11 +27,18 @@ Approximant curveApproximantAt(const BSplineCurve& curve, double t,
 /// each data point onto the current curve (CurveProjector::nearest, started from the previous
 /// footpoint's segment, in parallel), forms its error term from curveApproximantAt() under
 /// options.method (PDM: the classic point-distance fit with parameter correction; TDM; SDM;
-/// TDM+PDM), and solves the quadratic model for the curve points C(t_k) near the data. The line
-/// search (or TDM's damping) uses the true objective mean_k min_t |C(t) - X_k|^2 + smoothing.
-/// The two ends of an open curve are also pulled (PDM) toward their nearest data points, one
-/// term each, so that the curve does not run on past the data where nothing would hold it.
-/// A 2D curve keeps z = 0 and uses the xy coordinates of the data (z must then be 0).
+/// TDM+PDM), and solves the quadratic model for the curve points C(t) near the data. For SDM
+/// (with options.exactSecondOrder) each data point also contributes the exact second-order terms
+/// of its squared distance to the moving curve: with r = C(t) - X and the footpoint parameter t
+/// following the control points, the Hessian over the footpoint's control points is
+/// I (x) B B^T - u u^T / D, u = B (x) C' + B' (x) r, D = |C'|^2 + r . C'' (B the basis values,
+/// B' their derivatives at t); the SDM term is its translation part with the curvature weight
+/// clamped. The loop blends the rest in by a trust-region rule (detail/FitLoop.h), so that the
+/// curve's sliding along itself, which the SDM term over-damps, converges like Newton's method.
+/// The line search (or TDM's damping) uses the true objective mean_k min_t |C(t) - X_k|^2 +
+/// smoothing. The two ends of an open curve are also pulled (PDM) toward their nearest data
+/// points, one term each, so that the curve does not run on past the data where nothing would
+/// hold it. A 2D curve keeps z = 0 and uses the xy coordinates of the data (z must then be 0).
 /// Deterministic for any thread count.
 ///
 /// Throws InputError for an empty cloud, non-finite coordinates, 2D data with z != 0, invalid

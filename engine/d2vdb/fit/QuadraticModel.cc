@@ -12,19 +12,30 @@
 
 namespace d2vdb {
 
+namespace {
+
+/// A smoothing matrix of the right size: an empty one becomes an n x n zero matrix.
+Eigen::SparseMatrix<double> sized(Eigen::SparseMatrix<double> matrix, int n, const char* what) {
+  if (matrix.rows() == 0 && matrix.cols() == 0) return Eigen::SparseMatrix<double>(n, n);
+  if (matrix.rows() != n || matrix.cols() != n) {
+    throw InputError(std::string(what) + " is " + std::to_string(matrix.rows()) + " x " +
+                     std::to_string(matrix.cols()) + ", expected " + std::to_string(n) + " square");
+  }
+  matrix.makeCompressed();
+  return matrix;
+}
+
+}  // namespace
+
 QuadraticModel::QuadraticModel(int controlPointCount, int dimension,
-                               Eigen::SparseMatrix<double> smoothing)
-    : controlPointCount_(controlPointCount),
-      dimension_(dimension),
-      smoothing_(std::move(smoothing)) {
+                               Eigen::SparseMatrix<double> smoothing,
+                               Eigen::SparseMatrix<double> scaledSmoothing)
+    : controlPointCount_(controlPointCount), dimension_(dimension) {
   if (dimension != 2 && dimension != 3) {
     throw InputError("fitting dimension must be 2 or 3, got " + std::to_string(dimension));
   }
-  if (smoothing_.rows() != controlPointCount || smoothing_.cols() != controlPointCount) {
-    throw InputError("smoothing matrix is " + std::to_string(smoothing_.rows()) + " x " +
-                     std::to_string(smoothing_.cols()) + ", expected " +
-                     std::to_string(controlPointCount) + " square");
-  }
+  smoothing_ = sized(std::move(smoothing), controlPointCount, "smoothing matrix");
+  scaledSmoothing_ = sized(std::move(scaledSmoothing), controlPointCount, "smoothing matrix");
 }
 
 void QuadraticModel::setStepRegularizer(Eigen::SparseMatrix<double> regularizer, double rho) {
@@ -36,117 +47,239 @@ void QuadraticModel::setStepRegularizer(Eigen::SparseMatrix<double> regularizer,
   }
   regularizer_ = std::move(regularizer);
   regularizerWeight_ = rho;
-  patternStart_.clear();  // the next solve rebuilds the pattern with the regulariser's
+  patternStart_.clear();  // the next assembly rebuilds the pattern with the regulariser's
   patternRows_.clear();
+  assembled_ = false;
+}
+
+void QuadraticModel::setSmoothingScale(double scale) {
+  if (!(scale >= 0.0) || !std::isfinite(scale)) {
+    throw InputError("the smoothing scale must be finite and non-negative");
+  }
+  smoothingScale_ = scale;
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::solve(
     const SensorMap& basis, const std::vector<QuadraticForm>& forms,
     const std::vector<Eigen::Vector3d>& controlPoints, double damping) {
+  const double weight = forms.empty() ? 0.0 : 1.0 / static_cast<double>(forms.size());
+  assemble({SensorTerms{&basis, &forms, weight, nullptr}}, controlPoints);
+  return solveAssembled(1.0, damping);
+}
+
+void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
+                              const std::vector<Eigen::Vector3d>& controlPoints) {
   const int d = dimension_;
-  const int order = basis.order();
-  const int blockSize = order * d;
-  const int unknowns = controlPointCount_ * d;
-  const std::vector<int>& spanOrder = basis.spanOrder();
-  const std::vector<int>& spanBegin = basis.spanBegin();
-  const int groups = static_cast<int>(spanBegin.size()) - 1;
-  const double inverseCount = forms.empty() ? 0.0 : 1.0 / static_cast<double>(forms.size());
+  if (static_cast<int>(controlPoints.size()) != controlPointCount_) {
+    throw InputError("the fitting model expects " + std::to_string(controlPointCount_) +
+                     " control points, got " + std::to_string(controlPoints.size()));
+  }
+  // Every span group of every sensor set, in set order: (set, group).
+  std::vector<std::pair<int, int>> groupList;
+  for (std::size_t s = 0; s < terms.size(); ++s) {
+    const SensorTerms& set = terms[s];
+    if (set.basis == nullptr || set.forms == nullptr ||
+        static_cast<int>(set.forms->size()) != set.basis->sensorCount() ||
+        set.basis->controlPointCount() != controlPointCount_) {
+      throw InputError("a sensor set of the fitting model does not match its basis or net");
+    }
+    if (set.rankOne != nullptr && !set.rankOne->empty() &&
+        (set.rankOne->length != set.basis->order() * d ||
+         static_cast<int>(set.rankOne->start.size()) != set.basis->sensorCount() + 1 ||
+         set.rankOne->vectors.size() !=
+             set.rankOne->coefficients.size() * static_cast<std::size_t>(set.rankOne->length) ||
+         set.rankOne->start.back() != static_cast<int>(set.rankOne->coefficients.size()))) {
+      throw InputError("the rank-one terms of a sensor set do not match its basis");
+    }
+    const int groups = static_cast<int>(set.basis->spanBegin().size()) - 1;
+    for (int g = 0; g < groups; ++g) groupList.emplace_back(static_cast<int>(s), g);
+  }
+  const int groups = static_cast<int>(groupList.size());
+  const auto setOf = [&](int i) -> const SensorTerms& {
+    return terms[static_cast<std::size_t>(groupList[static_cast<std::size_t>(i)].first)];
+  };
+  // The first sensor of group i (all of its sensors share their control points).
+  const auto firstSensor = [&](int i) {
+    const SensorMap& basis = *setOf(i).basis;
+    return basis.spanOrder()[static_cast<std::size_t>(basis.spanBegin()[static_cast<std::size_t>(
+        groupList[static_cast<std::size_t>(i)].second)])];
+  };
+  std::vector<int> rankStart(static_cast<std::size_t>(groups) + 1, 0);
+  for (int i = 0; i < groups; ++i) {
+    const int order = setOf(i).basis->order();
+    rankStart[static_cast<std::size_t>(i) + 1] =
+        rankStart[static_cast<std::size_t>(i)] + order * order;
+  }
 
   // Where each group's (a, b) block goes: the rank of control point a's row in b's column of the
   // pattern (false when a pair lies outside the stored pattern).
-  std::vector<int> ranks(static_cast<std::size_t>(std::max(groups, 0) * order * order));
-  const auto findRanks = [&](int g) {
-    const int k = spanOrder[static_cast<std::size_t>(spanBegin[static_cast<std::size_t>(g)])];
+  std::vector<int> ranks(static_cast<std::size_t>(rankStart.back()));
+  const auto findRanks = [&](int i) {
+    const SensorMap& basis = *setOf(i).basis;
+    const int order = basis.order();
+    const int k = firstSensor(i);
     bool found = true;
     for (int a = 0; a < order; ++a) {
       for (int b = 0; b < order; ++b) {
         const int rank = patternRank(basis.index(k, a), basis.index(k, b));
         found = found && rank >= 0;
-        ranks[static_cast<std::size_t>((g * order + a) * order + b)] = rank;
+        ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)] =
+            rank;
       }
     }
     return found;
   };
 
-  // Per span group: a dense block over its p + 1 control points (its upper block triangle summed
-  // sensor by sensor, then mirrored: the forms are symmetric) and the right-hand side.
-  std::vector<Eigen::MatrixXd> blocks(static_cast<std::size_t>(std::max(groups, 0)));
-  std::vector<Eigen::VectorXd> rhs(blocks.size());
+  // Per span group: a dense block over its control points (its upper block triangle summed
+  // sensor by sensor, then mirrored: the forms are symmetric) and the right-hand side; the same
+  // for the rank-one terms.
+  struct GroupSums {
+    Eigen::MatrixXd block, rankOneBlock;
+    Eigen::VectorXd right, rankOneRight;
+  };
+  std::vector<GroupSums> sums(static_cast<std::size_t>(groups));
   std::atomic<bool> outsidePattern{false};
-  tbb::parallel_for(tbb::blocked_range<int>(0, std::max(groups, 0), 1),
-                    [&](const tbb::blocked_range<int>& range) {
-                      Eigen::VectorXd w(order);
-                      for (int g = range.begin(); g != range.end(); ++g) {
-                        if (!findRanks(g)) outsidePattern = true;
-                        Eigen::MatrixXd block = Eigen::MatrixXd::Zero(blockSize, blockSize);
-                        Eigen::VectorXd vector = Eigen::VectorXd::Zero(blockSize);
-                        double* const entries = block.data();  // column-major
-                        for (int i = spanBegin[static_cast<std::size_t>(g)];
-                             i < spanBegin[static_cast<std::size_t>(g) + 1]; ++i) {
-                          const int k = spanOrder[static_cast<std::size_t>(i)];
-                          const QuadraticForm& form = forms[static_cast<std::size_t>(k)];
-                          for (int a = 0; a < order; ++a) w[a] = basis.weight(k, a);
-                          for (int b = 0; b < order; ++b) {
-                            for (int r = 0; r < d; ++r) vector[b * d + r] += w[b] * form.b[r];
-                            for (int a = 0; a <= b; ++a) {
-                              const double wab = w[a] * w[b];
-                              for (int c = 0; c < d; ++c) {
-                                double* const column = entries + (b * d + c) * blockSize + a * d;
-                                for (int r = 0; r < d; ++r) column[r] += wab * form.A(r, c);
-                              }
-                            }
-                          }
-                        }
-                        for (int column = 0; column < blockSize; ++column) {
-                          for (int row = column + 1; row < blockSize; ++row) {
-                            block(row, column) = block(column, row);
-                          }
-                        }
-                        blocks[static_cast<std::size_t>(g)] = inverseCount * block;
-                        rhs[static_cast<std::size_t>(g)] = inverseCount * vector;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>& range) {
+        Eigen::VectorXd w;
+        Eigen::VectorXd local;
+        for (int i = range.begin(); i != range.end(); ++i) {
+          if (!findRanks(i)) outsidePattern = true;
+          const SensorTerms& set = setOf(i);
+          const SensorMap& basis = *set.basis;
+          const int g = groupList[static_cast<std::size_t>(i)].second;
+          const int order = basis.order();
+          const int blockSize = order * d;
+          w.resize(order);
+          GroupSums& sum = sums[static_cast<std::size_t>(i)];
+          sum.block = Eigen::MatrixXd::Zero(blockSize, blockSize);
+          sum.right = Eigen::VectorXd::Zero(blockSize);
+          double* const entries = sum.block.data();  // column-major
+          const int first = basis.spanBegin()[static_cast<std::size_t>(g)];
+          const int last = basis.spanBegin()[static_cast<std::size_t>(g) + 1];
+          for (int j = first; j < last; ++j) {
+            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+            const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
+            for (int a = 0; a < order; ++a) w[a] = basis.weight(k, a);
+            for (int b = 0; b < order; ++b) {
+              for (int r = 0; r < d; ++r) sum.right[b * d + r] += w[b] * form.b[r];
+              for (int a = 0; a <= b; ++a) {
+                const double wab = w[a] * w[b];
+                for (int c = 0; c < d; ++c) {
+                  double* const column = entries + (b * d + c) * blockSize + a * d;
+                  for (int r = 0; r < d; ++r) column[r] += wab * form.A(r, c);
+                }
+              }
+            }
+          }
+          for (int column = 0; column < blockSize; ++column) {
+            for (int row = column + 1; row < blockSize; ++row) {
+              sum.block(row, column) = sum.block(column, row);
+            }
+          }
+          sum.block *= set.weight;
+          sum.right *= set.weight;
+          if (set.rankOne == nullptr || set.rankOne->empty()) continue;
+          // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
+          // b += alpha u (u . x_now).
+          const RankOneTerms& rankOne = *set.rankOne;
+          int termCount = 0;
+          for (int j = first; j < last; ++j) {
+            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+            termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
+                         rankOne.start[static_cast<std::size_t>(k)];
+          }
+          local.resize(blockSize);
+          const int k0 = basis.spanOrder()[static_cast<std::size_t>(first)];
+          for (int a = 0; a < order; ++a) {
+            local.segment(a * d, d) =
+                controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
+          }
+          // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
+          // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
+          Eigen::MatrixXd U(blockSize, termCount);
+          Eigen::MatrixXd W(blockSize, termCount);
+          int column = 0;
+          for (int j = first; j < last; ++j) {
+            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+            for (int t = rankOne.start[static_cast<std::size_t>(k)];
+                 t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
+              U.col(column) = Eigen::Map<const Eigen::VectorXd>(
+                  rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
+              W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
+            }
+          }
+          sum.rankOneBlock.noalias() = U * W.transpose();
+          sum.rankOneRight.noalias() = W * (U.transpose() * local);
+          sum.rankOneBlock *= set.weight;
+          sum.rankOneRight *= set.weight;
+        }
+      });
   if (outsidePattern || patternStart_.empty()) {  // new sensor spans (or none yet): rebuild
     std::vector<std::pair<int, int>> pairs;
     pairs.reserve(ranks.size());
-    for (int g = 0; g < groups; ++g) {
-      const int k = spanOrder[static_cast<std::size_t>(spanBegin[static_cast<std::size_t>(g)])];
-      for (int a = 0; a < order; ++a) {
-        for (int b = 0; b < order; ++b) pairs.emplace_back(basis.index(k, a), basis.index(k, b));
+    for (int i = 0; i < groups; ++i) {
+      const SensorMap& basis = *setOf(i).basis;
+      const int k = firstSensor(i);
+      for (int a = 0; a < basis.order(); ++a) {
+        for (int b = 0; b < basis.order(); ++b) {
+          pairs.emplace_back(basis.index(k, a), basis.index(k, b));
+        }
       }
     }
     rebuildPattern(pairs);
-    for (int g = 0; g < groups; ++g) findRanks(g);
+    for (int i = 0; i < groups; ++i) findRanks(i);
   }
 
-  // Scatter in a fixed order (groups, then smoothing), so every entry sums the same way.
-  double* const values = system_.valuePtr();
-  std::fill(values, values + system_.nonZeros(), 0.0);
-  Eigen::VectorXd right = Eigen::VectorXd::Zero(unknowns);
-  for (int g = 0; g < groups; ++g) {
-    const int k = spanOrder[static_cast<std::size_t>(spanBegin[static_cast<std::size_t>(g)])];
-    const Eigen::MatrixXd& block = blocks[static_cast<std::size_t>(g)];
+  // Scatter in a fixed order (groups in order), so every entry sums the same way.
+  const std::size_t nonZeros = static_cast<std::size_t>(system_.nonZeros());
+  const int unknowns = controlPointCount_ * d;
+  formValues_.assign(nonZeros, 0.0);
+  rankOneValues_.assign(nonZeros, 0.0);
+  formRight_ = Eigen::VectorXd::Zero(unknowns);
+  rankOneRight_ = Eigen::VectorXd::Zero(unknowns);
+  for (int i = 0; i < groups; ++i) {
+    const SensorMap& basis = *setOf(i).basis;
+    const int order = basis.order();
+    const int k = firstSensor(i);
+    const GroupSums& sum = sums[static_cast<std::size_t>(i)];
+    const bool withRankOne = sum.rankOneBlock.size() > 0;
     for (int a = 0; a < order; ++a) {
-      right.segment(basis.index(k, a) * d, d) += rhs[static_cast<std::size_t>(g)].segment(a * d, d);
+      const int row = basis.index(k, a) * d;
+      formRight_.segment(row, d) += sum.right.segment(a * d, d);
+      if (withRankOne) rankOneRight_.segment(row, d) += sum.rankOneRight.segment(a * d, d);
       for (int b = 0; b < order; ++b) {
         const int column = basis.index(k, b);
-        const int rank = ranks[static_cast<std::size_t>((g * order + a) * order + b)];
+        const int rank =
+            ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)];
         for (int c = 0; c < d; ++c) {
           for (int r = 0; r < d; ++r) {
-            values[valueIndex(rank, column, r, c)] += block(a * d + r, b * d + c);
+            const std::size_t index = static_cast<std::size_t>(valueIndex(rank, column, r, c));
+            formValues_[index] += sum.block(a * d + r, b * d + c);
+            if (withRankOne) rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
           }
         }
       }
     }
   }
-  addScaled(smoothing_, smoothingIndices_, 1.0);
+  expansionPoint_ = stacked(controlPoints);
+  assembled_ = true;
+}
 
-  Eigen::VectorXd current(unknowns);
-  for (int i = 0; i < controlPointCount_; ++i) {
-    current.segment(i * d, d) = controlPoints[static_cast<std::size_t>(i)].head(d);
+std::vector<Eigen::Vector3d> QuadraticModel::solveAssembled(double rankOneScale, double damping) {
+  if (!assembled_) throw RuntimeFailure("the fitting model was solved before it was assembled");
+  const std::size_t nonZeros = formValues_.size();
+  double* const values = system_.valuePtr();
+  for (std::size_t e = 0; e < nonZeros; ++e) {
+    values[e] = formValues_[e] + rankOneScale * rankOneValues_[e];
   }
-  // Gradient condition of m at c: (H + mu m0 I) c = r - H P.
-  const Eigen::VectorXd residual = right - system_ * current;
+  addScaled(smoothing_, smoothingIndices_, 1.0, values);
+  addScaled(scaledSmoothing_, scaledSmoothingIndices_, smoothingScale_, values);
+  rankOneScale_ = rankOneScale;
+  // Gradient condition of m at c: (H + mu m0 I + R) c = r - H P.
+  const Eigen::VectorXd right = formRight_ + rankOneScale * rankOneRight_;
+  const Eigen::VectorXd residual = right - system_ * expansionPoint_;
+  const int unknowns = controlPointCount_ * dimension_;
   double diagonalSum = 0.0;
   for (const int index : diagonalIndices_) diagonalSum += values[index];
   const double meanDiagonal = unknowns > 0 ? diagonalSum / unknowns : 0.0;
@@ -156,29 +289,111 @@ std::vector<Eigen::Vector3d> QuadraticModel::solve(
     const double g0 = regularizer_.diagonal().mean();
     if (g0 > 0.0) {
       addScaled(regularizer_, regularizerIndices_,
-                regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0);
+                regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0, values);
     }
   }
-  if (!analyzed_) {
-    solver_.analyzePattern(system_);
-    analyzed_ = true;
+  dense_ = unknowns <= kDenseUnknowns &&
+           20.0 * static_cast<double>(system_.nonZeros()) >=
+               static_cast<double>(unknowns) * static_cast<double>(unknowns);
+  bool denseDefinite = false;
+  if (dense_) {
+    // A blocked Cholesky factorisation when the system is positive definite (the common case),
+    // else the pivoted LDLT, whose D tells the inertia.
+    const Eigen::MatrixXd matrix(system_);
+    denseCholeskySolver_.compute(matrix);
+    denseCholesky_ = denseCholeskySolver_.info() == Eigen::Success &&
+                     denseCholeskySolver_.matrixLLT().diagonal().allFinite() &&
+                     denseCholeskySolver_.matrixLLT().diagonal().minCoeff() > 0.0;
+    if (denseCholesky_) {
+      factorized_ = true;
+      denseDefinite = true;
+    } else {
+      denseSolver_.compute(matrix);
+      factorized_ = denseSolver_.info() == Eigen::Success && denseSolver_.vectorD().allFinite();
+    }
+  } else {
+    if (!analyzed_) {
+      solver_.analyzePattern(system_);
+      analyzed_ = true;
+    }
+    solver_.factorize(system_);
+    factorized_ = solver_.info() == Eigen::Success;
   }
-  solver_.factorize(system_);
-  if (solver_.info() != Eigen::Success) {
+  if (!factorized_) {
     throw RuntimeFailure(
         "the fitting system could not be factorised (non-finite or indefinite "
         "quadratic forms)");
   }
-  const Eigen::VectorXd step = solver_.solve(residual);
-  if (solver_.info() != Eigen::Success || !step.allFinite()) {
+  if (dense_) {
+    positiveDefinite_ = denseDefinite || denseSolver_.vectorD().size() == 0 ||
+                        denseSolver_.vectorD().minCoeff() > 0.0;
+  } else {
+    positiveDefinite_ = solver_.vectorD().size() == 0 || solver_.vectorD().minCoeff() > 0.0;
+  }
+  const Eigen::VectorXd step = solveFactored(residual);
+  if ((!dense_ && solver_.info() != Eigen::Success) || !step.allFinite()) {
     throw RuntimeFailure("the fitting system could not be solved (non-finite step)");
   }
-  std::vector<Eigen::Vector3d> displacement(static_cast<std::size_t>(controlPointCount_),
-                                            Eigen::Vector3d::Zero());
-  for (int i = 0; i < controlPointCount_; ++i) {
-    displacement[static_cast<std::size_t>(i)].head(d) = step.segment(i * d, d);
+  return unstacked(step);
+}
+
+double QuadraticModel::predictedDecrease(const std::vector<Eigen::Vector3d>& step) const {
+  if (!assembled_) return 0.0;
+  // The Hessian of the last solve without ridge, damping and regulariser.
+  std::vector<double> hessian(formValues_.size());
+  for (std::size_t e = 0; e < hessian.size(); ++e) {
+    hessian[e] = formValues_[e] + rankOneScale_ * rankOneValues_[e];
   }
-  return displacement;
+  addScaled(smoothing_, smoothingIndices_, 1.0, hessian.data());
+  addScaled(scaledSmoothing_, scaledSmoothingIndices_, smoothingScale_, hessian.data());
+  const Eigen::Map<const Eigen::SparseMatrix<double>> H(system_.rows(), system_.cols(),
+                                                        system_.nonZeros(), system_.outerIndexPtr(),
+                                                        system_.innerIndexPtr(), hessian.data());
+  const Eigen::VectorXd c = stacked(step);
+  const Eigen::VectorXd gradientHalf =
+      H * expansionPoint_ - (formRight_ + rankOneScale_ * rankOneRight_);
+  return -(2.0 * gradientHalf.dot(c) + c.dot(H * c));
+}
+
+std::vector<Eigen::Vector3d> QuadraticModel::scaledSmoothingShift() const {
+  if (!factorized_ || scaledSmoothing_.nonZeros() == 0 || !assembled_) {
+    return std::vector<Eigen::Vector3d>(static_cast<std::size_t>(controlPointCount_),
+                                        Eigen::Vector3d::Zero());
+  }
+  const int d = dimension_;
+  Eigen::VectorXd right(controlPointCount_ * d);
+  Eigen::VectorXd coordinate(controlPointCount_);
+  for (int a = 0; a < d; ++a) {
+    for (int i = 0; i < controlPointCount_; ++i) coordinate[i] = expansionPoint_[i * d + a];
+    const Eigen::VectorXd product = smoothingScale_ * (scaledSmoothing_ * coordinate);
+    for (int i = 0; i < controlPointCount_; ++i) right[i * d + a] = product[i];
+  }
+  return unstacked(solveFactored(right));
+}
+
+Eigen::VectorXd QuadraticModel::solveFactored(const Eigen::VectorXd& right) const {
+  if (dense_ && denseCholesky_) return denseCholeskySolver_.solve(right);
+  if (dense_) return denseSolver_.solve(right);
+  return solver_.solve(right);
+}
+
+Eigen::VectorXd QuadraticModel::stacked(const std::vector<Eigen::Vector3d>& controlPoints) const {
+  const int d = dimension_;
+  Eigen::VectorXd vector(controlPointCount_ * d);
+  for (int i = 0; i < controlPointCount_; ++i) {
+    vector.segment(i * d, d) = controlPoints[static_cast<std::size_t>(i)].head(d);
+  }
+  return vector;
+}
+
+std::vector<Eigen::Vector3d> QuadraticModel::unstacked(const Eigen::VectorXd& vector) const {
+  const int d = dimension_;
+  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(controlPointCount_),
+                                      Eigen::Vector3d::Zero());
+  for (int i = 0; i < controlPointCount_; ++i) {
+    points[static_cast<std::size_t>(i)].head(d) = vector.segment(i * d, d);
+  }
+  return points;
 }
 
 int QuadraticModel::patternRank(int row, int column) const {
@@ -202,7 +417,8 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
     }
   }
   for (const auto& [row, column] : pairs) columns[static_cast<std::size_t>(column)].push_back(row);
-  for (const Eigen::SparseMatrix<double>* matrix : {&smoothing_, &regularizer_}) {
+  for (const Eigen::SparseMatrix<double>* matrix :
+       {&smoothing_, &scaledSmoothing_, &regularizer_}) {
     for (int outer = 0; outer < matrix->outerSize(); ++outer) {
       for (Eigen::SparseMatrix<double>::InnerIterator it(*matrix, outer); it; ++it) {
         columns[static_cast<std::size_t>(it.col())].push_back(static_cast<int>(it.row()));
@@ -230,12 +446,14 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
   system_.setFromTriplets(entries.begin(), entries.end());
   system_.makeCompressed();
   smoothingIndices_ = valueIndicesOf(smoothing_);
+  scaledSmoothingIndices_ = valueIndicesOf(scaledSmoothing_);
   regularizerIndices_ = valueIndicesOf(regularizer_);
   diagonalIndices_.clear();
   for (int j = 0; j < n; ++j) {
     for (int a = 0; a < d; ++a) diagonalIndices_.push_back(valueIndex(patternRank(j, j), j, a, a));
   }
   analyzed_ = false;
+  factorized_ = false;
 }
 
 std::vector<int> QuadraticModel::valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const {
@@ -253,8 +471,9 @@ std::vector<int> QuadraticModel::valueIndicesOf(const Eigen::SparseMatrix<double
 }
 
 void QuadraticModel::addScaled(const Eigen::SparseMatrix<double>& matrix,
-                               const std::vector<int>& indices, double scale) {
-  double* const values = system_.valuePtr();
+                               const std::vector<int>& indices, double scale,
+                               double* values) const {
+  if (scale == 0.0) return;
   std::size_t e = 0;
   for (int outer = 0; outer < matrix.outerSize(); ++outer) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, outer); it; ++it, ++e) {
@@ -268,12 +487,15 @@ void QuadraticModel::addScaled(const Eigen::SparseMatrix<double>& matrix,
 
 double QuadraticModel::smoothingEnergy(const std::vector<Eigen::Vector3d>& controlPoints) const {
   double energy = 0.0;
+  Eigen::VectorXd coordinate(controlPointCount_);
   for (int a = 0; a < dimension_; ++a) {
-    Eigen::VectorXd coordinate(controlPointCount_);
     for (int i = 0; i < controlPointCount_; ++i) {
       coordinate[i] = controlPoints[static_cast<std::size_t>(i)][a];
     }
     energy += coordinate.dot(smoothing_ * coordinate);
+    if (smoothingScale_ != 0.0 && scaledSmoothing_.nonZeros() > 0) {
+      energy += smoothingScale_ * coordinate.dot(scaledSmoothing_ * coordinate);
+    }
   }
   return energy;
 }

@@ -2,6 +2,7 @@
 // smoothing energy into a sparse symmetric system over the control points, and its solution.
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
@@ -13,37 +14,106 @@
 
 namespace d2vdb {
 
+/// Rank-one terms alpha (u . c_k)^2 attached to the sensors of a SensorMap, with c_k the
+/// displacements of sensor k's control points: u has order() * dimension entries, entry
+/// j * dimension + a multiplying coordinate a of control point index(k, j). Sensor k's terms are
+/// start[k] .. start[k + 1] - 1. A fitter uses them for second-order terms that no quadratic form
+/// in the sensor position can express (e.g. how a footpoint's parameter follows the control
+/// points); alpha may be negative.
+struct RankOneTerms {
+  int length = 0;                    ///< entries per vector u (order * dimension)
+  std::vector<int> start{0};         ///< sensor count + 1 offsets into coefficients
+  std::vector<double> coefficients;  ///< alpha per term
+  std::vector<double> vectors;       ///< u per term, `length` entries each
+
+  /// No terms for `sensorCount` sensors, vectors of `vectorLength` entries.
+  void reset(int sensorCount, int vectorLength) {
+    length = vectorLength;
+    start.assign(static_cast<std::size_t>(sensorCount) + 1, 0);
+    coefficients.clear();
+    vectors.clear();
+  }
+  bool empty() const { return coefficients.empty(); }
+};
+
+/// One set of sensors of a QuadraticModel: their basis, one form per sensor, the weight every
+/// form of the set gets (e.g. 1 / count for a mean) and optional rank-one terms (same weight).
+/// The pointers must stay valid during the call that takes them.
+struct SensorTerms {
+  const SensorMap* basis = nullptr;
+  const std::vector<QuadraticForm>* forms = nullptr;
+  double weight = 1.0;
+  const RankOneTerms* rankOne = nullptr;
+};
+
 /// Minimises over control-point displacements c (n points, `dimension` coordinates each)
-///   m(c) = (1/N) sum_k Q_k(x_k(P + c)) + sum_a (P + c)_a^T S (P + c)_a + mu * m0 * |c|^2
+///   m(c) = sum_s w_s sum_k [Q_sk(x_sk(P + c)) + r sum_t alpha_t (u_t . c_k)^2]
+///          + sum_a (P + c)_a^T (S + sigma T) (P + c)_a + mu * m0 * |c|^2
 ///          (+ the optional step regulariser, setStepRegularizer())
-/// where Q_k are the sensors' quadratic forms (QuadraticForm: Q(x) = x^T A x - 2 b.x + c, world
-/// units), x_k(P) the sensor positions of a SensorMap (curve or surface sensors), S the smoothing
-/// matrix (n x n, e.g. lambda2 G2 + lambda1 G1 of SmoothingMatrix.h, or a surface's thin-plate
-/// matrix), mu the relative damping and m0 the mean diagonal of the undamped system (so mu is
-/// dimensionless). A ridge of 1e-12 m0 keeps the system
-/// definite where no sensor and no smoothing acts. In 2D (dimension 2) only the xy blocks of the
-/// forms enter and z stays 0.
+/// over sensor sets s (SensorTerms, weight w_s), where Q_sk are the sensors' quadratic forms
+/// (QuadraticForm: Q(x) = x^T A x - 2 b.x + c, world units), x_sk(P) the sensor positions of the
+/// set's SensorMap, r the rank-one scale of the solve, S a fixed smoothing matrix and T a
+/// second one scaled by sigma (setSmoothingScale(); both n x n, e.g. G2 and G1 of
+/// SmoothingMatrix.h), mu the relative damping and m0 the mean diagonal of the undamped system
+/// (so mu is dimensionless). A ridge of 1e-12 m0 keeps the system definite where no sensor and no
+/// smoothing acts. In 2D (dimension 2) only the xy blocks of the forms enter and z stays 0.
 ///
-/// Assembly runs in parallel over the sensor groups (knot spans of a curve, knot cells of a
-/// surface); each group's sensors are summed in index order and the groups in group order, so
-/// results are bitwise identical for any thread count. Solved with
-/// Eigen's SimplicialLDLT. The system's sparsity pattern (control points sharing a sensor group,
-/// plus the smoothing and regulariser patterns) is kept between solves, and with it the
-/// fill-reducing ordering and symbolic factorisation: a solve whose sensors couple no new pair of
-/// control points only scatters its blocks into the stored pattern and refactorises numerically.
+/// assemble() sums the sensors' blocks once (in parallel over the sets' span groups; each group's
+/// sensors in index order, the groups in set and span order, so results are bitwise identical for
+/// any thread count); solveAssembled() then adds the smoothing, rank-one scale, damping and
+/// regulariser and solves with Eigen's SimplicialLDLT (dense LDLT for small systems whose pattern
+/// is dense: at most kDenseUnknowns unknowns and a twentieth of the entries), so that several of
+/// these weights can be tried on one assembly. The system's sparsity pattern (control points
+/// sharing a knot span, plus the smoothing and regulariser patterns) is kept between assemblies,
+/// and with it the fill-reducing ordering and symbolic factorisation: an assembly whose sensors
+/// couple no new pair of control points only scatters its blocks into the stored pattern. The
+/// system may be indefinite (negative rank-one terms): lastSolvePositiveDefinite() tells.
 class QuadraticModel {
  public:
-  /// `smoothing` must be controlPointCount x controlPointCount, symmetric PSD. InputError for a
-  /// dimension other than 2 or 3 or a smoothing matrix of the wrong size.
-  QuadraticModel(int controlPointCount, int dimension, Eigen::SparseMatrix<double> smoothing);
+  /// Largest system (control points x dimension) that may be factorised densely.
+  static constexpr int kDenseUnknowns = 1200;
 
-  /// The minimising displacement c, one vector per control point (z = 0 in 2D). `forms` has one
-  /// entry per sensor of `basis`. Throws RuntimeFailure if the factorisation fails (a non-finite
-  /// form).
+  /// `smoothing` and `scaledSmoothing` must be controlPointCount x controlPointCount (or empty,
+  /// 0 x 0, for none), symmetric PSD. InputError for a dimension other than 2 or 3 or a smoothing
+  /// matrix of the wrong size.
+  QuadraticModel(int controlPointCount, int dimension, Eigen::SparseMatrix<double> smoothing,
+                 Eigen::SparseMatrix<double> scaledSmoothing = {});
+
+  /// assemble({{&basis, &forms, 1 / N}}, controlPoints), then solveAssembled(1, damping): the
+  /// minimising displacement c for the mean of the forms, one vector per control point (z = 0 in
+  /// 2D). `forms` has one entry per sensor of `basis`. Throws RuntimeFailure if the
+  /// factorisation fails (a non-finite form).
   std::vector<Eigen::Vector3d> solve(const SensorMap& basis,
                                      const std::vector<QuadraticForm>& forms,
                                      const std::vector<Eigen::Vector3d>& controlPoints,
                                      double damping);
+
+  /// Sums the sensor sets' forms and rank-one terms at the control points `controlPoints` (the
+  /// expansion point P). InputError when a set's forms or rank-one terms do not match its basis
+  /// or its basis another control-point count.
+  void assemble(const std::vector<SensorTerms>& terms,
+                const std::vector<Eigen::Vector3d>& controlPoints);
+
+  /// The stationary point of m for the last assembly with rank-one scale r = `rankOneScale` and
+  /// relative damping mu = `damping` (the minimiser when the system is positive definite).
+  /// RuntimeFailure when nothing was assembled, the factorisation fails or the step is not
+  /// finite.
+  std::vector<Eigen::Vector3d> solveAssembled(double rankOneScale, double damping);
+
+  /// m(0) - m(c) for the last assembly and rank-one scale, without the damping and
+  /// step-regulariser terms: the decrease of the modelled objective the displacement `step`
+  /// promises.
+  double predictedDecrease(const std::vector<Eigen::Vector3d>& step) const;
+
+  /// H^-1 (sigma T P) with the last factorisation (H its system): how far the scaled smoothing
+  /// term has moved the model's minimiser, per control point (z = 0 in 2D). Zero before any
+  /// solve or without a scaled smoothing matrix.
+  std::vector<Eigen::Vector3d> scaledSmoothingShift() const;
+
+  /// Sets sigma (finite, >= 0; InputError otherwise) for the following solves and
+  /// smoothingEnergy(). Default 1.
+  void setSmoothingScale(double scale);
+  double smoothingScale() const { return smoothingScale_; }
 
   /// Adds the step regulariser rho * m0 / g0 * sum_a c_a^T R c_a to m(c), with R symmetric PSD
   /// (n x n; e.g. the bending Gram matrix, so that only rough displacements are damped and the
@@ -51,8 +121,11 @@ class QuadraticModel {
   /// InputError for a wrong size or negative rho.
   void setStepRegularizer(Eigen::SparseMatrix<double> regularizer, double rho);
 
-  /// sum_a P_a^T S P_a: the smoothing energy of the control points.
+  /// sum_a P_a^T (S + sigma T) P_a: the smoothing energy of the control points.
   double smoothingEnergy(const std::vector<Eigen::Vector3d>& controlPoints) const;
+
+  /// Whether the last solve's system was positive definite (all LDL^T pivots positive).
+  bool lastSolvePositiveDefinite() const { return positiveDefinite_; }
 
   int dimension() const { return dimension_; }
 
@@ -60,7 +133,8 @@ class QuadraticModel {
   /// Position in the control-point pattern of row i within column j, or -1 when absent.
   int patternRank(int row, int column) const;
   /// Rebuilds the pattern as the union of the current one, `pairs` (row, column of control
-  /// points), the smoothing, the regulariser and the diagonal; the solver must re-analyse.
+  /// points), the smoothing matrices, the regulariser and the diagonal; the solver must
+  /// re-analyse.
   void rebuildPattern(const std::vector<std::pair<int, int>>& pairs);
   /// Index into system_'s values of unknown (row * d + r, column * d + c), given the rank of row
   /// in the column.
@@ -71,13 +145,19 @@ class QuadraticModel {
   /// Value indices of every entry of `matrix` (an n x n matrix inside the pattern) for each
   /// coordinate, in `matrix`'s storage order: entry e, coordinate a at [e * d + a].
   std::vector<int> valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const;
-  /// Adds scale * matrix (per coordinate) into system_'s values at `indices` (valueIndicesOf).
+  /// Adds scale * matrix (per coordinate) into `values` (system_'s layout) at `indices`.
   void addScaled(const Eigen::SparseMatrix<double>& matrix, const std::vector<int>& indices,
-                 double scale);
+                 double scale, double* values) const;
+  /// The control points stacked per coordinate (unknown i * d + a).
+  Eigen::VectorXd stacked(const std::vector<Eigen::Vector3d>& controlPoints) const;
+  /// The inverse of stacked().
+  std::vector<Eigen::Vector3d> unstacked(const Eigen::VectorXd& vector) const;
 
   int controlPointCount_;
   int dimension_;
   Eigen::SparseMatrix<double> smoothing_;
+  Eigen::SparseMatrix<double> scaledSmoothing_;
+  double smoothingScale_ = 1.0;
   Eigen::SparseMatrix<double> regularizer_;
   double regularizerWeight_ = 0.0;
   // Control-point pattern (compressed columns, sorted rows) and the system over the unknowns
@@ -86,10 +166,30 @@ class QuadraticModel {
   std::vector<int> patternRows_;
   Eigen::SparseMatrix<double> system_;
   std::vector<int> smoothingIndices_;
+  std::vector<int> scaledSmoothingIndices_;
   std::vector<int> regularizerIndices_;
   std::vector<int> diagonalIndices_;
+  // The last assembly: the forms' and the rank-one terms' matrices (system_'s layout) and
+  // right-hand sides, and the expansion point.
+  bool assembled_ = false;
+  std::vector<double> formValues_;
+  std::vector<double> rankOneValues_;
+  Eigen::VectorXd formRight_;
+  Eigen::VectorXd rankOneRight_;
+  Eigen::VectorXd expansionPoint_;
+  double rankOneScale_ = 1.0;
   bool analyzed_ = false;
+  bool factorized_ = false;
+  bool positiveDefinite_ = true;
+  /// Dense factorisation for small systems whose pattern is dense anyway (closed surfaces with
+  /// few control points, short curves), where the simplicial factorisation's fill makes it slow.
+  bool dense_ = false;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+  bool denseCholesky_ = false;  ///< the dense system was positive definite: a blocked Cholesky
+  Eigen::LLT<Eigen::MatrixXd> denseCholeskySolver_;
+  Eigen::LDLT<Eigen::MatrixXd> denseSolver_;
+  /// solver_'s or denseSolver_'s solution for `right`.
+  Eigen::VectorXd solveFactored(const Eigen::VectorXd& right) const;
 };
 
 }  // namespace d2vdb

@@ -6,14 +6,11 @@
 
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/fit/CurveFit.h"
+#include "d2vdb/fit/FitHistory.h"
 #include "d2vdb/fit/FitMethod.h"
 #include "d2vdb/spline/BSplineSurface.h"
 
 namespace d2vdb {
-
-/// The thin-plate weight the automatic smoothing converges with first (see
-/// SurfaceFitOptions::smoothness).
-inline constexpr double kAutoSurfaceSmoothness = 1e-7;
 
 /// How a surface fit is run. Distances are world units; the objective is
 ///   E(P) = mean_k F_k(x_k(P)) + smoothness * T(P) + stretch * M(P)
@@ -29,31 +26,43 @@ struct SurfaceFitOptions {
   int sensorsPerSpan = 6;
   /// Weight of the PDM term in FitMethod::TDMPlusPDM.
   double pdmWeight = 0.01;
-  /// Weight of the thin-plate energy. It regularises the tangential freedom of the sensors (the
-  /// surface can slide along the target without changing the distances) but biases the fit: it
-  /// flattens and shrinks. Negative (the default) = automatic: the fit first converges with
-  /// kAutoSurfaceSmoothness (to a relative objective decrease below 1e-4), which fixes the
-  /// parametrisation, then continues from there without smoothing, its steps damped by the
-  /// thin-plate energy of the displacement (the step regulariser of QuadraticModel, relative
-  /// weight 1e-3 unless stepSmoothness says otherwise), which vanishes at convergence: the final
-  /// surface minimises the data term alone. The history runs on through both phases.
+  /// Weight of the thin-plate energy. It holds the sensors' parametrisation (the surface can
+  /// slide along the target without changing the distances) and keeps cells without data from
+  /// folding, but biases the fit: it flattens and shrinks. Negative (the default) = automatic, as
+  /// for curves (CurveFitOptions::smoothness): every iteration the weight is chosen so that the
+  /// shift it causes in the model's minimiser (measured across the target at the sensors) is
+  /// automaticSmoothingBias times the fit's resolution rms * sqrt(n / N) (n control points, N
+  /// sensors or data points): strong while the surface is far off, a fixed fraction of the noise
+  /// floor (or of the approximation floor, for exact data) at convergence. The history records
+  /// the weight of each iteration.
   double smoothness = -1.0;
+  /// With automatic smoothness: the thin-plate term's shift as a fraction of the fit's resolution.
+  double automaticSmoothingBias = 0.25;
   /// Weight of the membrane energy (0 = off).
   double stretch = 0.0;
   /// Step regularisation: rho of QuadraticModel::setStepRegularizer with the thin-plate matrix
   /// of the displacement (the membrane matrix for degree (1, 1)), relative to the mean diagonal of
-  /// the data term. Damps rough and tangential moves without biasing the fitted surface.
-  /// 0 (default) = off, except in the second automatic phase (see smoothness).
+  /// the data term. Damps rough and tangential moves without biasing the fitted surface, at the
+  /// price of slower convergence; 0 (default) = off.
   double stepSmoothness = 0.0;
-  /// Iteration cap (both automatic phases together).
+  /// SDM on point clouds: add the exact second-order terms of the squared distance to the moving
+  /// surface (how each footpoint's parameters (u, v) follow the control points) to the SDM error
+  /// terms, blended in by a trust-region rule, so that the surface's sliding along itself
+  /// converges like Newton's method. false = the plain SDM terms.
+  bool exactSecondOrder = true;
+  /// Iteration cap.
   int maxIterations = 100;
   /// Converged when the RMS distance falls to this (world units; 0 = not used).
   double distanceTolerance = 0.0;
-  /// Converged when the largest control-point move of an iteration is below this fraction of the
-  /// initial surface's size (largest side of its control points' bounding box).
+  /// Converged when an iteration's largest sensor move across the target and RMS change, each
+  /// extrapolated at its rate of convergence, are at most the geometric tolerance
+  /// max(stepTolerance x size, moveTolerance x the fit's resolution, 1/100 of the target's
+  /// resolution), with size the largest side of the initial control points' bounding box.
   double stepTolerance = 1e-9;
-  /// Converged when an accepted step lowers the objective by less than this fraction of it.
-  double objectiveTolerance = 1e-8;
+  double moveTolerance = 0.1;
+  /// Converged when an accepted step lowers the objective by less than this fraction of it;
+  /// 0 (default) = not used (the geometric test decides).
+  double objectiveTolerance = 0.0;
   /// Initial Levenberg-Marquardt damping for TDM, relative to the mean diagonal of the system.
   double initialDamping = 1e-3;
   /// Keep every iterate in SurfaceFitResult::iterates.

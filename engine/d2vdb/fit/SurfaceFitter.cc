@@ -3,17 +3,21 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/fit/SurfaceSensorBasis.h"
-#include "d2vdb/fit/detail/FitLoop.h"
+#include "d2vdb/fit/detail/SurfaceFitLoop.h"
 #include "d2vdb/measure/SurfaceProjection.h"
+#include "d2vdb/spline/BasisFunctions.h"
 #include "d2vdb/spline/SurfaceGeometry.h"
 
 namespace d2vdb {
@@ -24,8 +28,50 @@ std::string pointText(const Eigen::Vector3d& p) {
   return formatPoint(p, 9);
 }
 
-// SDM I: sensors at fixed parameters, approximants from the target.
-class TargetProblem final : public detail::SurfaceFitProblem {
+/// The approximant of the squared distance from `dataPoint` to the surface at a footpoint with
+/// frame `frame` (surfaceApproximantAt()); `onBoundary`: the footpoint lies on the boundary of an
+/// open direction.
+Approximant approximantFromFrame(const SurfaceFrame& frame, bool onBoundary,
+                                 const Eigen::Vector3d& dataPoint) {
+  Approximant approximant;
+  approximant.kind = TargetKind::Surface;
+  approximant.origin = dataPoint;
+  approximant.footpoint = frame.point;
+  if (onBoundary || !frame.regular) {
+    const Eigen::Vector3d offset = dataPoint - frame.point;
+    approximant.flags |= kFlagEndPoint;
+    approximant.distance = offset.norm();
+    approximant.normal =
+        approximant.distance > 0.0 ? Eigen::Vector3d(offset / approximant.distance) : frame.normal;
+    approximant.tangent = approximant.normal.unitOrthogonal();
+    return approximant;
+  }
+  approximant.normal = frame.normal;
+  approximant.tangent = frame.e1;
+  approximant.k1 = frame.k1;
+  approximant.k2 = frame.k2;
+  approximant.distance = (dataPoint - frame.point).dot(frame.normal);
+  return approximant;
+}
+
+bool onOpenBoundary(const BSplineSurface& surface, double u, double v) {
+  const ParameterInterval domainU = surface.domainU();
+  const ParameterInterval domainV = surface.domainV();
+  return (!surface.isClosedU() && (u <= domainU.start || u >= domainU.end)) ||
+         (!surface.isClosedV() && (v <= domainV.start || v >= domainV.end));
+}
+
+/// Where 1 + d k is below this, the exact curvature terms of SDM I are left out (too near a centre
+/// of curvature for the quadratic model to hold).
+constexpr double kMinimumCurvatureFactor = 0.1;
+
+// SDM I: sensors at fixed parameters, approximants from the target. For SDM also the exact
+// second-order terms that the clamped SDM form leaves out: the form's tangential weights are
+// max(0, d k_i / (1 + d k_i)); the Hessian of the squared distance has d k_i / (1 + d k_i) also
+// where that is negative (on the concave side), and those negative rank-one terms
+// (d k_i / (1 + d k_i)) ((B (x) t_i) . c)^2 let the loop's trust-region steps follow the
+// surface's sliding along the target like Newton's method, where the clamped form over-damps it.
+class TargetProblem final : public detail::FitProblem {
  public:
   TargetProblem(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                 const SurfaceFitOptions& options)
@@ -33,41 +79,75 @@ class TargetProblem final : public detail::SurfaceFitProblem {
         domain_(target.domain()),
         basis_(initial, uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
         method_(options.method),
-        pdmWeight_(options.pdmWeight) {}
+        pdmWeight_(options.pdmWeight),
+        exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
 
   const SurfaceSensorBasis& basis() const { return basis_; }
-  const SensorMap* fixedBasis() const override { return &basis_; }
   double resolution() const override { return target_.resolution(); }
 
-  void linearize(const BSplineSurface& surface, const SurfaceFitOptions& options,
-                 std::vector<Eigen::Vector2d>& parameters,
-                 std::vector<QuadraticForm>& forms) override {
-    parameters = basis_.parameters();
-    // The loop linearises the surface it last accepted, whose forms measure() computed.
-    if (surface.controlPoints() == acceptedControlPoints_ && acceptedFormsValid_ &&
-        options.method == method_ && options.pdmWeight == pdmWeight_) {
-      forms.swap(acceptedForms_);
-      acceptedFormsValid_ = false;
-      return;
+  void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
+                 detail::FitLinearization& linearization) override {
+    linearization.basis = &basis_;
+    // The loop linearises the net it last accepted, whose approximants measure() found.
+    if (!(controlPoints == acceptedControlPoints_ && acceptedValid_)) {
+      acceptedApproximants_ = target_.approximantsAt(basis_.positions(controlPoints));
     }
-    const std::vector<Approximant> approximants =
-        target_.approximantsAt(basis_.positions(surface.controlPoints()));
-    forms.resize(approximants.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, approximants.size(), 256),
+    acceptedValid_ = false;
+    const std::vector<Approximant>& approximants = acceptedApproximants_;
+    const std::size_t count = approximants.size();
+    std::vector<QuadraticForm>& forms = linearization.forms;
+    forms.resize(count);
+    const int order = basis_.order();
+    const int length = 3 * order;
+    RankOneTerms& secondOrder = linearization.secondOrder;
+    secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? length : 0);
+    std::vector<double> weights(exactSecondOrder_ ? 2 * count : 0, 0.0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                          forms[k] = fitForm(approximants[k], options.method, options.pdmWeight);
+                          const Approximant& approximant = approximants[k];
+                          forms[k] = fitForm(approximant, method_, pdmWeight_);
+                          if (weights.empty() || (approximant.flags & kFlagEndPoint) != 0 ||
+                              approximant.kind != TargetKind::Surface) {
+                            continue;
+                          }
+                          const double d = approximant.distance;
+                          for (int i = 0; i < 2; ++i) {
+                            const double kappa = i == 0 ? approximant.k1 : approximant.k2;
+                            const double factor = 1.0 + d * kappa;
+                            if (d * kappa < 0.0 && factor > kMinimumCurvatureFactor) {
+                              weights[2 * k + static_cast<std::size_t>(i)] = d * kappa / factor;
+                            }
+                          }
                         }
                       });
+    if (!exactSecondOrder_) return;
+    // Sensors with terms, in index order (deterministic layout).
+    for (std::size_t k = 0; k < count; ++k) {
+      int terms = 0;
+      for (int i = 0; i < 2; ++i) {
+        const double alpha = weights[2 * k + static_cast<std::size_t>(i)];
+        if (alpha == 0.0) continue;
+        const Approximant& approximant = approximants[k];
+        const Eigen::Vector3d direction =
+            i == 0 ? approximant.tangent : Eigen::Vector3d(approximant.bitangent());
+        secondOrder.coefficients.push_back(alpha);
+        for (int j = 0; j < order; ++j) {
+          const double w = basis_.weight(static_cast<int>(k), j);
+          for (int c = 0; c < 3; ++c) secondOrder.vectors.push_back(w * direction[c]);
+        }
+        ++terms;
+      }
+      secondOrder.start[k + 1] = secondOrder.start[k] + terms;
+    }
   }
 
-  // One parallel pass: sensor positions, the domain check, the approximants there, the squared
-  // distances they give and the fitting forms (kept for linearize() should this surface be
+  // One parallel pass: sensor positions, the domain check, the approximants there and the
+  // squared distances they give (the approximants kept for linearize() should this net be
   // accepted).
-  detail::DataError measure(const BSplineSurface& surface) override {
-    const std::vector<Eigen::Vector3d>& controlPoints = surface.controlPoints();
+  detail::DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override {
     const int count = basis_.sensorCount();
-    measuredForms_.resize(static_cast<std::size_t>(count));
+    measuredApproximants_.resize(static_cast<std::size_t>(count));
     squared_.resize(static_cast<std::size_t>(count));
     std::atomic<bool> outside{false};
     tbb::parallel_for(
@@ -80,7 +160,7 @@ class TargetProblem final : public detail::SurfaceFitProblem {
             }
             const Approximant approximant = target_.approximantAt(x);
             squared_[static_cast<std::size_t>(k)] = approximant.form(ErrorTerm::SDM)(x);
-            measuredForms_[static_cast<std::size_t>(k)] = fitForm(approximant, method_, pdmWeight_);
+            measuredApproximants_[static_cast<std::size_t>(k)] = approximant;
           }
         });
     detail::DataError error;
@@ -100,8 +180,8 @@ class TargetProblem final : public detail::SurfaceFitProblem {
 
   void accept() override {
     acceptedControlPoints_.swap(measuredControlPoints_);
-    acceptedForms_.swap(measuredForms_);
-    acceptedFormsValid_ = !acceptedControlPoints_.empty();
+    acceptedApproximants_.swap(measuredApproximants_);
+    acceptedValid_ = !acceptedControlPoints_.empty();
   }
 
  private:
@@ -110,43 +190,200 @@ class TargetProblem final : public detail::SurfaceFitProblem {
   SurfaceSensorBasis basis_;
   FitMethod method_;
   double pdmWeight_;
+  bool exactSecondOrder_;
   std::vector<Eigen::Vector3d> measuredControlPoints_, acceptedControlPoints_;
-  std::vector<QuadraticForm> measuredForms_, acceptedForms_;
-  bool acceptedFormsValid_ = false;
+  std::vector<Approximant> measuredApproximants_, acceptedApproximants_;
+  bool acceptedValid_ = false;
   std::vector<double> squared_;
 };
 
-// SDM II: sensors at the data points' footpoints on the active surface, refreshed every
-// iteration.
-class PointProblem final : public detail::SurfaceFitProblem {
- public:
-  explicit PointProblem(const std::vector<Eigen::Vector3d>& points) : points_(points) {}
+/// Smallest eigenvalue of the footpoint's parameter Hessian M relative to the first fundamental
+/// form (M - kMinimumFocalFactor I_1 must be positive definite) for the exact second-order terms:
+/// nearer to a centre of curvature the footpoint is ill-conditioned and the terms are left out.
+constexpr double kMinimumFocalFactor = 0.1;
+/// Rank-one second-order terms per data point: two for the footpoint's parameters, two for the
+/// tangential weights the SDM form leaves out.
+constexpr int kTermsPerPoint = 4;
 
-  void linearize(const BSplineSurface& surface, const SurfaceFitOptions& options,
-                 std::vector<Eigen::Vector2d>& parameters,
-                 std::vector<QuadraticForm>& forms) override {
-    parameters.resize(points_.size());
-    forms.resize(points_.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_.size(), 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                          const SurfaceFootpoint& footpoint = current_[k];
-                          parameters[k] = Eigen::Vector2d(footpoint.u, footpoint.v);
-                          const Approximant approximant =
-                              surfaceApproximantAt(surface, footpoint.u, footpoint.v, points_[k]);
-                          // The form measures the surface point against the data point: same
-                          // matrix, centred at the data point.
-                          QuadraticForm form =
-                              fitForm(approximant, options.method, options.pdmWeight);
-                          form.b = form.A * points_[k];
-                          form.c = points_[k].dot(form.b);
-                          forms[k] = form;
-                        }
-                      });
+// SDM II: sensors at the data points' footpoints on the active surface, refreshed every
+// iteration; for SDM the exact second-order terms of the squared distance to the moving surface.
+class PointProblem final : public detail::FitProblem {
+ public:
+  PointProblem(const BSplineSurface& initial, const std::vector<Eigen::Vector3d>& points,
+               const SurfaceFitOptions& options)
+      : points_(points),
+        surface_(initial),
+        method_(options.method),
+        pdmWeight_(options.pdmWeight),
+        exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
+
+  // With r = S(u, v) - X, B the basis values at the footpoint and B_u, B_v their derivatives, the
+  // squared distance with the footpoint's parameters eliminated has the Hessian (half of it, in
+  // the forms' units) over the footpoint's control points
+  //   I (x) B B^T - G^T M^-1 G,  G = [B (x) S_u + B_u (x) r; B (x) S_v + B_v (x) r],
+  //   M = [S_u.S_u + r.S_uu, S_u.S_v + r.S_uv; S_u.S_v + r.S_uv, S_v.S_v + r.S_vv]
+  // (the Schur complement of the joint Hessian in the control points and (u, v)). The SDM form
+  // is A = I - sum (1 - w_i) t_i t_i^T over its tangential directions, so the rest is, with the
+  // eigen-decompositions M = sum l_i m_i m_i^T and I - A = sum mu_j a_j a_j^T:
+  //   - sum_i (m_i . G c)^2 / l_i + sum_j mu_j ((B (x) a_j) . c)^2.
+  void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
+                 detail::FitLinearization& linearization) override {
+    surface_.setControlPoints(controlPoints);
+    const BSplineSurface& surface = surface_;
+    const std::size_t count = points_.size();
+    std::vector<Eigen::Vector2d> parameters(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      parameters[k] = Eigen::Vector2d(current_[k].u, current_[k].v);
+    }
+    basis_.emplace(surface, std::move(parameters));
+    linearization.basis = &*basis_;
+    std::vector<QuadraticForm>& forms = linearization.forms;
+    forms.resize(count);
+    const int p = surface.degreeU();
+    const int q = surface.degreeV();
+    const int order = (p + 1) * (q + 1);
+    const int length = 3 * order;
+    RankOneTerms& secondOrder = linearization.secondOrder;
+    secondOrder.reset(static_cast<int>(count), length);
+    if (exactSecondOrder_) {
+      for (std::size_t k = 0; k < count; ++k) {
+        secondOrder.start[k + 1] = static_cast<int>(kTermsPerPoint * (k + 1));
+      }
+      secondOrder.coefficients.assign(kTermsPerPoint * count, 0.0);
+      secondOrder.vectors.assign(kTermsPerPoint * count * static_cast<std::size_t>(length), 0.0);
+    }
+    const KnotVector& knotsU = surface.knotsU();
+    const KnotVector& knotsV = surface.knotsV();
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, count, 256),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          std::vector<double> value(static_cast<std::size_t>(order));
+          std::vector<double> valueU(static_cast<std::size_t>(order));
+          std::vector<double> valueV(static_cast<std::size_t>(order));
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            const int sensor = static_cast<int>(k);
+            const Eigen::Vector2d& uv = basis_->parameter(sensor);  // wrapped when closed
+            const BasisDerivatives bu =
+                basisDerivatives(knotsU, knotsU.findSpan(uv.x()), uv.x(), 2);
+            const BasisDerivatives bv =
+                basisDerivatives(knotsV, knotsV.findSpan(uv.y()), uv.y(), 2);
+            SurfaceDerivatives derivatives{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+            int slot = 0;
+            for (int a = 0; a <= p; ++a) {
+              for (int b = 0; b <= q; ++b, ++slot) {
+                const Eigen::Vector3d& control =
+                    controlPoints[static_cast<std::size_t>(basis_->index(sensor, slot))];
+                derivatives.point += bu(0, a) * bv(0, b) * control;
+                derivatives.du += bu(1, a) * bv(0, b) * control;
+                derivatives.dv += bu(0, a) * bv(1, b) * control;
+                derivatives.duu += bu(2, a) * bv(0, b) * control;
+                derivatives.duv += bu(1, a) * bv(1, b) * control;
+                derivatives.dvv += bu(0, a) * bv(2, b) * control;
+                value[static_cast<std::size_t>(slot)] = bu(0, a) * bv(0, b);
+                valueU[static_cast<std::size_t>(slot)] = bu(1, a) * bv(0, b);
+                valueV[static_cast<std::size_t>(slot)] = bu(0, a) * bv(1, b);
+              }
+            }
+            const SurfaceFrame frame = surfaceFrame(derivatives);
+            const ParameterInterval domainU = surface.domainU();
+            const ParameterInterval domainV = surface.domainV();
+            const bool boundaryU =
+                !surface.isClosedU() && (uv.x() <= domainU.start || uv.x() >= domainU.end);
+            const bool boundaryV =
+                !surface.isClosedV() && (uv.y() <= domainV.start || uv.y() >= domainV.end);
+            const Approximant approximant =
+                approximantFromFrame(frame, boundaryU || boundaryV, points_[k]);
+            // The form measures the surface point against the data point: same matrix, centred
+            // at the data point.
+            QuadraticForm form = fitForm(approximant, method_, pdmWeight_);
+            // A footpoint on one boundary line (not a corner) slides along that line: SDM
+            // measures the distance to the line there, orthogonal to it (the tangential weight
+            // 0, as TDM; the exact second-order terms below restore the rest).
+            const Eigen::Vector3d& lineTangent = boundaryU ? derivatives.dv : derivatives.du;
+            const bool onLine = boundaryU != boundaryV && method_ == FitMethod::SDM &&
+                                lineTangent.squaredNorm() > 0.0;
+            if (onLine) {
+              const Eigen::Vector3d t = lineTangent.normalized();
+              form.A = Eigen::Matrix3d::Identity() - t * t.transpose();
+            }
+            form.b = form.A * points_[k];
+            form.c = points_[k].dot(form.b);
+            forms[k] = form;
+            if (!exactSecondOrder_ || (boundaryU && boundaryV) ||
+                ((boundaryU || boundaryV) && !onLine)) {
+              continue;
+            }
+            const Eigen::Vector3d r = derivatives.point - points_[k];
+            double* const terms =
+                secondOrder.vectors.data() + kTermsPerPoint * k * static_cast<std::size_t>(length);
+            double* const coefficients = secondOrder.coefficients.data() + kTermsPerPoint * k;
+            if (onLine) {
+              // One free parameter (along the line): M = |S_t|^2 + r . S_tt, g = B S_t + B_t r.
+              const Eigen::Vector3d& second = boundaryU ? derivatives.dvv : derivatives.duu;
+              const std::vector<double>& along = boundaryU ? valueV : valueU;
+              const double first = lineTangent.squaredNorm();
+              const double hessian = first + r.dot(second);
+              if (!(hessian > kMinimumFocalFactor * first)) continue;
+              const Eigen::Vector3d t = lineTangent / std::sqrt(first);
+              for (int j = 0; j < order; ++j) {
+                const std::size_t js = static_cast<std::size_t>(j);
+                const Eigen::Vector3d g = value[js] * lineTangent + along[js] * r;
+                for (int c = 0; c < 3; ++c) {
+                  terms[j * 3 + c] = g[c];
+                  terms[length + j * 3 + c] = value[js] * t[c];
+                }
+              }
+              coefficients[0] = -1.0 / hessian;
+              coefficients[1] = 1.0;
+              continue;
+            }
+            Eigen::Matrix2d first;
+            first << derivatives.du.squaredNorm(), derivatives.du.dot(derivatives.dv),
+                derivatives.du.dot(derivatives.dv), derivatives.dv.squaredNorm();
+            Eigen::Matrix2d hessian = first;
+            hessian(0, 0) += r.dot(derivatives.duu);
+            hessian(0, 1) += r.dot(derivatives.duv);
+            hessian(1, 0) += r.dot(derivatives.duv);
+            hessian(1, 1) += r.dot(derivatives.dvv);
+            const Eigen::Matrix2d guard = hessian - kMinimumFocalFactor * first;
+            if (!(guard(0, 0) > 0.0) || !(guard.determinant() > 0.0)) continue;
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> parameterHessian(hessian);
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> deficit(
+                Eigen::Matrix3d::Identity() - form.A);
+            for (int i = 0; i < 2; ++i) {
+              const Eigen::Vector2d m = parameterHessian.eigenvectors().col(i);
+              double* const vector = terms + i * length;
+              for (int j = 0; j < order; ++j) {
+                const std::size_t js = static_cast<std::size_t>(j);
+                const Eigen::Vector3d g = m.x() * (value[js] * derivatives.du + valueU[js] * r) +
+                                          m.y() * (value[js] * derivatives.dv + valueV[js] * r);
+                for (int c = 0; c < 3; ++c) vector[j * 3 + c] = g[c];
+              }
+              coefficients[i] = -1.0 / parameterHessian.eigenvalues()[i];
+            }
+            // The two largest eigenvalues of I - A (the third, along the normal, is 0).
+            for (int i = 0; i < 2; ++i) {
+              const double mu = deficit.eigenvalues()[i + 1];
+              if (!(mu > 0.0)) continue;
+              const Eigen::Vector3d direction = deficit.eigenvectors().col(i + 1);
+              double* const vector = terms + (2 + i) * length;
+              for (int j = 0; j < order; ++j) {
+                for (int c = 0; c < 3; ++c) {
+                  vector[j * 3 + c] = value[static_cast<std::size_t>(j)] * direction[c];
+                }
+              }
+              coefficients[2 + i] = mu;
+            }
+          }
+        });
   }
 
-  detail::DataError measure(const BSplineSurface& surface) override {
-    const SurfaceProjector projector(surface);
+  detail::DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override {
+    BSplineSurface candidate = surface_;
+    candidate.setControlPoints(controlPoints);
+    const SurfaceProjector projector(candidate);
     candidate_ = projector.nearest(
         points_, current_.size() == points_.size() ? current_ : std::vector<SurfaceFootpoint>{});
     detail::DataError error;
@@ -159,10 +396,15 @@ class PointProblem final : public detail::SurfaceFitProblem {
     return error;
   }
 
-  void accept() override { current_ = candidate_; }
+  void accept() override { current_.swap(candidate_); }
 
  private:
   const std::vector<Eigen::Vector3d>& points_;
+  BSplineSurface surface_;  // the net linearize() was last called with
+  FitMethod method_;
+  double pdmWeight_;
+  bool exactSecondOrder_;
+  std::optional<SurfaceSensorBasis> basis_;
   std::vector<SurfaceFootpoint> current_;
   std::vector<SurfaceFootpoint> candidate_;
 };
@@ -189,35 +431,13 @@ SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistance
                        "padding");
     }
   }
-  return detail::runFitLoop(initial, options, problem);
+  return detail::runSurfaceFit(initial, options, problem);
 }
 
 Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double v,
                                  const Eigen::Vector3d& dataPoint) {
-  const SurfaceFrame frame = surfaceFrame(surface, u, v);
-  Approximant approximant;
-  approximant.kind = TargetKind::Surface;
-  approximant.origin = dataPoint;
-  approximant.footpoint = frame.point;
-  const ParameterInterval domainU = surface.domainU();
-  const ParameterInterval domainV = surface.domainV();
-  const bool onBoundary = (!surface.isClosedU() && (u <= domainU.start || u >= domainU.end)) ||
-                          (!surface.isClosedV() && (v <= domainV.start || v >= domainV.end));
-  if (onBoundary || !frame.regular) {
-    const Eigen::Vector3d offset = dataPoint - frame.point;
-    approximant.flags |= kFlagEndPoint;
-    approximant.distance = offset.norm();
-    approximant.normal =
-        approximant.distance > 0.0 ? Eigen::Vector3d(offset / approximant.distance) : frame.normal;
-    approximant.tangent = approximant.normal.unitOrthogonal();
-    return approximant;
-  }
-  approximant.normal = frame.normal;
-  approximant.tangent = frame.e1;
-  approximant.k1 = frame.k1;
-  approximant.k2 = frame.k2;
-  approximant.distance = (dataPoint - frame.point).dot(frame.normal);
-  return approximant;
+  return approximantFromFrame(surfaceFrame(surface, u, v), onOpenBoundary(surface, u, v),
+                              dataPoint);
 }
 
 SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
@@ -241,8 +461,8 @@ SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
   }
   detail::validateFitOptions(options);
   detail::requireNonDegenerate(initial, "the initial surface");
-  PointProblem problem(points);
-  return detail::runFitLoop(initial, options, problem);
+  PointProblem problem(initial, points, options);
+  return detail::runSurfaceFit(initial, options, problem);
 }
 
 }  // namespace d2vdb

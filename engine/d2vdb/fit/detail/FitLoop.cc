@@ -1,5 +1,4 @@
-// The iteration shared by the curve fitters (CurveFitter, PointCloudFitter) and the surface
-// fitters (SurfaceFitter) (detail/FitLoop.h).
+// The iteration shared by the squared-distance fitters (detail/FitLoop.h).
 #include "d2vdb/fit/detail/FitLoop.h"
 
 #include <Eigen/Geometry>
@@ -7,17 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <sstream>
 #include <string>
-#include <string_view>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/fit/QuadraticModel.h"
-#include "d2vdb/fit/SensorBasis.h"
-#include "d2vdb/fit/SmoothingMatrix.h"
-#include "d2vdb/fit/SurfaceSensorBasis.h"
-#include "d2vdb/fit/ThinPlateMatrix.h"
 
 namespace d2vdb {
 
@@ -36,13 +28,30 @@ const char* fitStatusName(FitStatus status) {
 namespace detail {
 namespace {
 
-bool usesDamping(FitMethod method) {
-  return method == FitMethod::TDM;
-}
+/// Fraction of the target's resolution (a field's voxel) below which a move is not resolved: the
+/// approximants' own error (footpoints to a few hundredths of a voxel, piecewise per voxel) makes
+/// the objective rough on that scale.
+constexpr double kResolvedFraction = 0.01;
+/// The automatic bending weight of the first iteration (refined within it).
+constexpr double kInitialAutomaticBending = 1e-6;
+/// Bounds of the automatic bending weight.
+constexpr double kMinimumAutomaticBending = 1e-16;
+constexpr double kMaximumAutomaticBending = 1e-2;
+/// The automatic bending weight is re-chosen when its bias is off the target by more than this
+/// factor, in at most this many solves per iteration.
+constexpr double kBiasSlack = 1.25;
+constexpr int kBendingRounds = 4;
+/// Share of the plain forms in the step's model (1 = forms only) after a step that went well or
+/// badly: 1 -> 1/4 -> 1/16 -> 1/64 -> 0 and back.
+constexpr double kSmallestFormShare = 1.0 / 64.0;
 
 double objectiveOf(const DataError& error, double smoothingEnergy) {
   if (!error.valid || error.count == 0) return std::numeric_limits<double>::infinity();
   return error.sum / error.count + smoothingEnergy;
+}
+
+double rmsOf(const DataError& error) {
+  return error.count > 0 ? std::sqrt(error.sum / error.count) : 0.0;
 }
 
 std::vector<Eigen::Vector3d> moved(const std::vector<Eigen::Vector3d>& points,
@@ -58,289 +67,357 @@ double largestMove(const std::vector<Eigen::Vector3d>& displacement) {
   return largest;
 }
 
-}  // namespace
+double moreForms(double share) {
+  return share == 0.0 ? kSmallestFormShare : std::min(1.0, 4.0 * share);
+}
 
-namespace {
+double fewerForms(double share) {
+  return share <= kSmallestFormShare ? 0.0 : share / 4.0;
+}
 
-template <typename Options>
-void validateOptions(const Options& options) {
+void validate(const FitLoopSettings& settings, int controlPoints) {
   const auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InputError(message);
   };
-  require(options.sensorsPerSpan >= 1, "sensors per knot span must be at least 1");
-  require(options.maxIterations >= 0, "the iteration cap must not be negative");
-  require(std::isfinite(options.smoothness),
-          "the smoothness weight must be finite (negative = automatic)");
-  require(std::isfinite(options.stretch) && options.stretch >= 0.0,
-          "the stretch weight must be finite and non-negative");
-  require(std::isfinite(options.pdmWeight) && options.pdmWeight >= 0.0,
-          "the PDM weight of tdm+pdm must be finite and non-negative");
-  require(std::isfinite(options.distanceTolerance) && options.distanceTolerance >= 0.0,
-          "the distance tolerance must be finite and non-negative");
-  require(std::isfinite(options.stepTolerance) && options.stepTolerance >= 0.0,
-          "the step tolerance must be finite and non-negative");
-  require(std::isfinite(options.objectiveTolerance) && options.objectiveTolerance >= 0.0,
-          "the objective tolerance must be finite and non-negative");
-  require(std::isfinite(options.stepSmoothness) && options.stepSmoothness >= 0.0,
-          "the step smoothness must be finite and non-negative");
-  require(std::isfinite(options.initialDamping) && options.initialDamping >= 0.0,
-          "the initial damping must be finite and non-negative");
+  require(settings.dimension == 2 || settings.dimension == 3,
+          "the fitting dimension must be 2 or 3");
+  require(controlPoints >= 1, "the control net is empty");
+  require(settings.maxIterations >= 0, "the iteration cap must not be negative");
+  require(std::isfinite(settings.bendingWeight), "the bending weight must be finite");
+  require(std::isfinite(settings.automaticBias) && settings.automaticBias > 0.0,
+          "the automatic smoothing bias must be finite and positive");
+  for (const double value :
+       {settings.distanceTolerance, settings.stepTolerance, settings.moveTolerance,
+        settings.objectiveTolerance, settings.stepSmoothness, settings.initialDamping}) {
+    require(std::isfinite(value) && value >= 0.0,
+            "the fit's tolerances, step smoothness and damping must be finite and non-negative");
+  }
+}
+
+/// The statistical resolution of a least-squares fit with `controlPoints` points' worth of
+/// freedom to `count` squared distances of RMS `rms`.
+double fitResolution(double rms, int controlPoints, int count) {
+  return count > 0 ? rms * std::sqrt(static_cast<double>(controlPoints) / count) : 0.0;
+}
+
+/// Chooses the automatic bending weight (detail/FitLoop.h): solves the plain-form model at the
+/// current weight, measures the shift of its minimiser that the bending term causes, and moves
+/// the weight towards the one whose shift is the target (a secant step in log-log, the exponent
+/// remembered between iterations), until within kBiasSlack or kBendingRounds solves.
+class AutomaticBending {
+ public:
+  explicit AutomaticBending(double weight) : weight_(weight) {}
+  double weight() const { return weight_; }
+
+  void choose(QuadraticModel& model, const FitLinearization& linearization, double target,
+              int dimension) {
+    for (int round = 0; round < kBendingRounds; ++round) {
+      model.setSmoothingScale(weight_);
+      model.solveAssembled(0.0, 0.0);
+      const double bias = shiftAtSensors(model.scaledSmoothingShift(), linearization, dimension);
+      if (!(target > 0.0)) {  // an exact fit: let the bending fade
+        weight_ = std::max(kMinimumAutomaticBending, weight_ / 10.0);
+        break;
+      }
+      if (!(bias > 0.0)) break;  // the bending term has no effect (e.g. a straight line)
+      if (previousWeight_ > 0.0 && previousBias_ > 0.0 &&
+          std::abs(std::log(weight_ / previousWeight_)) > 0.05) {
+        exponent_ = std::clamp(std::log(bias / previousBias_) / std::log(weight_ / previousWeight_),
+                               0.3, 1.5);
+      }
+      previousWeight_ = weight_;
+      previousBias_ = bias;
+      const double ratio = target / bias;
+      if (ratio < kBiasSlack && ratio > 1.0 / kBiasSlack) break;
+      const double factor = std::clamp(std::pow(ratio, 1.0 / exponent_), 0.1, 10.0);
+      weight_ = std::clamp(weight_ * factor, kMinimumAutomaticBending, kMaximumAutomaticBending);
+      if (weight_ == previousWeight_) break;
+    }
+    model.setSmoothingScale(weight_);
+  }
+
+ private:
+  /// RMS over the sensors of sqrt(d_k^T A_k d_k), d_k the sensor's share of `shift`.
+  static double shiftAtSensors(const std::vector<Eigen::Vector3d>& shift,
+                               const FitLinearization& linearization, int dimension) {
+    const SensorMap& basis = *linearization.basis;
+    const int count = basis.sensorCount();
+    if (count == 0) return 0.0;
+    double sum = 0.0;
+    for (int k = 0; k < count; ++k) {
+      Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+      for (int j = 0; j < basis.order(); ++j) {
+        delta += basis.weight(k, j) * shift[static_cast<std::size_t>(basis.index(k, j))];
+      }
+      if (dimension == 2) delta.z() = 0.0;
+      sum += delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta);
+    }
+    return std::sqrt(std::max(0.0, sum) / count);
+  }
+
+  double weight_;
+  double previousWeight_ = 0.0;
+  double previousBias_ = 0.0;
+  double exponent_ = 1.0;
+};
+
+/// The largest move of the sensors under the displacement `step`, measured in their forms'
+/// metric: max_k sqrt(d_k^T A_k d_k) (for SDM and TDM forms the move across the target).
+double largestSensorMove(const FitLinearization& linearization,
+                         const std::vector<Eigen::Vector3d>& step, int dimension) {
+  const SensorMap& basis = *linearization.basis;
+  double largest = 0.0;
+  for (int k = 0; k < basis.sensorCount(); ++k) {
+    Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+    for (int j = 0; j < basis.order(); ++j) {
+      delta += basis.weight(k, j) * step[static_cast<std::size_t>(basis.index(k, j))];
+    }
+    if (dimension == 2) delta.z() = 0.0;
+    largest =
+        std::max(largest, delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta));
+  }
+  return std::sqrt(largest);
+}
+
+/// q / (1 - q) for the ratio q = change / previous of two successive changes, at least 1 and at
+/// most kMaximumRemainingFactor (also when there is no previous change or q >= 1).
+constexpr double kMaximumRemainingFactor = 100.0;
+double remainingFactor(double change, double previous) {
+  if (!(previous > 0.0)) return change > 0.0 ? kMaximumRemainingFactor : 1.0;
+  const double q = change / previous;
+  if (q >= 1.0 - 1.0 / (kMaximumRemainingFactor + 1.0)) return kMaximumRemainingFactor;
+  return std::clamp(q / (1.0 - q), 1.0, kMaximumRemainingFactor);
+}
+
+std::string number(double value) {
+  std::ostringstream text;
+  text.precision(3);
+  text << value;
+  return text.str();
 }
 
 }  // namespace
 
-void validateFitOptions(const CurveFitOptions& options) {
-  validateOptions(options);
-}
-
-void validateFitOptions(const SurfaceFitOptions& options) {
-  validateOptions(options);
-}
-
-namespace {
-
-template <typename Spline>
-void requireDistinctControlPoints(const Spline& curve, const char* what) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& point : curve.controlPoints()) box.extend(point);
-  const double magnitude =
-      std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
-  if (box.sizes().maxCoeff() <= 1e-12 * std::max(magnitude, 1e-300)) {
-    throw InputError(std::string(what) +
-                     " is degenerate: all its control points coincide; give one with distinct "
-                     "control points (or let d2vdb generate one)");
-  }
-}
-
-}  // namespace
-
-void requireNonDegenerate(const BSplineCurve& curve, const char* what) {
-  requireDistinctControlPoints(curve, what);
-}
-
-void requireNonDegenerate(const BSplineSurface& surface, const char* what) {
-  requireDistinctControlPoints(surface, what);
-}
-
-namespace {
-
-/// Fraction of the target's resolution (a field's voxel) below which a step that does not lower
-/// the objective counts as convergence: the approximants' own error (footpoints to a few hundredths
-/// of a voxel, piecewise per voxel) makes the objective rough on that scale.
-constexpr double kResolvedFraction = 0.01;
-/// Smallest relative objective decrease that keeps the first automatic phase going.
-constexpr double kCoarseObjectiveTolerance = 1e-5;
-/// Smallest relative objective decrease that keeps the automatic refinement phase going.
-constexpr double kRefineObjectiveTolerance = 1e-6;
-/// Smallest relative objective decrease that keeps a surface's first automatic phase going.
-constexpr double kSurfaceCoarseObjectiveTolerance = 1e-4;
-/// The relative step-regulariser weight of a surface's unsmoothed automatic phase.
-constexpr double kSurfaceRefineStepSmoothness = 1e-3;
-
-/// `progress` for one of two equal halves of the work, the one starting at `start` (0 or 0.5);
-/// empty when `progress` is.
-ProgressCallback progressPart(const ProgressCallback& progress, double start) {
-  if (!progress) return {};
-  return [&progress, start](std::string_view stage, double fraction) {
-    progress(stage, start + 0.5 * fraction);
-  };
-}
-
-// What the loop needs to know about the spline type: its smoothing and step-regulariser
-// matrices, dimension, name, sensor basis and where the result keeps it.
-
-Eigen::SparseMatrix<double> smoothingMatrix(const BSplineCurve& initial, double smoothness,
-                                            const CurveFitOptions& options) {
-  const int n = initial.controlPointCount();
-  const int p = initial.degree();
-  Eigen::SparseMatrix<double> smoothing(n, n);
-  if (smoothness > 0.0 && p >= 2) smoothing += smoothness * derivativeGramMatrix(initial, 2);
-  if (options.stretch > 0.0) smoothing += options.stretch * derivativeGramMatrix(initial, 1);
-  return smoothing;
-}
-
-Eigen::SparseMatrix<double> smoothingMatrix(const BSplineSurface& initial, double smoothness,
-                                            const SurfaceFitOptions& options) {
-  const int n = initial.countU() * initial.countV();
-  Eigen::SparseMatrix<double> smoothing(n, n);
-  if (smoothness > 0.0) smoothing += smoothness * thinPlateMatrix(initial);
-  if (options.stretch > 0.0) smoothing += options.stretch * membraneMatrix(initial);
-  return smoothing;
-}
-
-Eigen::SparseMatrix<double> regularizerMatrix(const BSplineCurve& initial) {
-  return derivativeGramMatrix(initial, std::min(initial.degree(), 2));
-}
-
-Eigen::SparseMatrix<double> regularizerMatrix(const BSplineSurface& initial) {
-  // Degree (1, 1) has no thin-plate energy of its own (only the twist): use the membrane's.
-  if (initial.degreeU() < 2 && initial.degreeV() < 2) return membraneMatrix(initial);
-  return thinPlateMatrix(initial);
-}
-
-int dimensionOf(const BSplineCurve& curve) {
-  return curve.dimension();
-}
-int dimensionOf(const BSplineSurface&) {
-  return 3;
-}
-
-int controlPointCountOf(const BSplineCurve& curve) {
-  return curve.controlPointCount();
-}
-int controlPointCountOf(const BSplineSurface& surface) {
-  return surface.countU() * surface.countV();
-}
-
-const char* splineName(const BSplineCurve&) {
-  return "curve";
-}
-const char* splineName(const BSplineSurface&) {
-  return "surface";
-}
-
-std::unique_ptr<SensorMap> makeBasis(const BSplineCurve& curve,
-                                     const std::vector<double>& parameters) {
-  return std::make_unique<SensorBasis>(curve, parameters);
-}
-std::unique_ptr<SensorMap> makeBasis(const BSplineSurface& surface,
-                                     const std::vector<Eigen::Vector2d>& parameters) {
-  return std::make_unique<SurfaceSensorBasis>(surface, parameters);
-}
-
-BSplineCurve& splineOf(CurveFitResult& result) {
-  return result.curve;
-}
-BSplineSurface& splineOf(SurfaceFitResult& result) {
-  return result.surface;
-}
-
-/// One fit with a fixed bending (curves) or thin-plate (surfaces) weight `smoothness`
-/// (options.smoothness is ignored).
-template <typename Spline>
-typename FitTypes<Spline>::Result runFitPhase(const Spline& initial,
-                                              const typename FitTypes<Spline>::Options& options,
-                                              double smoothness, FitProblemFor<Spline>& problem) {
-  using Result = typename FitTypes<Spline>::Result;
-  using Parameter = typename FitTypes<Spline>::Parameter;
-  const int n = controlPointCountOf(initial);
-  QuadraticModel model(n, dimensionOf(initial), smoothingMatrix(initial, smoothness, options));
-  if (options.stepSmoothness > 0.0) {
-    model.setStepRegularizer(regularizerMatrix(initial), options.stepSmoothness);
+FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
+                         const FitLoopSettings& settings, FitProblem& problem) {
+  const int n = static_cast<int>(initial.size());
+  validate(settings, n);
+  const int d = settings.dimension;
+  const bool automatic = settings.bendingWeight < 0.0 && settings.bending.nonZeros() > 0;
+  QuadraticModel model(n, d, settings.fixedSmoothing, settings.bending);
+  AutomaticBending bending(automatic ? kInitialAutomaticBending
+                                     : std::max(0.0, settings.bendingWeight));
+  model.setSmoothingScale(bending.weight());
+  if (settings.stepSmoothness > 0.0 && settings.stepRegularizer.nonZeros() > 0) {
+    model.setStepRegularizer(settings.stepRegularizer, settings.stepSmoothness);
   }
 
   Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& point : initial.controlPoints()) box.extend(point);
+  for (const Eigen::Vector3d& point : initial) box.extend(point);
   const double size = box.sizes().maxCoeff();
+  const double resolvedMove = kResolvedFraction * problem.resolution();
 
-  Result result{initial, FitStatus::IterationCap, "", {}, {}};
-  Spline& current = splineOf(result);
-  std::vector<Eigen::Vector3d> points = initial.controlPoints();
-  const DataError initialError = problem.measure(initial);
-  if (!initialError.valid) {
-    throw InputError(std::string("the initial ") + splineName(initial) +
+  FitLoopResult result;
+  std::vector<Eigen::Vector3d> points = initial;
+  DataError error = problem.measure(points);
+  if (!error.valid) {
+    throw InputError("the initial " + settings.splineName +
                      " is not inside the region where the target answers");
   }
   problem.accept();
-  double objective = objectiveOf(initialError, model.smoothingEnergy(points));
-  result.history.push_back({0, objective, std::sqrt(initialError.sum / initialError.count),
-                            std::sqrt(initialError.maxSquared), 0.0, 0.0, 0.0});
-  if (options.keepIterates) result.iterates.push_back(initial);
+  double objective = objectiveOf(error, model.smoothingEnergy(points));
+  result.history.push_back({0, objective, rmsOf(error), std::sqrt(error.maxSquared), 0.0, 0.0, 0.0,
+                            0.0, bending.weight(), 0.0});
+  if (settings.keepIterates) result.iterates.push_back(points);
 
-  double damping = usesDamping(options.method) ? options.initialDamping : 0.0;
-  std::vector<Parameter> parameters;
-  std::vector<QuadraticForm> forms;
+  // The geometric tolerance of a move for a fit of RMS `rms` over `count` terms.
+  const auto moveTolerance = [&](double rms, int count) {
+    return std::max({settings.stepTolerance * size,
+                     settings.moveTolerance * fitResolution(rms, n, count), resolvedMove});
+  };
+
+  double damping = settings.levenbergMarquardt ? settings.initialDamping : 0.0;
+  double formShare = 1.0;  // share of the plain forms; 1 - formShare of the second-order terms
+  double radius = std::numeric_limits<double>::infinity();  // trust radius of second-order steps
+  FitLinearization linearization;
   bool stopped = false;
-  for (int iteration = 1; iteration <= options.maxIterations && !stopped; ++iteration) {
-    if (options.progress) {
-      options.progress("fit", static_cast<double>(iteration - 1) / options.maxIterations);
+  double lastMove = 0.0;
+  double previousSensorMove = -1.0;
+  double previousRmsChange = -1.0;
+  for (int iteration = 1; iteration <= settings.maxIterations && !stopped; ++iteration) {
+    if (settings.progress) {
+      settings.progress("fit", static_cast<double>(iteration - 1) / settings.maxIterations);
     }
-    problem.linearize(current, options, parameters, forms);
-    std::unique_ptr<SensorMap> ownBasis;
-    const SensorMap* basis = problem.fixedBasis();
-    if (basis == nullptr) basis = (ownBasis = makeBasis(current, parameters)).get();
+    problem.linearize(points, linearization);
+    if (linearization.basis == nullptr ||
+        static_cast<int>(linearization.forms.size()) != linearization.basis->sensorCount()) {
+      throw InputError("the fitting problem's linearisation does not match its sensors");
+    }
+    const bool secondOrder = !linearization.secondOrder.empty();
+    const int count = static_cast<int>(linearization.forms.size());
+    model.assemble(
+        {SensorTerms{linearization.basis, &linearization.forms, count > 0 ? 1.0 / count : 0.0,
+                     secondOrder ? &linearization.secondOrder : nullptr}},
+        points);
+    const double rms = rmsOf(error);
+    if (automatic) {
+      bending.choose(model, linearization,
+                     settings.automaticBias * fitResolution(rms, n, std::max(count, 1)), d);
+      objective = objectiveOf(error, model.smoothingEnergy(points));
+    }
+    const double tolerance = moveTolerance(rms, count);
 
-    // Step control: TDM raises the damping until a full step lowers E; the other methods halve
-    // the step (a line search on the true squared distances).
+    // Step control: Levenberg-Marquardt damping (TDM); a trust-region choice of the second-order
+    // share (SDM II) that falls back to the plain forms and a line search; or the line search on
+    // the true objective alone.
     bool accepted = false;
-    bool flat = false;  // the objective at the full step equals E to rounding
-    double firstStep = 0.0;
+    bool flat = false;  // the objective at the first full step equals E to rounding
+    double firstStep = -1.0;
     double scale = 1.0;
     double usedDamping = damping;
+    double usedShare = formShare;
     DataError acceptedError;
     double acceptedObjective = objective;
     std::vector<Eigen::Vector3d> acceptedPoints;
-    const int dampingAttempts = usesDamping(options.method) ? 12 : 1;
-    for (int attempt = 0; attempt < dampingAttempts && !accepted; ++attempt) {
-      const std::vector<Eigen::Vector3d> step = model.solve(*basis, forms, points, damping);
-      if (attempt == 0) firstStep = largestMove(step);
-      const int halvings = usesDamping(options.method) ? 1 : 30;
+    // Measures the candidate points + s step for s = 1, 1/2, ... (`halvings` tries) and accepts
+    // the first that lowers E. Returns the actual decrease of the full step.
+    const auto lineSearch = [&](const std::vector<Eigen::Vector3d>& step, int halvings) {
+      double fullDecrease = -std::numeric_limits<double>::infinity();
       scale = 1.0;
       for (int h = 0; h < halvings; ++h, scale *= 0.5) {
         std::vector<Eigen::Vector3d> candidatePoints = moved(points, step, scale);
-        Spline candidate = current;
-        candidate.setControlPoints(candidatePoints);
-        const DataError error = problem.measure(candidate);
-        const double value = objectiveOf(error, model.smoothingEnergy(candidatePoints));
-        if (attempt == 0 && h == 0 && std::abs(value - objective) <= 1e-12 * objective) {
-          flat = true;
+        const DataError candidateError = problem.measure(candidatePoints);
+        const double value = objectiveOf(candidateError, model.smoothingEnergy(candidatePoints));
+        if (h == 0) {
+          fullDecrease = objective - value;
+          if (firstStep < 0.0) {
+            firstStep = largestSensorMove(linearization, step, d);
+            flat = std::abs(value - objective) <= 1e-12 * objective;
+          }
         }
         if (value < objective) {
           accepted = true;
-          acceptedError = error;
+          acceptedError = candidateError;
           acceptedObjective = value;
           acceptedPoints = std::move(candidatePoints);
-          usedDamping = damping;
+          return fullDecrease;
+        }
+        if (largestMove(step) * scale < 1e-3 * tolerance) break;
+      }
+      return fullDecrease;
+    };
+
+    if (settings.levenbergMarquardt) {
+      for (int attempt = 0; attempt < 12 && !accepted; ++attempt) {
+        const std::vector<Eigen::Vector3d> step = model.solveAssembled(1.0, damping);
+        usedDamping = damping;
+        lineSearch(step, 1);
+        if (!accepted) damping = std::max(10.0 * damping, 1e-6);
+      }
+      if (accepted) damping = std::max(damping / 3.0, 1e-9);
+    } else if (secondOrder) {
+      int failures = 0;
+      for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
+        std::vector<Eigen::Vector3d> step = model.solveAssembled(1.0 - formShare, 0.0);
+        if (!model.lastSolvePositiveDefinite() && formShare < 1.0) {
+          formShare = moreForms(formShare);
+          continue;
+        }
+        usedShare = formShare;
+        double length = largestMove(step);
+        const bool truncated = formShare < 1.0 && length > radius;
+        if (truncated) {
+          for (Eigen::Vector3d& c : step) c *= radius / length;
+          length = radius;
+        }
+        const double predicted = model.predictedDecrease(step);
+        const double actual = lineSearch(step, formShare == 1.0 ? 30 : 1);
+        const double ratio = predicted > 0.0 ? actual / predicted : 0.0;
+        if (accepted) {
+          if (scale == 1.0 && ratio > 0.75) radius = std::max(radius, 2.0 * length);
+          if (scale == 1.0 && ratio > 0.5) {
+            formShare = fewerForms(formShare);
+          } else if (ratio < 0.25) {
+            formShare = moreForms(formShare);
+          }
+        } else if (formShare < 1.0) {
+          radius = 0.5 * length;
+          if (++failures >= 2) {
+            formShare = moreForms(formShare);
+            failures = 0;
+          }
+        } else {
           break;
         }
-        if (largestMove(step) * scale < 1e-3 * options.stepTolerance * size) break;
       }
-      if (!accepted && usesDamping(options.method)) damping = std::max(10.0 * damping, 1e-6);
+    } else {
+      lineSearch(model.solveAssembled(1.0, 0.0), 30);
     }
+
     if (!accepted) {
-      if (firstStep <= options.stepTolerance * size || flat) {
+      if (firstStep >= 0.0 && (firstStep <= tolerance || flat)) {
         result.status = FitStatus::Converged;
-        result.reason = "the objective no longer changes beyond rounding";
-      } else if (firstStep <= kResolvedFraction * problem.resolution()) {
-        result.status = FitStatus::Converged;
-        std::ostringstream reason;
-        reason << "the model's step (" << firstStep << ") is below " << kResolvedFraction
-               << " of the target's resolution (" << problem.resolution()
-               << "): the target resolves no further improvement";
-        result.reason = reason.str();
+        result.reason = firstStep <= resolvedMove && resolvedMove > 0.0
+                            ? "the model's step (" + number(firstStep) + ") is below " +
+                                  number(kResolvedFraction) + " of the target's resolution (" +
+                                  number(problem.resolution()) +
+                                  "): the target resolves no further improvement"
+                            : "the objective no longer decreases and the model's step (" +
+                                  number(firstStep) + ") is within the geometric tolerance (" +
+                                  number(tolerance) + ") or changes it only by rounding";
       } else {
         result.status = FitStatus::Stalled;
-        result.reason = "no step along the solution of the quadratic model lowered the objective";
+        result.reason =
+            "no step along the solution of the quadratic model lowered the objective (the model's "
+            "step moves the sensors by up to " +
+            number(std::max(firstStep, 0.0)) + " across the target; geometric tolerance " +
+            number(tolerance) + ")";
       }
       stopped = true;
       break;
     }
     problem.accept();
-    double stepLength = 0.0;
-    for (int i = 0; i < n; ++i) {
-      stepLength = std::max(stepLength, (acceptedPoints[static_cast<std::size_t>(i)] -
-                                         points[static_cast<std::size_t>(i)])
-                                            .norm());
-    }
+    const std::vector<Eigen::Vector3d> acceptedStep = moved(acceptedPoints, points, -1.0);
+    const double stepLength = largestMove(acceptedStep);
+    // The move that decides convergence: the accepted step's, or the model's full step when the
+    // line search had to cut it (a cut step says nothing about being near the solution).
+    const double sensorMove =
+        std::max(largestSensorMove(linearization, acceptedStep, d), std::max(firstStep, 0.0));
     const double relativeDecrease = (objective - acceptedObjective) / objective;
     points = std::move(acceptedPoints);
-    current.setControlPoints(points);
     objective = acceptedObjective;
-    const double rms = std::sqrt(acceptedError.sum / acceptedError.count);
-    result.history.push_back({iteration, objective, rms, std::sqrt(acceptedError.maxSquared),
-                              stepLength, scale, usedDamping});
-    if (options.keepIterates) result.iterates.push_back(current);
-    if (usesDamping(options.method) && scale == 1.0) damping = std::max(damping / 3.0, 1e-9);
+    error = acceptedError;
+    const double newRms = rmsOf(error);
+    result.history.push_back({iteration, objective, newRms, std::sqrt(error.maxSquared), stepLength,
+                              sensorMove, scale, settings.levenbergMarquardt ? usedDamping : 0.0,
+                              bending.weight(), secondOrder ? 1.0 - usedShare : 0.0});
+    if (settings.keepIterates) result.iterates.push_back(points);
+    lastMove = sensorMove;
 
-    if (stepLength <= options.stepTolerance * size) {
+    const double newTolerance = moveTolerance(newRms, error.count);
+    const double rmsChange = std::abs(newRms - rms);
+    // What is left to move if the iteration keeps converging at its latest rate q: the last
+    // change times q / (1 - q) (at least the last change itself).
+    const double remainingMove = sensorMove * remainingFactor(sensorMove, previousSensorMove);
+    const double remainingRms = rmsChange * remainingFactor(rmsChange, previousRmsChange);
+    previousSensorMove = sensorMove;
+    previousRmsChange = rmsChange;
+    if (remainingMove <= newTolerance && remainingRms <= newTolerance) {
       result.status = FitStatus::Converged;
-      result.reason = "the largest control-point move fell below the step tolerance";
+      result.reason = "the " + settings.splineName +
+                      " stopped moving: the sensors' last move across the target (" +
+                      number(sensorMove) + ") and RMS change (" + number(rmsChange) +
+                      "), extrapolated at their rate of convergence, are within the geometric "
+                      "tolerance " +
+                      number(newTolerance) + " (largest control-point move " + number(stepLength) +
+                      ")";
       stopped = true;
-    } else if (options.distanceTolerance > 0.0 && rms <= options.distanceTolerance) {
+    } else if (settings.distanceTolerance > 0.0 && newRms <= settings.distanceTolerance) {
       result.status = FitStatus::Converged;
       result.reason = "the RMS distance reached the distance tolerance";
       stopped = true;
-    } else if (relativeDecrease < options.objectiveTolerance) {
+    } else if (settings.objectiveTolerance > 0.0 &&
+               relativeDecrease < settings.objectiveTolerance) {
       result.status = FitStatus::Converged;
       result.reason = "the objective decreased by less than the objective tolerance";
       stopped = true;
@@ -348,106 +425,13 @@ typename FitTypes<Spline>::Result runFitPhase(const Spline& initial,
   }
   if (!stopped) {
     result.status = FitStatus::IterationCap;
-    std::ostringstream reason;
-    reason << "reached the iteration cap of " << options.maxIterations << " while still improving";
-    result.reason = reason.str();
+    result.reason = "reached the iteration cap of " + std::to_string(settings.maxIterations) +
+                    " while the " + settings.splineName +
+                    " was still moving (last move across the target " + number(lastMove) +
+                    ", tolerance " + number(moveTolerance(rmsOf(error), error.count)) + ")";
   }
-  if (options.progress) options.progress("fit", 1.0);
-  return result;
-}
-
-}  // namespace
-
-CurveFitResult runFitLoop(const BSplineCurve& initial, const CurveFitOptions& options,
-                          FitProblem& problem) {
-  validateFitOptions(options);
-  requireNonDegenerate(initial, "the initial curve");
-  if (options.smoothness >= 0.0 || !initial.isClosed()) {
-    return runFitPhase(initial, options, std::max(0.0, options.smoothness), problem);
-  }
-  // Automatic bending weight of a closed curve: converge (or stall) with kAutoClosedSmoothness,
-  // which fixes the parametrisation and makes SDM converge fast, then refine with a thousandth of
-  // it, which removes most of its bias (it grows with the curve's waviness) at the cost of a slower
-  // tail.
-  CurveFitOptions coarseOptions = options;
-  // The first phase only has to get near its (biased) optimum: the refinement moves on from it.
-  coarseOptions.objectiveTolerance =
-      std::max(options.objectiveTolerance, kCoarseObjectiveTolerance);
-  coarseOptions.progress = progressPart(options.progress, 0.0);
-  CurveFitResult result = runFitPhase(initial, coarseOptions, kAutoClosedSmoothness, problem);
-  const int remaining = options.maxIterations - result.iterations();
-  const bool reachedTolerance = options.distanceTolerance > 0.0 &&
-                                result.history.back().rmsDistance <= options.distanceTolerance;
-  if (result.status == FitStatus::IterationCap || reachedTolerance || remaining <= 0) {
-    if (options.progress) options.progress("fit", 1.0);
-    return result;
-  }
-  CurveFitOptions refineOptions = options;
-  refineOptions.maxIterations = remaining;
-  // What is left to gain is mostly the curve sliding along itself, which a weak bending term
-  // pulls on only slowly: stop once the objective barely moves.
-  refineOptions.objectiveTolerance =
-      std::max(options.objectiveTolerance, kRefineObjectiveTolerance);
-  refineOptions.progress = progressPart(options.progress, 0.5);
-  CurveFitResult refined =
-      runFitPhase(result.curve, refineOptions, kAutoRefinedSmoothness, problem);
-  const int offset = result.iterations();
-  for (std::size_t row = 1; row < refined.history.size(); ++row) {
-    FitIteration iteration = refined.history[row];
-    iteration.iteration += offset;
-    result.history.push_back(iteration);
-  }
-  for (std::size_t i = 1; i < refined.iterates.size(); ++i) {
-    result.iterates.push_back(std::move(refined.iterates[i]));
-  }
-  result.curve = std::move(refined.curve);
-  result.status = refined.status;
-  result.reason = refined.reason;
-  return result;
-}
-
-SurfaceFitResult runFitLoop(const BSplineSurface& initial, const SurfaceFitOptions& options,
-                            SurfaceFitProblem& problem) {
-  validateFitOptions(options);
-  requireNonDegenerate(initial, "the initial surface");
-  if (options.smoothness >= 0.0) {
-    return runFitPhase(initial, options, options.smoothness, problem);
-  }
-  // Automatic: converge roughly with the thin-plate weight kAutoSurfaceSmoothness, which fixes the
-  // parametrisation (the tangential freedom of the sensors), then continue without smoothing, the
-  // steps damped by the thin-plate energy of the displacement only: that damping vanishes at a
-  // fixed point, so the result is not biased by the smoothing.
-  SurfaceFitOptions coarseOptions = options;
-  coarseOptions.objectiveTolerance =
-      std::max(options.objectiveTolerance, kSurfaceCoarseObjectiveTolerance);
-  coarseOptions.progress = progressPart(options.progress, 0.0);
-  SurfaceFitResult result = runFitPhase(initial, coarseOptions, kAutoSurfaceSmoothness, problem);
-  const int remaining = options.maxIterations - result.iterations();
-  const bool reachedTolerance = options.distanceTolerance > 0.0 &&
-                                result.history.back().rmsDistance <= options.distanceTolerance;
-  if (result.status == FitStatus::IterationCap || reachedTolerance || remaining <= 0) {
-    if (options.progress) options.progress("fit", 1.0);
-    return result;
-  }
-  SurfaceFitOptions refineOptions = options;
-  refineOptions.maxIterations = remaining;
-  if (!(refineOptions.stepSmoothness > 0.0)) {
-    refineOptions.stepSmoothness = kSurfaceRefineStepSmoothness;
-  }
-  refineOptions.progress = progressPart(options.progress, 0.5);
-  SurfaceFitResult refined = runFitPhase(result.surface, refineOptions, 0.0, problem);
-  const int offset = result.iterations();
-  for (std::size_t row = 1; row < refined.history.size(); ++row) {
-    FitIteration iteration = refined.history[row];
-    iteration.iteration += offset;
-    result.history.push_back(iteration);
-  }
-  for (std::size_t i = 1; i < refined.iterates.size(); ++i) {
-    result.iterates.push_back(std::move(refined.iterates[i]));
-  }
-  result.surface = std::move(refined.surface);
-  result.status = refined.status;
-  result.reason = refined.reason;
+  result.controlPoints = std::move(points);
+  if (settings.progress) settings.progress("fit", 1.0);
   return result;
 }
 

@@ -1,0 +1,28 @@
+// Internal: the surface fitters' side of the shared fit loop (detail/FitLoop.h): option checks,
+// the loop settings of a surface (its thin-plate and membrane matrices) and the surface result.
+#pragma once
+
+#include "d2vdb/fit/SurfaceFit.h"
+#include "d2vdb/fit/detail/FitLoop.h"
+#include "d2vdb/spline/BSplineSurface.h"
+
+namespace d2vdb::detail {
+
+/// Throws InputError when the options are out of range (negative weights, no iterations, ...).
+void validateFitOptions(const SurfaceFitOptions& options);
+
+/// Throws InputError when all control points of `surface` coincide (to 1e-12 of their magnitude).
+void requireNonDegenerate(const BSplineSurface& surface, const char* what);
+
+/// The loop settings for fitting `initial` with `options`: the thin-plate matrix as the bending
+/// term (none for degree (1, 1), which has no thin-plate energy of its own but the twist), the
+/// membrane term, the step regulariser (thin-plate, or membrane for degree (1, 1)),
+/// Levenberg-Marquardt for TDM, tolerances and the progress callback.
+FitLoopSettings surfaceLoopSettings(const BSplineSurface& initial,
+                                    const SurfaceFitOptions& options);
+
+/// Validates the options and the initial surface, runs the loop and returns the surface result.
+SurfaceFitResult runSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options,
+                               FitProblem& problem);
+
+}  // namespace d2vdb::detail
