@@ -131,12 +131,12 @@ void checkClean(const CurveCase& c, int iterationLimit) {
   EXPECT_LE(clean.rms, 1.02 * tighter.rms) << c.name;
 }
 
-/// The noisy, thick and non-uniform samplings, three random clouds each: every fit converges
+/// The noisy, thick or non-uniform sampling, three random clouds: every fit converges
 /// within `iterationLimit`, without folding or chasing the noise, and the RMS distance to the
 /// clean curve over the three clouds is within 1.1 sqrt(noiseFactor f_noise^2 + f_approx^2).
-void checkNoisy(const CurveCase& c, int iterationLimit = kIterationGoal) {
+void checkNoisy(const CurveCase& c, Sampling sampling, int iterationLimit = kIterationGoal) {
   const double fApprox = approximationError(c);
-  for (const Sampling sampling : {Sampling::Noisy, Sampling::Thick, Sampling::NonUniform}) {
+  {
     double sumSquares = 0.0;
     double bound = 0.0;
     for (const unsigned seed : kSeeds) {
@@ -169,27 +169,52 @@ void checkNoisy(const CurveCase& c, int iterationLimit = kIterationGoal) {
   }
 }
 
-TEST(SdmConvergence, ClosedPlanarCurveNoisyThickNonUniform) {
-  checkNoisy(closedPlanar());
+// One test per curve and sampling (each a few fits of 3000 points).
+TEST(SdmConvergence, ClosedPlanarCurveNoisy) {
+  checkNoisy(closedPlanar(), Sampling::Noisy);
+}
+TEST(SdmConvergence, ClosedPlanarCurveThick) {
+  checkNoisy(closedPlanar(), Sampling::Thick);
+}
+TEST(SdmConvergence, ClosedPlanarCurveNonUniform) {
+  checkNoisy(closedPlanar(), Sampling::NonUniform);
 }
 TEST(SdmConvergence, ClosedPlanarCurveClean) {
   checkClean(closedPlanar(), kIterationGoal);
 }
-TEST(SdmConvergence, OpenPlanarCurveNoisyThickNonUniform) {
-  checkNoisy(openPlanar());
+TEST(SdmConvergence, OpenPlanarCurveNoisy) {
+  checkNoisy(openPlanar(), Sampling::Noisy);
+}
+TEST(SdmConvergence, OpenPlanarCurveThick) {
+  checkNoisy(openPlanar(), Sampling::Thick);
+}
+TEST(SdmConvergence, OpenPlanarCurveNonUniform) {
+  checkNoisy(openPlanar(), Sampling::NonUniform);
 }
 // The wavy space loop with 16 control points is as much approximation- as noise-limited: after the
 // first iterations Newton's steps follow a long curved valley (the control points sliding along
 // the curve while it fits the noise), and some clouds need more than the 30-iteration goal (27 to
 // 33 for non-uniform clouds, up to 43 with 2000 points).
-TEST(SdmConvergence, ClosedSpaceCurveNoisyThickNonUniform) {
-  checkNoisy(closedSpace(), 45);
+TEST(SdmConvergence, ClosedSpaceCurveNoisy) {
+  checkNoisy(closedSpace(), Sampling::Noisy, 45);
+}
+TEST(SdmConvergence, ClosedSpaceCurveThick) {
+  checkNoisy(closedSpace(), Sampling::Thick, 45);
+}
+TEST(SdmConvergence, ClosedSpaceCurveNonUniform) {
+  checkNoisy(closedSpace(), Sampling::NonUniform, 45);
 }
 TEST(SdmConvergence, ClosedSpaceCurveClean) {
   checkClean(closedSpace(), kIterationGoal);
 }
-TEST(SdmConvergence, OpenSpaceCurveNoisyThickNonUniform) {
-  checkNoisy(openSpace());
+TEST(SdmConvergence, OpenSpaceCurveNoisy) {
+  checkNoisy(openSpace(), Sampling::Noisy);
+}
+TEST(SdmConvergence, OpenSpaceCurveThick) {
+  checkNoisy(openSpace(), Sampling::Thick);
+}
+TEST(SdmConvergence, OpenSpaceCurveNonUniform) {
+  checkNoisy(openSpace(), Sampling::NonUniform);
 }
 
 // Clean dense samples of an open curve with few control points: the least-squares optimum lies
