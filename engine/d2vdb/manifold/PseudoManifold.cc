@@ -1,0 +1,677 @@
+#include "d2vdb/manifold/PseudoManifold.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/manifold/BumpFunction.h"
+#include "d2vdb/manifold/detail/ChartMath.h"
+#include "d2vdb/manifold/detail/Jet.h"
+#include "d2vdb/spline/Bernstein.h"
+
+namespace d2vdb {
+
+using detail::Jet;
+using detail::Jet3;
+using detail::kCos30;
+using detail::PolarMap;
+using Index = HalfEdgeMesh::Index;
+
+namespace {
+
+constexpr int kMaxBidegree = 12;
+
+/// Bernstein basis values of degree d at s with first and second derivatives (d >= 2).
+void bernsteinBasis(int d, double s, double* basis, double* first, double* second) {
+  double work[kMaxBidegree + 1];
+  double degreeMinus1[kMaxBidegree + 1];
+  double degreeMinus2[kMaxBidegree + 1];
+  const double r = 1.0 - s;
+  work[0] = 1.0;
+  for (int m = 1; m <= d; ++m) {
+    if (m == d - 1) std::copy(work, work + m, degreeMinus2);
+    if (m == d) std::copy(work, work + m, degreeMinus1);
+    work[m] = s * work[m - 1];
+    for (int i = m - 1; i > 0; --i) work[i] = r * work[i] + s * work[i - 1];
+    work[0] = r * work[0];
+  }
+  std::copy(work, work + d + 1, basis);
+  if (first != nullptr) {
+    for (int i = 0; i <= d; ++i) {
+      const double left = i > 0 ? degreeMinus1[i - 1] : 0.0;
+      const double right = i < d ? degreeMinus1[i] : 0.0;
+      first[i] = d * (left - right);
+    }
+  }
+  if (second != nullptr) {
+    for (int i = 0; i <= d; ++i) {
+      const double a = i >= 2 ? degreeMinus2[i - 2] : 0.0;
+      const double b = (i >= 1 && i - 1 <= d - 2) ? degreeMinus2[i - 1] : 0.0;
+      const double c = i <= d - 2 ? degreeMinus2[i] : 0.0;
+      second[i] = d * (d - 1) * (a - 2.0 * b + c);
+    }
+  }
+}
+
+/// Chart point jets from canonical point jets, with the exact linear map at the centre of a
+/// degree-6 chart (where the polar form has no derivative but the map is a rotation).
+template <int Order>
+bool chartJets(const PolarMap& map, int degree, const Jet<Order>& zx, const Jet<Order>& zy, int k,
+               Jet<Order>& px, Jet<Order>& py) {
+  if constexpr (Order > 0) {
+    if (zx.v == 0.0 && zy.v == 0.0) {
+      if (degree != 6) return false;
+      const double angle = map.sector * k;
+      const double c = map.radiusScale * std::cos(angle);
+      const double s = map.radiusScale * std::sin(angle);
+      px = c * zx - s * zy;
+      py = s * zx + c * zy;
+      return true;
+    }
+  }
+  map.toChart(zx, zy, k, px, py);
+  return true;
+}
+
+/// The canonical point of corner `corner` from barycentric jets.
+template <int Order>
+void canonicalJets(const Jet<Order> bary[3], int corner, Jet<Order>& zx, Jet<Order>& zy) {
+  const Jet<Order>& next = bary[(corner + 1) % 3];
+  const Jet<Order>& after = bary[(corner + 2) % 3];
+  zx = next + 0.5 * after;
+  zy = kCos30 * after;
+}
+
+Eigen::Vector3d toVector(const double* xyz) { return {xyz[0], xyz[1], xyz[2]}; }
+
+}  // namespace
+
+SurfacePoint surfaceGeometry(const SurfaceDerivatives& x) {
+  SurfacePoint result;
+  result.position = x.position;
+  const Eigen::Vector3d cross = x.d[0].cross(x.d[1]);
+  const Eigen::Vector3d n = cross.normalized();
+  result.normal = n;
+  // Orthonormal tangent frame t1 = X_s / |X_s|, t2 = n x t1; C = [t1 t2]^T [X_s X_t] (upper
+  // triangular); second fundamental form in the frame: C^-T II C^-1.
+  const Eigen::Vector3d t1 = x.d[0].normalized();
+  const Eigen::Vector3d t2 = n.cross(t1);
+  const double c00 = x.d[0].norm();
+  const double c01 = t1.dot(x.d[1]);
+  const double c11 = t2.dot(x.d[1]);
+  const double e = x.dd[0].dot(n);
+  const double f = x.dd[1].dot(n);
+  const double g = x.dd[2].dot(n);
+  // M = C^-1 = [[1/c00, -c01/(c00 c11)], [0, 1/c11]]; II_o = M^T II M.
+  const double m00 = 1.0 / c00;
+  const double m01 = -c01 / (c00 * c11);
+  const double m11 = 1.0 / c11;
+  const double a = m00 * m00 * e;
+  const double b = m00 * (m01 * e + m11 * f);
+  const double c = m01 * m01 * e + 2.0 * m01 * m11 * f + m11 * m11 * g;
+  // Curvatures with the sign convention k > 0 where the surface bends away from n: S = -II_o.
+  const double sa = -a;
+  const double sb = -b;
+  const double sc = -c;
+  const double mean = 0.5 * (sa + sc);
+  const double radius = std::hypot(0.5 * (sa - sc), sb);
+  result.k1 = mean + radius;
+  result.k2 = mean - radius;
+  const double angle = 0.5 * std::atan2(2.0 * sb, sa - sc);
+  result.e1 = (std::cos(angle) * t1 + std::sin(angle) * t2).normalized();
+  result.e2 = n.cross(result.e1);
+  return result;
+}
+
+// ------------------------------------------------------------------------------------------------
+
+struct PseudoManifold::DegreeFit {
+  int degree = 0;
+  int bidegree = 0;
+  PolarMap map;
+  std::vector<Eigen::Vector2d> canonical;  ///< per sample, in its sector's corner frame
+  std::vector<int> sectorStart;            ///< samples of sector k: [sectorStart[k], [k + 1])
+  Eigen::MatrixXd pseudoInverse;           ///< (bidegree + 1)^2 x samples
+  double condition = 0.0;
+
+  DegreeFit(int n, int d, int samplesPerControl) : degree(n), bidegree(d), map(n) {
+    const double radius = map.chartRadius;
+    const int grid = samplesPerControl * (d + 1);
+    struct Sample {
+      int sector;
+      Eigen::Vector2d p;
+      Eigen::Vector2d z;
+    };
+    std::vector<Sample> samples;
+    for (int i = 0; i < grid; ++i) {
+      for (int j = 0; j < grid; ++j) {
+        const Eigen::Vector2d p(-radius + (i + 0.5) * 2.0 * radius / grid,
+                                -radius + (j + 0.5) * 2.0 * radius / grid);
+        if (p.norm() >= radius) continue;
+        int k = 0;
+        const Eigen::Vector2d z = map.toCanonical(p, n, k);
+        samples.push_back({k, p, z});
+      }
+    }
+    std::stable_sort(samples.begin(), samples.end(),
+                     [](const Sample& x, const Sample& y) { return x.sector < y.sector; });
+    sectorStart.assign(n + 1, 0);
+    for (const Sample& s : samples) ++sectorStart[s.sector + 1];
+    for (int k = 0; k < n; ++k) sectorStart[k + 1] += sectorStart[k];
+    const int count = static_cast<int>(samples.size());
+    const int unknowns = (d + 1) * (d + 1);
+    Eigen::MatrixXd design(count, unknowns);
+    for (int s = 0; s < count; ++s) {
+      canonical.push_back(samples[s].z);
+      const BernsteinBasisValues bx =
+          bernsteinBasisValues(d, (samples[s].p.x() + radius) / (2.0 * radius));
+      const BernsteinBasisValues by =
+          bernsteinBasisValues(d, (samples[s].p.y() + radius) / (2.0 * radius));
+      for (int j = 0; j <= d; ++j) {
+        for (int k = 0; k <= d; ++k) design(s, j * (d + 1) + k) = bx[j] * by[k];
+      }
+    }
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(design);
+    const Eigen::MatrixXd r =
+        qr.matrixQR().topLeftCorner(unknowns, unknowns).triangularView<Eigen::Upper>();
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(count, unknowns);
+    pseudoInverse =
+        r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd(q.transpose()));
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(design);
+    const auto& sv = svd.singularValues();
+    condition = sv[0] / sv[sv.size() - 1];
+  }
+};
+
+// ------------------------------------------------------------------------------------------------
+
+/// Evaluation with derivatives of order `Order` (0, 1 or 2) with respect to two parameters.
+template <int Order>
+struct PseudoManifold::Evaluator {
+  const PseudoManifold& pps;
+
+  /// psi_v composed with chart point jets (px, py).
+  Jet3<Order> shape(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+    const int d = pps.bidegree(vertex);
+    const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
+    const double* controls = pps.controls_.data() + pps.controlOffset_[vertex];
+    const double inv = 0.5 / radius;
+    double bx[kMaxBidegree + 1], dbx[kMaxBidegree + 1], ddbx[kMaxBidegree + 1];
+    double by[kMaxBidegree + 1], dby[kMaxBidegree + 1], ddby[kMaxBidegree + 1];
+    bernsteinBasis(d, (px.v + radius) * inv, bx, Order >= 1 ? dbx : nullptr,
+                   Order >= 2 ? ddbx : nullptr);
+    bernsteinBasis(d, (py.v + radius) * inv, by, Order >= 1 ? dby : nullptr,
+                   Order >= 2 ? ddby : nullptr);
+    double value[3] = {0, 0, 0}, gx[3] = {0, 0, 0}, gy[3] = {0, 0, 0};
+    double hxx[3] = {0, 0, 0}, hxy[3] = {0, 0, 0}, hyy[3] = {0, 0, 0};
+    for (int j = 0; j <= d; ++j) {
+      double r0[3] = {0, 0, 0}, r1[3] = {0, 0, 0}, r2[3] = {0, 0, 0};
+      const double* row = controls + 3 * j * (d + 1);
+      for (int k = 0; k <= d; ++k) {
+        for (int c = 0; c < 3; ++c) {
+          const double b = row[3 * k + c];
+          r0[c] += b * by[k];
+          if constexpr (Order >= 1) r1[c] += b * dby[k];
+          if constexpr (Order >= 2) r2[c] += b * ddby[k];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        value[c] += bx[j] * r0[c];
+        if constexpr (Order >= 1) {
+          gx[c] += dbx[j] * r0[c];
+          gy[c] += bx[j] * r1[c];
+        }
+        if constexpr (Order >= 2) {
+          hxx[c] += ddbx[j] * r0[c];
+          hxy[c] += dbx[j] * r1[c];
+          hyy[c] += bx[j] * r2[c];
+        }
+      }
+    }
+    Jet3<Order> out;
+    out.v = toVector(value);
+    if constexpr (Order >= 1) {
+      const Eigen::Vector3d psiX = inv * toVector(gx);
+      const Eigen::Vector3d psiY = inv * toVector(gy);
+      for (int a = 0; a < 2; ++a) out.d[a] = psiX * px.d[a] + psiY * py.d[a];
+      if constexpr (Order >= 2) {
+        const double inv2 = inv * inv;
+        const Eigen::Vector3d psiXX = inv2 * toVector(hxx);
+        const Eigen::Vector3d psiXY = inv2 * toVector(hxy);
+        const Eigen::Vector3d psiYY = inv2 * toVector(hyy);
+        const int pairs[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+        for (int m = 0; m < 3; ++m) {
+          const int a = pairs[m][0];
+          const int b = pairs[m][1];
+          out.h[m] = psiXX * (px.d[a] * px.d[b]) +
+                     psiXY * (px.d[a] * py.d[b] + py.d[a] * px.d[b]) +
+                     psiYY * (py.d[a] * py.d[b]) + psiX * px.h[m] + psiY * py.h[m];
+        }
+      }
+    }
+    return out;
+  }
+
+  /// gamma_v composed with chart point jets.
+  Jet<Order> weight(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+    const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
+    const double rr = px.v * px.v + py.v * py.v;
+    if (rr <= (kBumpInner * radius) * (kBumpInner * radius)) return Jet<Order>::constant(1.0);
+    const Jet<Order> t = (1.0 / radius) * sqrt(px * px + py * py);
+    const BumpValue xi = chartBump(t.v);
+    return t.apply(xi.value, xi.first, xi.second);
+  }
+
+  /// The blended surface over the given chart point jets of the active corners.
+  Jet3<Order> blend(const Index vertices[3], const Jet<Order> px[3], const Jet<Order> py[3],
+                    const bool active[3]) const {
+    Jet3<Order> numerator;
+    Jet<Order> denominator;
+    for (int i = 0; i < 3; ++i) {
+      if (!active[i]) continue;
+      const Jet<Order> w = weight(vertices[i], px[i], py[i]);
+      if (w.v == 0.0) continue;  // beyond the cut-off: no contribution, no derivatives
+      denominator = denominator + w;
+      detail::addProduct(numerator, w, shape(vertices[i], px[i], py[i]));
+    }
+    return detail::divide(numerator, denominator);
+  }
+
+  /// Derivatives with respect to the face's (b1, b2). False at a corner of degree != 6.
+  bool face(const FacePoint& point, Jet3<Order>& out) const {
+    const HalfEdgeMesh& mesh = *pps.mesh_;
+    Jet<Order> bary[3];
+    bary[1] = Jet<Order>::variable(point.bary[1], 0);
+    bary[2] = Jet<Order>::variable(point.bary[2], 1);
+    bary[0] = Jet<Order>::constant(1.0) - bary[1] - bary[2];
+    bary[0].v = point.bary[0];
+    Index vertices[3];
+    Jet<Order> px[3], py[3];
+    bool active[3];
+    for (int i = 0; i < 3; ++i) {
+      const Index halfEdge = 3 * point.face + static_cast<Index>(i);
+      vertices[i] = mesh.from(halfEdge);
+      active[i] = ChartAtlas::inChart(point.bary, i);
+      if (!active[i]) continue;
+      const int n = mesh.degree(vertices[i]);
+      Jet<Order> zx, zy;
+      canonicalJets(bary, i, zx, zy);
+      if (!chartJets(pps.fitFor(n).map, n, zx, zy, mesh.ringIndex(halfEdge), px[i], py[i])) {
+        return false;
+      }
+    }
+    out = blend(vertices, px, py, active);
+    return true;
+  }
+
+  /// Derivatives with respect to the chart coordinates of corner `centre` (the point must lie in
+  /// that chart).
+  Jet3<Order> chart(const FacePoint& point, int centre) const {
+    const HalfEdgeMesh& mesh = *pps.mesh_;
+    Index vertices[3];
+    Jet<Order> px[3], py[3];
+    bool active[3];
+    const Index centreHalfEdge = 3 * point.face + static_cast<Index>(centre);
+    vertices[centre] = mesh.from(centreHalfEdge);
+    const int nc = mesh.degree(vertices[centre]);
+    const PolarMap& centreMap = pps.fitFor(nc).map;
+    const int kc = mesh.ringIndex(centreHalfEdge);
+    const Eigen::Vector2d p =
+        centreMap.toChart(detail::canonicalPoint(point.bary, centre), kc);
+    px[centre] = Jet<Order>::variable(p.x(), 0);
+    py[centre] = Jet<Order>::variable(p.y(), 1);
+    active[centre] = true;
+    bool haveBary = false;
+    Jet<Order> bary[3];
+    for (int i = 0; i < 3; ++i) {
+      if (i == centre) continue;
+      const Index halfEdge = 3 * point.face + static_cast<Index>(i);
+      vertices[i] = mesh.from(halfEdge);
+      active[i] = ChartAtlas::inChart(point.bary, i);
+      if (!active[i]) continue;
+      if (!haveBary) {
+        // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
+        // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
+        Jet<Order> zx, zy;
+        centreMap.toCanonical(px[centre], py[centre], kc, zx, zy);
+        const Jet<Order> after = (1.0 / kCos30) * zy;
+        const Jet<Order> next = zx - 0.5 * after;
+        bary[(centre + 1) % 3] = next;
+        bary[(centre + 2) % 3] = after;
+        bary[centre] = Jet<Order>::constant(1.0) - next - after;
+        haveBary = true;
+      }
+      const int n = mesh.degree(vertices[i]);
+      Jet<Order> zx, zy;
+      canonicalJets(bary, i, zx, zy);
+      pps.fitFor(n).map.toChart(zx, zy, mesh.ringIndex(halfEdge), px[i], py[i]);
+    }
+    return blend(vertices, px, py, active);
+  }
+};
+
+// ------------------------------------------------------------------------------------------------
+
+PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifoldOptions& options,
+                               const ProgressCallback& progress)
+    : mesh_(source.sharedMesh()), atlas_(*mesh_), options_(options), sourceName_(source.name()) {
+  if (options.maxBidegree < 2 || options.maxBidegree > kMaxBidegree) {
+    throw InputError("the shape functions' bidegree cap must lie in 2.." +
+                     std::to_string(kMaxBidegree) + ", not " +
+                     std::to_string(options.maxBidegree));
+  }
+  if (options.samplesPerControl < 2 || options.samplesPerControl > 8) {
+    throw InputError("the fitting grid needs 2..8 samples per control point, not " +
+                     std::to_string(options.samplesPerControl));
+  }
+  const HalfEdgeMesh& mesh = *mesh_;
+  const std::size_t vertexCount = mesh.vertexCount();
+  // One least-squares factorisation per degree present.
+  fits_.resize(static_cast<std::size_t>(mesh.maxDegree()) + 1);
+  std::vector<int> degrees;
+  for (Index v = 0; v < vertexCount; ++v) {
+    const int n = mesh.degree(v);
+    if (n > 0 && !fits_[n]) {
+      fits_[n] = std::make_unique<DegreeFit>(n, std::min(n + 1, options.maxBidegree),
+                                             options.samplesPerControl);
+      degrees.push_back(n);
+    }
+  }
+  controlOffset_.assign(vertexCount + 1, 0);
+  for (Index v = 0; v < vertexCount; ++v) {
+    const int n = mesh.degree(v);
+    const std::size_t count =
+        n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * (fits_[n]->bidegree + 1)) : 0;
+    controlOffset_[v + 1] = controlOffset_[v] + 3 * count;
+  }
+  controls_.assign(controlOffset_[vertexCount], 0.0);
+
+  // Fit every chart: samples of the source through the chart's polar map, then one product with
+  // the degree's pseudo-inverse. Blocks in sequence (for progress), vertices of a block in
+  // parallel; each vertex writes only its own control points.
+  const std::size_t blocks = std::max<std::size_t>(1, std::min<std::size_t>(100, vertexCount / 256));
+  for (std::size_t block = 0; block < blocks; ++block) {
+    const std::size_t begin = vertexCount * block / blocks;
+    const std::size_t end = vertexCount * (block + 1) / blocks;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+      Eigen::MatrixX3d samples;
+      Eigen::MatrixX3d fitted;
+      std::vector<Eigen::Vector3d> bary;
+      std::vector<Eigen::Vector3d> positions;
+      for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        const auto vertex = static_cast<Index>(v);
+        const int n = mesh.degree(vertex);
+        if (n == 0) continue;
+        const DegreeFit& fit = *fits_[n];
+        const int count = static_cast<int>(fit.canonical.size());
+        samples.resize(count, 3);
+        const Eigen::Vector3d centre = mesh.position(vertex);
+        for (int k = 0; k < n; ++k) {
+          const int first = fit.sectorStart[k];
+          const int last = fit.sectorStart[k + 1];
+          if (first == last) continue;
+          const Index halfEdge = mesh.ring(vertex, k);
+          const int corner = static_cast<int>(halfEdge % 3);
+          bary.resize(static_cast<std::size_t>(last - first));
+          positions.resize(bary.size());
+          for (int s = first; s < last; ++s) {
+            const Eigen::Vector3d local = detail::cornerBary(fit.canonical[s]);
+            Eigen::Vector3d& b = bary[static_cast<std::size_t>(s - first)];
+            b[corner] = local[0];
+            b[(corner + 1) % 3] = local[1];
+            b[(corner + 2) % 3] = local[2];
+          }
+          source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(),
+                           positions.data());
+          for (int s = first; s < last; ++s) {
+            samples.row(s) = (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
+          }
+        }
+        // Fitting offsets from the vertex keeps round-off relative to the chart's size (the
+        // fit reproduces constants, so the offset comes back exactly).
+        fitted.noalias() = fit.pseudoInverse * samples;
+        double* out = controls_.data() + controlOffset_[v];
+        for (int c = 0; c < fitted.rows(); ++c) {
+          for (int axis = 0; axis < 3; ++axis) out[3 * c + axis] = fitted(c, axis) + centre[axis];
+        }
+      }
+    });
+    if (progress) progress("fitting charts", static_cast<double>(block + 1) / blocks);
+  }
+}
+
+PseudoManifold::~PseudoManifold() = default;
+PseudoManifold::PseudoManifold(PseudoManifold&&) noexcept = default;
+PseudoManifold& PseudoManifold::operator=(PseudoManifold&&) noexcept = default;
+
+const PseudoManifold::DegreeFit& PseudoManifold::fitFor(int degree) const { return *fits_[degree]; }
+
+int PseudoManifold::bidegree(Index vertex) const {
+  const int n = mesh_->degree(vertex);
+  return n > 0 ? fits_[n]->bidegree : 0;
+}
+
+std::vector<Eigen::Vector3d> PseudoManifold::controlPoints(Index vertex) const {
+  std::vector<Eigen::Vector3d> points;
+  for (std::size_t i = controlOffset_[vertex]; i < controlOffset_[vertex + 1]; i += 3) {
+    points.push_back(toVector(controls_.data() + i));
+  }
+  return points;
+}
+
+double PseudoManifold::fitConditionNumber(int degree) const {
+  if (degree < 0 || degree >= static_cast<int>(fits_.size()) || !fits_[degree]) return 0.0;
+  return fits_[degree]->condition;
+}
+
+int PseudoManifold::fitSampleCount(int degree) const {
+  if (degree < 0 || degree >= static_cast<int>(fits_.size()) || !fits_[degree]) return 0;
+  return static_cast<int>(fits_[degree]->canonical.size());
+}
+
+Eigen::Vector3d PseudoManifold::shapeFunction(const ChartPoint& point) const {
+  if (point.vertex >= mesh_->vertexCount() || mesh_->degree(point.vertex) == 0) {
+    throw InputError("vertex " + std::to_string(point.vertex) + " has no chart");
+  }
+  const Evaluator<0> evaluator{*this};
+  return evaluator
+      .shape(point.vertex, Jet<0>::constant(point.p.x()), Jet<0>::constant(point.p.y()))
+      .v;
+}
+
+double PseudoManifold::weight(const ChartPoint& point) const {
+  if (point.vertex >= mesh_->vertexCount() || mesh_->degree(point.vertex) == 0) {
+    throw InputError("vertex " + std::to_string(point.vertex) + " has no chart");
+  }
+  const double radius = fitFor(mesh_->degree(point.vertex)).map.chartRadius;
+  return chartBump(point.p.norm() / radius).value;
+}
+
+Eigen::Vector3d PseudoManifold::position(const FacePoint& point) const {
+  const Evaluator<0> evaluator{*this};
+  Jet3<0> jet;
+  evaluator.face(point, jet);
+  return jet.v;
+}
+
+namespace {
+
+/// The corner with the largest barycentric coordinate (the lowest such index on ties).
+int nearestCorner(const Eigen::Vector3d& bary) {
+  int best = 0;
+  for (int i = 1; i < 3; ++i) {
+    if (bary[i] > bary[best]) best = i;
+  }
+  return best;
+}
+
+template <int Order>
+SurfaceDerivatives toDerivatives(const Jet3<Order>& jet) {
+  SurfaceDerivatives out;
+  out.position = jet.v;
+  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
+  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
+  return out;
+}
+
+}  // namespace
+
+SurfacePoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivatives) const {
+  if (point.face >= mesh_->faceCount()) {
+    throw InputError("face " + std::to_string(point.face) + " does not exist (the mesh has " +
+                     std::to_string(mesh_->faceCount()) + " faces)");
+  }
+  SurfacePoint result;
+  const int centre = nearestCorner(point.bary);
+  switch (derivatives) {
+    case Derivatives::None:
+      result.position = position(point);
+      return result;
+    case Derivatives::First: {
+      const Evaluator<1> evaluator{*this};
+      Jet3<1> jet;
+      // The face parametrisation is smooth away from the corners; at a corner use its chart.
+      if (detail::canonicalPoint(point.bary, centre).squaredNorm() < 1e-12 ||
+          !evaluator.face(point, jet)) {
+        jet = evaluator.chart(point, centre);
+      }
+      result.position = jet.v;
+      result.normal = jet.d[0].cross(jet.d[1]).normalized();
+      return result;
+    }
+    case Derivatives::Second:
+    default: {
+      const Evaluator<2> evaluator{*this};
+      return surfaceGeometry(toDerivatives(evaluator.chart(point, centre)));
+    }
+  }
+}
+
+std::vector<SurfacePoint> PseudoManifold::evaluate(const std::vector<FacePoint>& points,
+                                                   Derivatives derivatives) const {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].face >= mesh_->faceCount()) {
+      throw InputError("point " + std::to_string(i) + ": face " +
+                       std::to_string(points[i].face) + " does not exist (the mesh has " +
+                       std::to_string(mesh_->faceCount()) + " faces)");
+    }
+  }
+  std::vector<SurfacePoint> results(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        results[i] = evaluate(points[i], derivatives);
+                      }
+                    });
+  return results;
+}
+
+std::optional<SurfaceDerivatives> PseudoManifold::faceDerivatives(const FacePoint& point) const {
+  if (point.face >= mesh_->faceCount()) {
+    throw InputError("face " + std::to_string(point.face) + " does not exist");
+  }
+  const Evaluator<2> evaluator{*this};
+  Jet3<2> jet;
+  if (!evaluator.face(point, jet)) return std::nullopt;
+  return toDerivatives(jet);
+}
+
+SurfaceDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int corner) const {
+  if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
+    throw InputError("no such face or corner");
+  }
+  if (!ChartAtlas::inChart(point.bary, corner)) {
+    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
+  }
+  const Evaluator<2> evaluator{*this};
+  return toDerivatives(evaluator.chart(point, corner));
+}
+
+PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
+                                                   const FacePoint& start) const {
+  if (!x.allFinite()) throw InputError("cannot project a non-finite point");
+  if (start.face >= mesh_->faceCount()) {
+    throw InputError("face " + std::to_string(start.face) + " does not exist");
+  }
+  const Evaluator<2> evaluator{*this};
+  Projection result;
+  FacePoint current = start;
+  constexpr int kMaxIterations = 60;
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    result.iterations = iteration + 1;
+    const int centre = nearestCorner(current.bary);
+    const ChartPoint chartPoint = atlas_.toChart(current, centre);
+    const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
+    const Jet3<2> jet = evaluator.chart(current, centre);
+    const Eigen::Vector3d residual = jet.v - x;
+    const double value = 0.5 * residual.squaredNorm();
+    Eigen::Matrix2d jtj;
+    jtj << jet.d[0].dot(jet.d[0]), jet.d[0].dot(jet.d[1]), jet.d[0].dot(jet.d[1]),
+        jet.d[1].dot(jet.d[1]);
+    const Eigen::Vector2d gradient(jet.d[0].dot(residual), jet.d[1].dot(residual));
+    Eigen::Matrix2d hessian = jtj;
+    hessian(0, 0) += jet.h[0].dot(residual);
+    hessian(0, 1) += jet.h[1].dot(residual);
+    hessian(1, 0) += jet.h[1].dot(residual);
+    hessian(1, 1) += jet.h[2].dot(residual);
+    // Newton where the Hessian is positive definite, else Gauss-Newton (always a descent step).
+    Eigen::Vector2d step;
+    const Eigen::LLT<Eigen::Matrix2d> newton(hessian);
+    if (newton.info() == Eigen::Success) {
+      step = -newton.solve(gradient);
+    } else {
+      step = -jtj.ldlt().solve(gradient);
+    }
+    // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
+    const double maxStep = 0.5 * radius;
+    if (step.norm() > maxStep) step *= maxStep / step.norm();
+    bool accepted = false;
+    FacePoint next = current;
+    for (int halving = 0; halving < 40; ++halving) {
+      Eigen::Vector2d target = chartPoint.p + step;
+      if (target.norm() >= 0.99 * radius) target *= 0.99 * radius / target.norm();
+      next = atlas_.fromChart({chartPoint.vertex, target});
+      const double nextValue = 0.5 * (position(next) - x).squaredNorm();
+      if (nextValue <= value * (1.0 + 1e-15) + 1e-300) {
+        accepted = true;
+        break;
+      }
+      step *= 0.5;
+    }
+    const double moved = step.norm();
+    if (accepted) current = next;
+    if (!accepted || moved <= 1e-12 * radius) {
+      result.converged = accepted || moved <= 1e-12 * radius || gradient.norm() == 0.0;
+      break;
+    }
+  }
+  result.point = current;
+  result.position = position(current);
+  result.distance = (result.position - x).norm();
+  return result;
+}
+
+std::size_t PseudoManifold::memoryBytes() const {
+  std::size_t bytes = controls_.capacity() * sizeof(double) +
+                      controlOffset_.capacity() * sizeof(std::size_t);
+  for (const auto& fit : fits_) {
+    if (!fit) continue;
+    bytes += static_cast<std::size_t>(fit->pseudoInverse.size()) * sizeof(double) +
+             fit->canonical.capacity() * sizeof(Eigen::Vector2d);
+  }
+  return bytes;
+}
+
+}  // namespace d2vdb

@@ -1,0 +1,176 @@
+// A C-infinity surface from a closed triangle mesh: the parametric pseudo-manifold of Siqueira,
+// Xu, Gallier, Nonato, Morera and Velho (Computers & Graphics 33(3), 2009).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "d2vdb/core/Progress.h"
+#include "d2vdb/manifold/ChartAtlas.h"
+#include "d2vdb/manifold/HalfEdgeMesh.h"
+#include "d2vdb/manifold/SourceSurface.h"
+
+namespace d2vdb {
+
+/// Construction parameters of a PseudoManifold.
+struct PseudoManifoldOptions {
+  /// Cap of the shape functions' bidegree: a vertex of degree n gets a tensor-product Bézier
+  /// patch of bidegree min(n + 1, maxBidegree) in both directions (the reference construction
+  /// uses n + 1). Range 2..12.
+  int maxBidegree = 7;
+  /// Fitting grid density: the chart's bounding square is sampled on a cell-centred grid with
+  /// samplesPerControl * (bidegree + 1) points per side, of which those inside the chart disc
+  /// are used. Range 2..8.
+  int samplesPerControl = 2;
+};
+
+/// How much a surface evaluation computes.
+enum class Derivatives : std::uint8_t {
+  None = 0,    ///< position only
+  First = 1,   ///< position and unit normal
+  Second = 2,  ///< position, normal, principal curvatures and directions
+};
+
+/// A point of the smooth surface with its differential geometry (world units).
+/// normal: unit, outward for a counter-clockwise (seen from outside) mesh. k1 >= k2: principal
+/// curvatures (1 / world units), positive where the surface bends away from the normal (a sphere
+/// of radius R has k = 1/R); e1, e2 = normal x e1: unit principal directions. Fields beyond the
+/// requested Derivatives are left at their defaults.
+struct SurfacePoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double k1 = 0.0;
+  double k2 = 0.0;
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d e2 = Eigen::Vector3d::UnitY();
+};
+
+/// Position with first and second derivatives with respect to two parameters (s, t):
+/// d[0] = dX/ds, d[1] = dX/dt, dd[0] = d2X/ds2, dd[1] = d2X/dsdt, dd[2] = d2X/dt2.
+struct SurfaceDerivatives {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d d[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  Eigen::Vector3d dd[3] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                           Eigen::Vector3d::Zero()};
+};
+
+/// The differential geometry (normal, principal curvatures and directions) of a parametrised
+/// surface from its first and second derivatives, conventions as in SurfacePoint. The tangent
+/// vectors must be linearly independent (the result is not finite otherwise).
+SurfacePoint surfaceGeometry(const SurfaceDerivatives& derivatives);
+
+/// The parametric pseudo-manifold (PPS) of a closed mesh fitted to a source surface: a
+/// C-infinity surface that approximates the source, evaluated at (face, barycentric) points.
+///
+/// Construction (Siqueira et al. 2009): every vertex v of degree n has a chart, the open disc of
+/// radius cos(pi / n) (ChartAtlas.h), and a shape function psi_v: a tensor-product Bézier patch
+/// of bidegree d = min(n + 1, maxBidegree) over the chart's bounding square [-cos(pi/n),
+/// cos(pi/n)]^2, fitted by least squares to the source surface at the grid points of that
+/// square inside the disc. A grid point p is sent to the face point of p (ChartAtlas::fromChart),
+/// i.e. through the same polar map the evaluation uses, so every chart approximates the source at
+/// the same surface point (the reference construction maps samples affinely from the n-gon's
+/// sectors, which shifts the charts' contributions against each other for n != 6). The design
+/// matrix depends only on n, so its pseudo-inverse is computed once per degree (Householder QR,
+/// not the normal equations); each vertex then costs one matrix product.
+///
+/// Weights: gamma_v(p) = xi(|p| / cos(pi / n)) with the C-infinity cut-off xi of BumpFunction.h
+/// (1 within a quarter of the chart radius, 0 from the rim on). The surface point of a face point
+/// is sum_v gamma_v(p_v) psi_v(p_v) / sum_v gamma_v(p_v) over the face's corners v whose chart
+/// contains the point (p_v its chart point); at least one does, as the three discs cover the
+/// face. Each term is a composition of C-infinity maps in any chart's coordinates (a weight
+/// vanishes with all derivatives before its chart's rim), so the surface is C-infinity; on an edge
+/// only the edge's two charts contribute and both faces compute the same chart points, so
+/// evaluations from either side agree to round-off.
+///
+/// Differential geometry is computed in the coordinates of the chart of the face corner nearest
+/// to the point, where the parametrisation is smooth, with exact derivatives (chain rule through
+/// the polar maps, the Bézier patches and the weights). Construction and batch evaluation run in
+/// parallel (TBB) and give the same results for any thread count. Immutable; thread-safe.
+class PseudoManifold {
+ public:
+  /// Builds the PPS of `source` (which is only read during construction). Throws InputError for
+  /// options out of range. `progress` reports the fitting stage.
+  explicit PseudoManifold(const SourceSurface& source, const PseudoManifoldOptions& options = {},
+                          const ProgressCallback& progress = {});
+  ~PseudoManifold();
+  PseudoManifold(PseudoManifold&&) noexcept;
+  PseudoManifold& operator=(PseudoManifold&&) noexcept;
+
+  const HalfEdgeMesh& mesh() const { return *mesh_; }
+  const ChartAtlas& atlas() const { return atlas_; }
+  const PseudoManifoldOptions& options() const { return options_; }
+  /// Name of the source surface ("loop" or "pn").
+  const std::string& sourceName() const { return sourceName_; }
+
+  /// Bidegree of the shape function of `vertex` (0 for a vertex no face uses).
+  int bidegree(HalfEdgeMesh::Index vertex) const;
+  /// Control points b_jk (j along the chart's x, k along y) of the shape function of `vertex`,
+  /// index j * (bidegree + 1) + k.
+  std::vector<Eigen::Vector3d> controlPoints(HalfEdgeMesh::Index vertex) const;
+  /// Condition number (2-norm) of the least-squares design matrix for vertices of `degree` (0 if
+  /// no vertex has that degree).
+  double fitConditionNumber(int degree) const;
+  /// Number of fitting samples of a vertex of `degree` (0 if no vertex has that degree).
+  int fitSampleCount(int degree) const;
+
+  /// The shape function psi_v at chart point p (any p; a polynomial).
+  Eigen::Vector3d shapeFunction(const ChartPoint& point) const;
+  /// The weight gamma_v(p) of the chart of point.vertex.
+  double weight(const ChartPoint& point) const;
+
+  /// The surface point at a face point (barycentric coordinates of a point of the face).
+  Eigen::Vector3d position(const FacePoint& point) const;
+  /// The surface point with the requested differential geometry.
+  SurfacePoint evaluate(const FacePoint& point, Derivatives derivatives) const;
+  /// evaluate() for every point, in parallel; result i for points[i]. Throws InputError for a face
+  /// index out of range (the first in index order).
+  std::vector<SurfacePoint> evaluate(const std::vector<FacePoint>& points,
+                                     Derivatives derivatives) const;
+
+  /// Derivatives with respect to the face's barycentric coordinates (b1, b2) (b0 = 1 - b1 - b2).
+  /// Nothing at a corner of degree != 6, where the map from the face to the chart (angles scaled
+  /// by 6 / n) is not differentiable: use chartDerivatives() there.
+  std::optional<SurfaceDerivatives> faceDerivatives(const FacePoint& point) const;
+  /// Derivatives with respect to the chart coordinates of the face's corner `corner` (0..2),
+  /// at a point of the face inside that chart (ChartAtlas::inChart). Smooth everywhere in the
+  /// chart, centre included. Throws InputError when the point is not in the chart.
+  SurfaceDerivatives chartDerivatives(const FacePoint& point, int corner) const;
+
+  /// The closest surface point found by Newton's method on |X - x|^2 from `start`, in the
+  /// coordinates of the chart nearest to the current iterate (walking across faces and charts).
+  struct Projection {
+    FacePoint point;                                      ///< where it ended
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< surface point there
+    double distance = 0.0;                                ///< |x - position|
+    int iterations = 0;
+    bool converged = false;  ///< the last Newton step was below 1e-12 of the chart radius
+  };
+  /// Local projection of `x` onto the surface from `start` (a local minimum of the distance near
+  /// start, not necessarily the global one). Throws InputError for non-finite x.
+  Projection project(const Eigen::Vector3d& x, const FacePoint& start) const;
+
+  /// Bytes held (control points, tables).
+  std::size_t memoryBytes() const;
+
+ private:
+  struct DegreeFit;
+  template <int Order>
+  struct Evaluator;
+
+  const DegreeFit& fitFor(int degree) const;
+
+  std::shared_ptr<const HalfEdgeMesh> mesh_;
+  ChartAtlas atlas_;
+  PseudoManifoldOptions options_;
+  std::string sourceName_;
+  std::vector<std::unique_ptr<DegreeFit>> fits_;  ///< index: vertex degree
+  std::vector<std::size_t> controlOffset_;        ///< per vertex, into controls_ (doubles)
+  std::vector<double> controls_;                  ///< x, y, z per control point
+};
+
+}  // namespace d2vdb

@@ -1,0 +1,97 @@
+// Internal: the maps between a face's canonical equilateral triangle and a vertex chart, in
+// plain doubles and in derivative jets.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cmath>
+
+#include "d2vdb/manifold/detail/Jet.h"
+
+namespace d2vdb::detail {
+
+inline constexpr double kPi = 3.14159265358979323846;
+/// cos(pi / 6) = sqrt(3) / 2: the chart radius of a degree-6 vertex and the height of the
+/// canonical unit triangle.
+inline constexpr double kCos30 = 0.86602540378443864676;
+
+/// The canonical point z = b[next] + b[after] exp(i pi / 3) of corner `corner`.
+inline Eigen::Vector2d canonicalPoint(const Eigen::Vector3d& bary, int corner) {
+  const double bNext = bary[(corner + 1) % 3];
+  const double bAfter = bary[(corner + 2) % 3];
+  return {bNext + 0.5 * bAfter, kCos30 * bAfter};
+}
+
+/// Barycentric coordinates (b_corner, b_next, b_after) of the canonical point z of a corner.
+inline Eigen::Vector3d cornerBary(const Eigen::Vector2d& z) {
+  const double bAfter = z.y() / kCos30;
+  const double bNext = z.x() - 0.5 * bAfter;
+  return {1.0 - bNext - bAfter, bNext, bAfter};
+}
+
+/// Constants of the polar map of a vertex of degree n.
+struct PolarMap {
+  double angleScale;   ///< 6 / n: chart angle per canonical angle
+  double radiusScale;  ///< cos(pi / n) / cos(pi / 6): chart radius per canonical radius
+  double sector;       ///< 2 pi / n
+  double chartRadius;  ///< cos(pi / n)
+
+  explicit PolarMap(int degree)
+      : angleScale(6.0 / degree),
+        radiusScale(std::cos(kPi / degree) / kCos30),
+        sector(2.0 * kPi / degree),
+        chartRadius(std::cos(kPi / degree)) {}
+
+  /// The chart point of canonical point z of sector k.
+  Eigen::Vector2d toChart(const Eigen::Vector2d& z, int k) const {
+    const double r = z.norm();
+    const double angle = std::atan2(z.y(), z.x()) * angleScale + sector * k;
+    const double rho = r * radiusScale;
+    return {rho * std::cos(angle), rho * std::sin(angle)};
+  }
+
+  /// The sector k (0..n-1) of chart point p and its canonical point there. A point on a sector
+  /// boundary belongs to the sector counter-clockwise from it.
+  Eigen::Vector2d toCanonical(const Eigen::Vector2d& p, int degree, int& k) const {
+    double beta = std::atan2(p.y(), p.x());
+    if (beta < 0.0) beta += 2.0 * kPi;
+    k = static_cast<int>(std::floor(beta / sector));
+    if (k >= degree) k = degree - 1;
+    if (k < 0) k = 0;
+    const double alpha = (beta - sector * k) / angleScale;
+    const double r = p.norm() / radiusScale;
+    return {r * std::cos(alpha), r * std::sin(alpha)};
+  }
+
+  /// The chart point of a canonical point given as jets (z must not be 0 when Order > 0 and the
+  /// degree is not 6; the map is not differentiable at the centre then).
+  template <int Order>
+  void toChart(const Jet<Order>& zx, const Jet<Order>& zy, int k, Jet<Order>& px,
+               Jet<Order>& py) const {
+    const Jet<Order> r = sqrt(zx * zx + zy * zy);
+    Jet<Order> angle = angleScale * atan2(zy, zx);
+    angle.v += sector * k;
+    const Jet<Order> rho = radiusScale * r;
+    px = rho * cos(angle);
+    py = rho * sin(angle);
+  }
+
+  /// The canonical point of chart point p (jets) in sector k (p must not be 0 when Order > 0).
+  /// The angle's value is measured from the sector's first ray.
+  template <int Order>
+  void toCanonical(const Jet<Order>& px, const Jet<Order>& py, int k, Jet<Order>& zx,
+                   Jet<Order>& zy) const {
+    const Jet<Order> r = (1.0 / radiusScale) * sqrt(px * px + py * py);
+    Jet<Order> beta = atan2(py, px);
+    // Bring the value into the sector; the derivatives do not depend on the branch.
+    double value = beta.v - sector * k;
+    while (value < -kPi) value += 2.0 * kPi;
+    while (value > kPi) value -= 2.0 * kPi;
+    beta.v = value;
+    const Jet<Order> alpha = (1.0 / angleScale) * beta;
+    zx = r * cos(alpha);
+    zy = r * sin(alpha);
+  }
+};
+
+}  // namespace d2vdb::detail

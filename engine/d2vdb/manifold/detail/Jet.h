@@ -1,0 +1,180 @@
+// Internal: forward-mode derivatives in two variables (value, gradient and, for Order 2, the
+// Hessian), for composing the smooth maps of a pseudo-manifold with exact chain rules.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cmath>
+
+namespace d2vdb::detail {
+
+/// A scalar function of two variables at a point: value, gradient (d[0], d[1]) and, when
+/// Order == 2, the Hessian entries (xx, xy, yy). Order 0 carries the value only.
+template <int Order>
+struct Jet {
+  double v = 0.0;
+  double d[2] = {0.0, 0.0};
+  double h[3] = {0.0, 0.0, 0.0};
+
+  static Jet constant(double value) {
+    Jet j;
+    j.v = value;
+    return j;
+  }
+  /// The independent variable `index` (0 or 1) at `value`.
+  static Jet variable(double value, int index) {
+    Jet j;
+    j.v = value;
+    if constexpr (Order >= 1) j.d[index] = 1.0;
+    return j;
+  }
+  /// f(this) for a scalar function f with value f0 and derivatives f1, f2 at v (chain rule).
+  Jet apply(double f0, double f1, double f2) const {
+    Jet r;
+    r.v = f0;
+    if constexpr (Order >= 1) {
+      r.d[0] = f1 * d[0];
+      r.d[1] = f1 * d[1];
+    }
+    if constexpr (Order >= 2) {
+      r.h[0] = f1 * h[0] + f2 * d[0] * d[0];
+      r.h[1] = f1 * h[1] + f2 * d[0] * d[1];
+      r.h[2] = f1 * h[2] + f2 * d[1] * d[1];
+    }
+    return r;
+  }
+};
+
+template <int Order>
+Jet<Order> operator+(const Jet<Order>& a, const Jet<Order>& b) {
+  Jet<Order> r;
+  r.v = a.v + b.v;
+  for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] + b.d[i];
+  for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] + b.h[i];
+  return r;
+}
+
+template <int Order>
+Jet<Order> operator-(const Jet<Order>& a, const Jet<Order>& b) {
+  Jet<Order> r;
+  r.v = a.v - b.v;
+  for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] - b.d[i];
+  for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] - b.h[i];
+  return r;
+}
+
+template <int Order>
+Jet<Order> operator*(double s, const Jet<Order>& a) {
+  Jet<Order> r;
+  r.v = s * a.v;
+  for (int i = 0; i < 2; ++i) r.d[i] = s * a.d[i];
+  for (int i = 0; i < 3; ++i) r.h[i] = s * a.h[i];
+  return r;
+}
+
+template <int Order>
+Jet<Order> operator*(const Jet<Order>& a, const Jet<Order>& b) {
+  Jet<Order> r;
+  r.v = a.v * b.v;
+  if constexpr (Order >= 1) {
+    r.d[0] = a.d[0] * b.v + a.v * b.d[0];
+    r.d[1] = a.d[1] * b.v + a.v * b.d[1];
+  }
+  if constexpr (Order >= 2) {
+    r.h[0] = a.h[0] * b.v + 2.0 * a.d[0] * b.d[0] + a.v * b.h[0];
+    r.h[1] = a.h[1] * b.v + a.d[0] * b.d[1] + a.d[1] * b.d[0] + a.v * b.h[1];
+    r.h[2] = a.h[2] * b.v + 2.0 * a.d[1] * b.d[1] + a.v * b.h[2];
+  }
+  return r;
+}
+
+template <int Order>
+Jet<Order> sqrt(const Jet<Order>& a) {
+  const double s = std::sqrt(a.v);
+  return a.apply(s, 0.5 / s, -0.25 / (s * a.v));
+}
+
+template <int Order>
+Jet<Order> sin(const Jet<Order>& a) {
+  const double s = std::sin(a.v);
+  return a.apply(s, std::cos(a.v), -s);
+}
+
+template <int Order>
+Jet<Order> cos(const Jet<Order>& a) {
+  const double c = std::cos(a.v);
+  return a.apply(c, -std::sin(a.v), -c);
+}
+
+/// atan2(y, x) with the derivatives of the polar angle (the same on every branch):
+/// d angle = (x dy - y dx) / r^2. The value is the principal one, in (-pi, pi].
+template <int Order>
+Jet<Order> atan2(const Jet<Order>& y, const Jet<Order>& x) {
+  Jet<Order> r;
+  r.v = std::atan2(y.v, x.v);
+  if constexpr (Order >= 1) {
+    const double rr = x.v * x.v + y.v * y.v;
+    // grad angle with respect to (x, y): (-y, x) / rr; second derivatives:
+    // a_xx = 2 x y / rr^2, a_xy = (y^2 - x^2) / rr^2, a_yy = -2 x y / rr^2.
+    const double ax = -y.v / rr;
+    const double ay = x.v / rr;
+    for (int i = 0; i < 2; ++i) r.d[i] = ax * x.d[i] + ay * y.d[i];
+    if constexpr (Order >= 2) {
+      const double rr2 = rr * rr;
+      const double axx = 2.0 * x.v * y.v / rr2;
+      const double axy = (y.v * y.v - x.v * x.v) / rr2;
+      const double ayy = -axx;
+      const int pairs[3][2] = {{0, 0}, {0, 1}, {1, 1}};
+      for (int k = 0; k < 3; ++k) {
+        const int i = pairs[k][0];
+        const int j = pairs[k][1];
+        r.h[k] = ax * x.h[k] + ay * y.h[k] + axx * x.d[i] * x.d[j] +
+                 axy * (x.d[i] * y.d[j] + y.d[i] * x.d[j]) + ayy * y.d[i] * y.d[j];
+      }
+    }
+  }
+  return r;
+}
+
+/// A point of R^3 as a function of two variables: value, first and (Order 2) second derivatives.
+template <int Order>
+struct Jet3 {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  Eigen::Vector3d d[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  Eigen::Vector3d h[3] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                          Eigen::Vector3d::Zero()};
+};
+
+/// Adds w * f (scalar jet times point jet) to `sum`.
+template <int Order>
+void addProduct(Jet3<Order>& sum, const Jet<Order>& w, const Jet3<Order>& f) {
+  sum.v += w.v * f.v;
+  if constexpr (Order >= 1) {
+    for (int i = 0; i < 2; ++i) sum.d[i] += w.d[i] * f.v + w.v * f.d[i];
+  }
+  if constexpr (Order >= 2) {
+    sum.h[0] += w.h[0] * f.v + 2.0 * w.d[0] * f.d[0] + w.v * f.h[0];
+    sum.h[1] += w.h[1] * f.v + w.d[0] * f.d[1] + w.d[1] * f.d[0] + w.v * f.h[1];
+    sum.h[2] += w.h[2] * f.v + 2.0 * w.d[1] * f.d[1] + w.v * f.h[2];
+  }
+}
+
+/// The quotient n / den of a point jet by a scalar jet (den.v != 0).
+template <int Order>
+Jet3<Order> divide(const Jet3<Order>& n, const Jet<Order>& den) {
+  Jet3<Order> q;
+  const double inv = 1.0 / den.v;
+  q.v = n.v * inv;
+  if constexpr (Order >= 1) {
+    for (int i = 0; i < 2; ++i) q.d[i] = (n.d[i] - den.d[i] * q.v) * inv;
+  }
+  if constexpr (Order >= 2) {
+    // q den = n  =>  q_ab den + q_a den_b + q_b den_a + q den_ab = n_ab.
+    q.h[0] = (n.h[0] - 2.0 * q.d[0] * den.d[0] - q.v * den.h[0]) * inv;
+    q.h[1] = (n.h[1] - q.d[0] * den.d[1] - q.d[1] * den.d[0] - q.v * den.h[1]) * inv;
+    q.h[2] = (n.h[2] - 2.0 * q.d[1] * den.d[1] - q.v * den.h[2]) * inv;
+  }
+  return q;
+}
+
+}  // namespace d2vdb::detail
