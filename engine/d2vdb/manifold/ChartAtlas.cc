@@ -12,7 +12,9 @@ using detail::kCos30;
 using detail::kPi;
 using detail::PolarMap;
 
-double ChartAtlas::radius(int degree) { return std::cos(kPi / degree); }
+double ChartAtlas::radius(int degree) {
+  return std::cos(kPi / degree);
+}
 
 Eigen::Vector2d ChartAtlas::canonical(const Eigen::Vector3d& bary, int corner) {
   return detail::canonicalPoint(bary, corner);
@@ -26,8 +28,8 @@ ChartPoint ChartAtlas::toChart(const FacePoint& point, int corner) const {
   const HalfEdgeMesh::Index halfEdge = 3 * point.face + static_cast<HalfEdgeMesh::Index>(corner);
   const HalfEdgeMesh::Index vertex = mesh_->from(halfEdge);
   const PolarMap map(mesh_->degree(vertex));
-  return {vertex, map.toChart(detail::canonicalPoint(point.bary, corner),
-                              mesh_->ringIndex(halfEdge))};
+  return {vertex,
+          map.toChart(detail::canonicalPoint(point.bary, corner), mesh_->ringIndex(halfEdge))};
 }
 
 FacePoint ChartAtlas::fromChart(const ChartPoint& point) const {

@@ -30,8 +30,9 @@ struct ChartPoint {
 ///   radius = |z| cos(pi / n) / cos(pi / 6),   angle = arg(z) 6 / n + 2 pi k / n
 ///
 /// for the face's sector k. The chart disc therefore covers exactly the points at distance
-/// < sqrt(3) / 2 from v in the canonical triangles of v's faces. Polar angles are taken with a signed atan2, never by quadrant from
-/// acos/asin, so the maps are continuous across every sector boundary for any degree >= 3.
+/// < sqrt(3) / 2 from v in the canonical triangles of v's faces. Polar angles are taken with a
+/// signed atan2, never by quadrant from acos/asin, so the maps are continuous across every sector
+/// boundary for any degree >= 3.
 ///
 /// Transition maps: the chart of u and the chart of a neighbour v overlap on the points of the
 /// two faces at the edge uv that both discs contain. The transition from u to v rotates the edge

@@ -117,8 +117,7 @@ void HalfEdgeMesh::build() {
     const bool repeated = (i > 0 && keys[i - 1].first == keys[i].first) ||
                           (i + 1 < halfEdgeCount && keys[i + 1].first == keys[i].first);
     const std::uint64_t wanted = directedKey(to(h), from(h));
-    const auto found = std::lower_bound(keys.begin(), keys.end(),
-                                        std::make_pair(wanted, Index{0}));
+    const auto found = std::lower_bound(keys.begin(), keys.end(), std::make_pair(wanted, Index{0}));
     const bool hasTwin = found != keys.end() && found->first == wanted;
     if (repeated || !hasTwin) {
       offending.emplace_back(std::min(from(h), to(h)), std::max(from(h), to(h)));

@@ -15,7 +15,8 @@ namespace {
 class LatticeValues {
  public:
   explicit LatticeValues(int radius)
-      : radius_(radius), values_(static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1)), 0.0) {}
+      : radius_(radius),
+        values_(static_cast<std::size_t>((2 * radius + 1) * (2 * radius + 1)), 0.0) {}
 
   int radius() const { return radius_; }
   bool contains(int i, int j) const { return std::abs(i) <= radius_ && std::abs(j) <= radius_; }
@@ -46,13 +47,16 @@ class LatticeValues {
           value = 10.0 / 16.0 * at(i, j) + 1.0 / 16.0 * neighbourSum(i, j);
         } else if (oddI && !oddJ) {  // edge (i, j)-(i+1, j), opposite (i, j+1) and (i+1, j-1)
           if (!inside(i, j) || !inside(i + 1, j)) continue;
-          value = 3.0 / 8.0 * (at(i, j) + at(i + 1, j)) + 1.0 / 8.0 * (at(i, j + 1) + at(i + 1, j - 1));
+          value =
+              3.0 / 8.0 * (at(i, j) + at(i + 1, j)) + 1.0 / 8.0 * (at(i, j + 1) + at(i + 1, j - 1));
         } else if (!oddI && oddJ) {  // edge (i, j)-(i, j+1), opposite (i+1, j) and (i-1, j+1)
           if (!inside(i, j) || !inside(i, j + 1)) continue;
-          value = 3.0 / 8.0 * (at(i, j) + at(i, j + 1)) + 1.0 / 8.0 * (at(i + 1, j) + at(i - 1, j + 1));
+          value =
+              3.0 / 8.0 * (at(i, j) + at(i, j + 1)) + 1.0 / 8.0 * (at(i + 1, j) + at(i - 1, j + 1));
         } else {  // edge (i+1, j)-(i, j+1), opposite (i, j) and (i+1, j+1)
           if (!inside(i + 1, j) || !inside(i, j + 1)) continue;
-          value = 3.0 / 8.0 * (at(i + 1, j) + at(i, j + 1)) + 1.0 / 8.0 * (at(i, j) + at(i + 1, j + 1));
+          value =
+              3.0 / 8.0 * (at(i + 1, j) + at(i, j + 1)) + 1.0 / 8.0 * (at(i, j) + at(i + 1, j + 1));
         }
         finer.at(fi, fj) = value;
       }
@@ -164,12 +168,12 @@ ExtraordinaryTemplate::ExtraordinaryTemplate(int valenceN) : valence(valenceN) {
   edge(step, e, nb(2), nb(3), c, e);  // edge n2 - n3, opposite c and e
 
   extra = Eigen::MatrixXd::Zero(6, k);
-  edge(extra, 0, nb(1), b, nb(n), a);   // n1 - b: faces (n1, nN, b), (n1, b, a)
-  edge(extra, 1, nb(1), a, b, m);       // n1 - a: faces (n1, b, a), (n1, a, m)
-  edge(extra, 2, nb(1), m, a, nb(2));   // n1 - m: faces (n1, a, m), (n1, m, n2)
-  edge(extra, 3, nb(2), m, nb(1), d);   // n2 - m: faces (n2, n1, m), (n2, m, d)
-  edge(extra, 4, nb(2), d, m, e);       // n2 - d: faces (n2, m, d), (n2, d, e)
-  edge(extra, 5, nb(2), e, d, nb(3));   // n2 - e: faces (n2, d, e), (n2, e, n3)
+  edge(extra, 0, nb(1), b, nb(n), a);  // n1 - b: faces (n1, nN, b), (n1, b, a)
+  edge(extra, 1, nb(1), a, b, m);      // n1 - a: faces (n1, b, a), (n1, a, m)
+  edge(extra, 2, nb(1), m, a, nb(2));  // n1 - m: faces (n1, a, m), (n1, m, n2)
+  edge(extra, 3, nb(2), m, nb(1), d);  // n2 - m: faces (n2, n1, m), (n2, m, d)
+  edge(extra, 4, nb(2), d, m, e);      // n2 - d: faces (n2, m, d), (n2, d, e)
+  edge(extra, 5, nb(2), e, d, nb(3));  // n2 - e: faces (n2, d, e), (n2, e, n3)
 
   // Finer level, lattice positions around the sub-triangle (c', n1', n2') = (0,0), (1,0), (0,1):
   // n_N' (1,-1), n3' (-1,1), b' (2,-1), a' (2,0), m' (1,1), d' (0,2), e' (-1,2), and the extras
@@ -178,10 +182,10 @@ ExtraordinaryTemplate::ExtraordinaryTemplate(int valenceN) : valence(valenceN) {
   const int n2 = nb(2);
   const int n3 = nb(3);
   const int nN = nb(n);
-  const int x0 = k;  // e(n1, b)
-  subPatch[0] = {n1, a, m, c, nN, b, n2, x0 + 1, x0 + 2, x0, x0 + 3, d};       // T1 at n1
-  subPatch[1] = {m, n2, n1, x0 + 2, x0 + 3, d, a, n3, c, e, nN, b};            // T2 centre
-  subPatch[2] = {n2, m, d, n3, c, n1, e, x0 + 2, x0 + 3, a, x0 + 4, x0 + 5};   // T3 at n2
+  const int x0 = k;                                                           // e(n1, b)
+  subPatch[0] = {n1, a, m, c, nN, b, n2, x0 + 1, x0 + 2, x0, x0 + 3, d};      // T1 at n1
+  subPatch[1] = {m, n2, n1, x0 + 2, x0 + 3, d, a, n3, c, e, nN, b};           // T2 centre
+  subPatch[2] = {n2, m, d, n3, c, n1, e, x0 + 2, x0 + 3, a, x0 + 4, x0 + 5};  // T3 at n2
 
   const double chi = 1.0 / (3.0 / (8.0 * beta) + n);
   limitCentre = 1.0 - n * chi;

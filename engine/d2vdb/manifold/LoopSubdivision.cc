@@ -20,8 +20,7 @@ HalfEdgeMesh loopSubdivision(const HalfEdgeMesh& mesh) {
   if (vertexCount + edgeCount > std::numeric_limits<Index>::max() ||
       4 * mesh.faceCount() > (std::numeric_limits<Index>::max() - 3) / 3) {
     throw InputError("one Loop subdivision step of a mesh with " +
-                     std::to_string(mesh.faceCount()) +
-                     " triangles would exceed 32-bit indices");
+                     std::to_string(mesh.faceCount()) + " triangles would exceed 32-bit indices");
   }
   // Edge numbers in the order of each edge's smaller half-edge.
   std::vector<Index> edgeOf(halfEdges);
@@ -52,8 +51,9 @@ HalfEdgeMesh loopSubdivision(const HalfEdgeMesh& mesh) {
     const Index t = mesh.twin(h);
     positions[vertexCount + e] =
         3.0 / 8.0 * (mesh.position(mesh.from(h)) + mesh.position(mesh.to(h))) +
-        1.0 / 8.0 * (mesh.position(mesh.to(HalfEdgeMesh::next(h))) +
-                     mesh.position(mesh.to(HalfEdgeMesh::next(t))));
+        1.0 / 8.0 *
+            (mesh.position(mesh.to(HalfEdgeMesh::next(h))) +
+             mesh.position(mesh.to(HalfEdgeMesh::next(t))));
   });
   std::vector<TriangleMesh::Triangle> triangles(4 * mesh.faceCount());
   tbb::parallel_for(std::size_t{0}, mesh.faceCount(), [&](std::size_t f) {

@@ -19,9 +19,8 @@ PnTriangles::PnTriangles(std::shared_ptr<const HalfEdgeMesh> mesh,
     : mesh_(std::move(mesh)), normals_(std::move(normals)) {
   if (!mesh_) throw InputError("PN triangles need a mesh");
   if (normals_.size() != mesh_->vertexCount()) {
-    throw InputError("PN triangles need one normal per vertex: " +
-                     std::to_string(normals_.size()) + " normals for " +
-                     std::to_string(mesh_->vertexCount()) + " vertices");
+    throw InputError("PN triangles need one normal per vertex: " + std::to_string(normals_.size()) +
+                     " normals for " + std::to_string(mesh_->vertexCount()) + " vertices");
   }
   for (Index v = 0; v < mesh_->vertexCount(); ++v) {
     if (mesh_->degree(v) == 0) continue;

@@ -93,7 +93,9 @@ void canonicalJets(const Jet<Order> bary[3], int corner, Jet<Order>& zx, Jet<Ord
   zy = kCos30 * after;
 }
 
-Eigen::Vector3d toVector(const double* xyz) { return {xyz[0], xyz[1], xyz[2]}; }
+Eigen::Vector3d toVector(const double* xyz) {
+  return {xyz[0], xyz[1], xyz[2]};
+}
 
 }  // namespace
 
@@ -186,8 +188,7 @@ struct PseudoManifold::DegreeFit {
     const Eigen::MatrixXd r =
         qr.matrixQR().topLeftCorner(unknowns, unknowns).triangularView<Eigen::Upper>();
     const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(count, unknowns);
-    pseudoInverse =
-        r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd(q.transpose()));
+    pseudoInverse = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd(q.transpose()));
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(design);
     const auto& sv = svd.singularValues();
     condition = sv[0] / sv[sv.size() - 1];
@@ -254,8 +255,7 @@ struct PseudoManifold::Evaluator {
         for (int m = 0; m < 3; ++m) {
           const int a = pairs[m][0];
           const int b = pairs[m][1];
-          out.h[m] = psiXX * (px.d[a] * px.d[b]) +
-                     psiXY * (px.d[a] * py.d[b] + py.d[a] * px.d[b]) +
+          out.h[m] = psiXX * (px.d[a] * px.d[b]) + psiXY * (px.d[a] * py.d[b] + py.d[a] * px.d[b]) +
                      psiYY * (py.d[a] * py.d[b]) + psiX * px.h[m] + psiY * py.h[m];
         }
       }
@@ -327,8 +327,7 @@ struct PseudoManifold::Evaluator {
     const int nc = mesh.degree(vertices[centre]);
     const PolarMap& centreMap = pps.fitFor(nc).map;
     const int kc = mesh.ringIndex(centreHalfEdge);
-    const Eigen::Vector2d p =
-        centreMap.toChart(detail::canonicalPoint(point.bary, centre), kc);
+    const Eigen::Vector2d p = centreMap.toChart(detail::canonicalPoint(point.bary, centre), kc);
     px[centre] = Jet<Order>::variable(p.x(), 0);
     py[centre] = Jet<Order>::variable(p.y(), 1);
     active[centre] = true;
@@ -368,8 +367,7 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
     : mesh_(source.sharedMesh()), atlas_(*mesh_), options_(options), sourceName_(source.name()) {
   if (options.maxBidegree < 2 || options.maxBidegree > kMaxBidegree) {
     throw InputError("the shape functions' bidegree cap must lie in 2.." +
-                     std::to_string(kMaxBidegree) + ", not " +
-                     std::to_string(options.maxBidegree));
+                     std::to_string(kMaxBidegree) + ", not " + std::to_string(options.maxBidegree));
   }
   if (options.samplesPerControl < 2 || options.samplesPerControl > 8) {
     throw InputError("the fitting grid needs 2..8 samples per control point, not " +
@@ -400,54 +398,58 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   // Fit every chart: samples of the source through the chart's polar map, then one product with
   // the degree's pseudo-inverse. Blocks in sequence (for progress), vertices of a block in
   // parallel; each vertex writes only its own control points.
-  const std::size_t blocks = std::max<std::size_t>(1, std::min<std::size_t>(100, vertexCount / 256));
+  const std::size_t blocks =
+      std::max<std::size_t>(1, std::min<std::size_t>(100, vertexCount / 256));
   for (std::size_t block = 0; block < blocks; ++block) {
     const std::size_t begin = vertexCount * block / blocks;
     const std::size_t end = vertexCount * (block + 1) / blocks;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-      Eigen::MatrixX3d samples;
-      Eigen::MatrixX3d fitted;
-      std::vector<Eigen::Vector3d> bary;
-      std::vector<Eigen::Vector3d> positions;
-      for (std::size_t v = range.begin(); v != range.end(); ++v) {
-        const auto vertex = static_cast<Index>(v);
-        const int n = mesh.degree(vertex);
-        if (n == 0) continue;
-        const DegreeFit& fit = *fits_[n];
-        const int count = static_cast<int>(fit.canonical.size());
-        samples.resize(count, 3);
-        const Eigen::Vector3d centre = mesh.position(vertex);
-        for (int k = 0; k < n; ++k) {
-          const int first = fit.sectorStart[k];
-          const int last = fit.sectorStart[k + 1];
-          if (first == last) continue;
-          const Index halfEdge = mesh.ring(vertex, k);
-          const int corner = static_cast<int>(halfEdge % 3);
-          bary.resize(static_cast<std::size_t>(last - first));
-          positions.resize(bary.size());
-          for (int s = first; s < last; ++s) {
-            const Eigen::Vector3d local = detail::cornerBary(fit.canonical[s]);
-            Eigen::Vector3d& b = bary[static_cast<std::size_t>(s - first)];
-            b[corner] = local[0];
-            b[(corner + 1) % 3] = local[1];
-            b[(corner + 2) % 3] = local[2];
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(begin, end, 16),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          Eigen::MatrixX3d samples;
+          Eigen::MatrixX3d fitted;
+          std::vector<Eigen::Vector3d> bary;
+          std::vector<Eigen::Vector3d> positions;
+          for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            const auto vertex = static_cast<Index>(v);
+            const int n = mesh.degree(vertex);
+            if (n == 0) continue;
+            const DegreeFit& fit = *fits_[n];
+            const int count = static_cast<int>(fit.canonical.size());
+            samples.resize(count, 3);
+            const Eigen::Vector3d centre = mesh.position(vertex);
+            for (int k = 0; k < n; ++k) {
+              const int first = fit.sectorStart[k];
+              const int last = fit.sectorStart[k + 1];
+              if (first == last) continue;
+              const Index halfEdge = mesh.ring(vertex, k);
+              const int corner = static_cast<int>(halfEdge % 3);
+              bary.resize(static_cast<std::size_t>(last - first));
+              positions.resize(bary.size());
+              for (int s = first; s < last; ++s) {
+                const Eigen::Vector3d local = detail::cornerBary(fit.canonical[s]);
+                Eigen::Vector3d& b = bary[static_cast<std::size_t>(s - first)];
+                b[corner] = local[0];
+                b[(corner + 1) % 3] = local[1];
+                b[(corner + 2) % 3] = local[2];
+              }
+              source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(),
+                               positions.data());
+              for (int s = first; s < last; ++s) {
+                samples.row(s) =
+                    (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
+              }
+            }
+            // Fitting offsets from the vertex keeps round-off relative to the chart's size (the
+            // fit reproduces constants, so the offset comes back exactly).
+            fitted.noalias() = fit.pseudoInverse * samples;
+            double* out = controls_.data() + controlOffset_[v];
+            for (int c = 0; c < fitted.rows(); ++c) {
+              for (int axis = 0; axis < 3; ++axis)
+                out[3 * c + axis] = fitted(c, axis) + centre[axis];
+            }
           }
-          source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(),
-                           positions.data());
-          for (int s = first; s < last; ++s) {
-            samples.row(s) = (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
-          }
-        }
-        // Fitting offsets from the vertex keeps round-off relative to the chart's size (the
-        // fit reproduces constants, so the offset comes back exactly).
-        fitted.noalias() = fit.pseudoInverse * samples;
-        double* out = controls_.data() + controlOffset_[v];
-        for (int c = 0; c < fitted.rows(); ++c) {
-          for (int axis = 0; axis < 3; ++axis) out[3 * c + axis] = fitted(c, axis) + centre[axis];
-        }
-      }
-    });
+        });
     if (progress) progress("fitting charts", static_cast<double>(block + 1) / blocks);
   }
 }
@@ -456,7 +458,9 @@ PseudoManifold::~PseudoManifold() = default;
 PseudoManifold::PseudoManifold(PseudoManifold&&) noexcept = default;
 PseudoManifold& PseudoManifold::operator=(PseudoManifold&&) noexcept = default;
 
-const PseudoManifold::DegreeFit& PseudoManifold::fitFor(int degree) const { return *fits_[degree]; }
+const PseudoManifold::DegreeFit& PseudoManifold::fitFor(int degree) const {
+  return *fits_[degree];
+}
 
 int PseudoManifold::bidegree(Index vertex) const {
   const int n = mesh_->degree(vertex);
@@ -486,8 +490,7 @@ Eigen::Vector3d PseudoManifold::shapeFunction(const ChartPoint& point) const {
     throw InputError("vertex " + std::to_string(point.vertex) + " has no chart");
   }
   const Evaluator<0> evaluator{*this};
-  return evaluator
-      .shape(point.vertex, Jet<0>::constant(point.p.x()), Jet<0>::constant(point.p.y()))
+  return evaluator.shape(point.vertex, Jet<0>::constant(point.p.x()), Jet<0>::constant(point.p.y()))
       .v;
 }
 
@@ -563,9 +566,9 @@ std::vector<SurfacePoint> PseudoManifold::evaluate(const std::vector<FacePoint>&
                                                    Derivatives derivatives) const {
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].face >= mesh_->faceCount()) {
-      throw InputError("point " + std::to_string(i) + ": face " +
-                       std::to_string(points[i].face) + " does not exist (the mesh has " +
-                       std::to_string(mesh_->faceCount()) + " faces)");
+      throw InputError("point " + std::to_string(i) + ": face " + std::to_string(points[i].face) +
+                       " does not exist (the mesh has " + std::to_string(mesh_->faceCount()) +
+                       " faces)");
     }
   }
   std::vector<SurfacePoint> results(points.size());
@@ -664,8 +667,8 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
 }
 
 std::size_t PseudoManifold::memoryBytes() const {
-  std::size_t bytes = controls_.capacity() * sizeof(double) +
-                      controlOffset_.capacity() * sizeof(std::size_t);
+  std::size_t bytes =
+      controls_.capacity() * sizeof(double) + controlOffset_.capacity() * sizeof(std::size_t);
   for (const auto& fit : fits_) {
     if (!fit) continue;
     bytes += static_cast<std::size_t>(fit->pseudoInverse.size()) * sizeof(double) +

@@ -144,9 +144,9 @@ class PseudoManifold {
   /// The closest surface point found by Newton's method on |X - x|^2 from `start`, in the
   /// coordinates of the chart nearest to the current iterate (walking across faces and charts).
   struct Projection {
-    FacePoint point;                                      ///< where it ended
+    FacePoint point;                                     ///< where it ended
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< surface point there
-    double distance = 0.0;                                ///< |x - position|
+    double distance = 0.0;                               ///< |x - position|
     int iterations = 0;
     bool converged = false;  ///< the last Newton step was below 1e-12 of the chart radius
   };

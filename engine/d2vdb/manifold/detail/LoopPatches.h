@@ -24,9 +24,18 @@ double loopBeta(int valence);
 /// (1/2, sqrt(3)/2)): (0,0) (1,0) (0,1) (-1,0) (0,-1) (1,-1) (-1,1) (2,0) (1,1) (2,-1) (0,2)
 /// (-1,2).
 inline constexpr int kRegularControlCount = 12;
-inline constexpr std::array<std::array<int, 2>, kRegularControlCount> kRegularLattice = {
-    {{0, 0}, {1, 0}, {0, 1}, {-1, 0}, {0, -1}, {1, -1}, {-1, 1}, {2, 0}, {1, 1}, {2, -1}, {0, 2},
-     {-1, 2}}};
+inline constexpr std::array<std::array<int, 2>, kRegularControlCount> kRegularLattice = {{{0, 0},
+                                                                                          {1, 0},
+                                                                                          {0, 1},
+                                                                                          {-1, 0},
+                                                                                          {0, -1},
+                                                                                          {1, -1},
+                                                                                          {-1, 1},
+                                                                                          {2, 0},
+                                                                                          {1, 1},
+                                                                                          {2, -1},
+                                                                                          {0, 2},
+                                                                                          {-1, 2}}};
 
 /// The quartic Bézier net (15 points, TriangleBezier layout) of the regular patch as a fixed
 /// 15 x 12 matrix applied to the 12 control vertices. Derived once at run time from the

@@ -10,7 +10,9 @@ namespace d2vdb::detail {
 
 /// Index of control point b_{ijk} (i + j + k = n; exponents of u, v, w) in the layout used
 /// here: blocks of equal j, k increasing inside a block.
-constexpr int triangleIndex(int n, int j, int k) { return j * (n + 1) - j * (j - 1) / 2 + k; }
+constexpr int triangleIndex(int n, int j, int k) {
+  return j * (n + 1) - j * (j - 1) / 2 + k;
+}
 
 /// Position and derivatives with respect to (v, w) of a patch point.
 struct PatchJet {

@@ -1,0 +1,490 @@
+// The parametric pseudo-manifold: C-infinity continuity shown to round-off across edges and at
+// vertices, steps between neighbouring samples shrinking with the sampling step, exact
+// reproduction of polynomials by the chart fit, affine invariance of the Loop-based surface,
+// fidelity to the Loop source, derivatives against finite differences, determinism.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "ManifoldTestSupport.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/manifold/BumpFunction.h"
+#include "d2vdb/manifold/LoopLimitSurface.h"
+#include "d2vdb/manifold/PnTriangles.h"
+#include "d2vdb/manifold/PseudoManifold.h"
+#include "d2vdb/manifold/SourceDistance.h"
+#include "d2vdb/mesh/MeshIO.h"
+
+namespace d2vdb {
+namespace {
+
+using test::DoubleMesh;
+using Index = HalfEdgeMesh::Index;
+
+struct Built {
+  std::shared_ptr<const HalfEdgeMesh> mesh;
+  std::unique_ptr<LoopLimitSurface> loop;
+  std::unique_ptr<PseudoManifold> pps;
+};
+
+Built buildLoop(const DoubleMesh& m, const PseudoManifoldOptions& options = {}) {
+  Built b;
+  b.mesh = m.build();
+  b.loop = std::make_unique<LoopLimitSurface>(b.mesh);
+  b.pps = std::make_unique<PseudoManifold>(*b.loop, options);
+  return b;
+}
+
+std::vector<std::pair<const char*, DoubleMesh>> continuityMeshes() {
+  return {{"tetrahedron", test::tetrahedron()},
+          {"octahedron", test::octahedron()},
+          {"icosahedron", test::icosphere(0)},
+          {"degrees 3-9", test::mixedDegreeMesh()}};
+}
+
+/// Face point of half-edge h's face at fraction t from from(h) to to(h) (on the edge).
+FacePoint onEdge(Index h, double t) {
+  FacePoint p{HalfEdgeMesh::face(h), Eigen::Vector3d::Zero()};
+  p.bary[h % 3] = 1.0 - t;
+  p.bary[(h + 1) % 3] = t;
+  return p;
+}
+
+double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
+  for (const auto& [name, m] : continuityMeshes()) {
+    const Built b = buildLoop(m);
+    const HalfEdgeMesh& mesh = *b.mesh;
+    const double diagonal = mesh.boundingBoxDiagonal();
+    double worstPosition = 0.0, worstNormal = 0.0, worstCurvature = 0.0, worstDirection = 0.0;
+    for (Index h = 0; h < mesh.halfEdgeCount(); ++h) {
+      const Index t = mesh.twin(h);
+      for (const double s : {0.0, 0.03, 0.1, 0.25, 0.5, 0.61, 0.77, 0.93, 1.0}) {
+        const SurfacePoint a = b.pps->evaluate(onEdge(h, s), Derivatives::Second);
+        const SurfacePoint c = b.pps->evaluate(onEdge(t, 1.0 - s), Derivatives::Second);
+        worstPosition = std::max(worstPosition, (a.position - c.position).norm() / diagonal);
+        worstNormal = std::max(worstNormal, angleBetween(a.normal, c.normal));
+        const double scale = std::max({std::abs(a.k1), std::abs(a.k2), 1.0 / diagonal});
+        worstCurvature = std::max(
+            {worstCurvature, std::abs(a.k1 - c.k1) / scale, std::abs(a.k2 - c.k2) / scale});
+        if (a.k1 - a.k2 > 1e-3 * scale) {
+          worstDirection = std::max(worstDirection, 1.0 - std::abs(a.e1.dot(c.e1)));
+        }
+      }
+    }
+    // Every face around every vertex gives the vertex's own shape function value psi_v(0).
+    for (Index v = 0; v < mesh.vertexCount(); ++v) {
+      const Eigen::Vector3d centre = b.pps->shapeFunction({v, Eigen::Vector2d::Zero()});
+      for (int k = 0; k < mesh.degree(v); ++k) {
+        const SurfacePoint p = b.pps->evaluate(onEdge(mesh.ring(v, k), 0.0), Derivatives::First);
+        worstPosition = std::max(worstPosition, (p.position - centre).norm() / diagonal);
+        const SurfacePoint q = b.pps->evaluate(onEdge(mesh.ring(v, 0), 0.0), Derivatives::First);
+        worstNormal = std::max(worstNormal, angleBetween(p.normal, q.normal));
+      }
+    }
+    std::printf("%s: position %.3g of the diagonal, normal %.3g rad, curvature %.3g, e1 %.3g\n",
+                name, worstPosition, worstNormal, worstCurvature, worstDirection);
+    EXPECT_LE(worstPosition, 1e-12) << name;
+    EXPECT_LE(worstNormal, 1e-10) << name;
+    EXPECT_LE(worstCurvature, 1e-8) << name;
+    EXPECT_LE(worstDirection, 1e-8) << name;
+  }
+}
+
+/// Largest distance between neighbouring points of the lattice with G intervals per edge, over
+/// 60 stations along every edge (and their lattice neighbours in both faces) and the lattice
+/// neighbours of every vertex in each of its faces: where a discontinuity would show.
+double largestStep(const PseudoManifold& pps, long g) {
+  const HalfEdgeMesh& mesh = pps.mesh();
+  double worst = 0.0;
+  const auto point = [&](Index face, long i, long j) {
+    const double s = static_cast<double>(g);
+    return pps.position({face, Eigen::Vector3d((g - i - j) / s, i / s, j / s)});
+  };
+  const long neighbours[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+  const auto stepsAround = [&](Index face, long i, long j) {
+    const Eigen::Vector3d centre = point(face, i, j);
+    for (const auto& n : neighbours) {
+      const long a = i + n[0];
+      const long b = j + n[1];
+      if (a < 0 || b < 0 || a + b > g) continue;
+      worst = std::max(worst, (point(face, a, b) - centre).norm());
+    }
+  };
+  for (Index f = 0; f < mesh.faceCount(); ++f) {
+    // Stations on the edge b2 = 0 (corner 0 to 1) of every face: each edge is seen from both
+    // of its faces; then the three corners.
+    for (long station = 0; station <= 60; ++station) {
+      const long i = station * g / 60;
+      for (int rotation = 0; rotation < 3; ++rotation) {
+        // Edge from corner `rotation` to the next: lattice (i, j) in that corner's terms.
+        const long b0 = g - i;
+        const long b1 = i;
+        long coords[3] = {0, 0, 0};
+        coords[rotation] = b0;
+        coords[(rotation + 1) % 3] = b1;
+        stepsAround(f, coords[1], coords[2]);
+      }
+    }
+  }
+  return worst;
+}
+
+TEST(PseudoManifold, StepsShrinkWithTheSamplingStep) {
+  for (const auto& [name, m] : continuityMeshes()) {
+    const Built b = buildLoop(m);
+    std::vector<double> scaled;
+    for (const long g : {60L, 240L, 960L, 3840L}) {
+      const double step = largestStep(*b.pps, g);
+      scaled.push_back(step * g / b.mesh->boundingBoxDiagonal());
+    }
+    std::printf("%s: largest step x G / diagonal at G = 60, 240, 960, 3840: %.4g %.4g %.4g %.4g\n",
+                name, scaled[0], scaled[1], scaled[2], scaled[3]);
+    // Proportional to 1/G: the scaled step settles to the largest derivative (within 2 %
+    // from G = 240 on), never grows.
+    for (std::size_t i = 1; i < scaled.size(); ++i) {
+      EXPECT_LT(scaled[i], 1.02 * scaled[i - 1]) << name;
+      EXPECT_GT(scaled[i], 0.5 * scaled[0]) << name;
+    }
+    EXPECT_NEAR(scaled[3], scaled[2], 0.02 * scaled[2]) << name;
+  }
+}
+
+TEST(PseudoManifold, NormalsAndCurvaturesVaryContinuouslyAcrossEdges) {
+  // C2 across edges: geometry at distance +-eps on both sides of an edge differs by O(eps).
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  const HalfEdgeMesh& mesh = *b.mesh;
+  std::vector<double> worst;
+  for (const double eps : {1e-4, 1e-5, 1e-6}) {
+    double w = 0.0;
+    for (Index h = 0; h < mesh.halfEdgeCount(); h += 3) {
+      const Index t = mesh.twin(h);
+      for (const double s : {0.2, 0.5, 0.8}) {
+        FacePoint a = onEdge(h, s);
+        FacePoint c = onEdge(t, 1.0 - s);
+        a.bary *= 1.0 - eps;
+        a.bary[(h + 2) % 3] = eps;
+        c.bary *= 1.0 - eps;
+        c.bary[(t + 2) % 3] = eps;
+        const SurfacePoint pa = b.pps->evaluate(a, Derivatives::Second);
+        const SurfacePoint pc = b.pps->evaluate(c, Derivatives::Second);
+        w = std::max({w, angleBetween(pa.normal, pc.normal), std::abs(pa.k1 - pc.k1),
+                      std::abs(pa.k2 - pc.k2)});
+      }
+    }
+    worst.push_back(w);
+  }
+  std::printf(
+      "largest normal/curvature jump across edges at eps 1e-4, 1e-5, 1e-6: %.3g %.3g %.3g\n",
+      worst[0], worst[1], worst[2]);
+  EXPECT_NEAR(worst[1] / worst[0], 0.1, 0.02);
+  EXPECT_NEAR(worst[2] / worst[1], 0.1, 0.02);
+}
+
+/// A source whose points, on the faces around vertex `centre`, are a given polynomial of the
+/// chart coordinates of `centre`: psi_centre must reproduce it.
+class PolynomialSource final : public SourceSurface {
+ public:
+  PolynomialSource(std::shared_ptr<const HalfEdgeMesh> mesh, Index centre, int bidegree)
+      : mesh_(std::move(mesh)), atlas_(*mesh_), centre_(centre), bidegree_(bidegree) {}
+  const HalfEdgeMesh& mesh() const override { return *mesh_; }
+  std::shared_ptr<const HalfEdgeMesh> sharedMesh() const override { return mesh_; }
+  void positions(Index face, const Eigen::Vector3d* bary, std::size_t count,
+                 Eigen::Vector3d* out) const override {
+    for (std::size_t i = 0; i < count; ++i) out[i] = evaluate({face, bary[i]}).position;
+  }
+  SourceJet evaluate(const FacePoint& point) const override {
+    for (int corner = 0; corner < 3; ++corner) {
+      if (mesh_->corner(point.face, corner) == centre_) {
+        return {polynomial(atlas_.toChart(point, corner).p), {}, {}, true};
+      }
+    }
+    return {Eigen::Vector3d::Zero(), {}, {}, true};
+  }
+  std::string name() const override { return "polynomial"; }
+  /// A polynomial with every monomial x^a y^b, a, b <= bidegree.
+  Eigen::Vector3d polynomial(const Eigen::Vector2d& p) const {
+    Eigen::Vector3d value = Eigen::Vector3d::Zero();
+    for (int a = 0; a <= bidegree_; ++a) {
+      for (int c = 0; c <= bidegree_; ++c) {
+        const double m = std::pow(p.x(), a) * std::pow(p.y(), c);
+        value += m * Eigen::Vector3d(1.0 + 0.3 * a - 0.2 * c, 0.5 * a * c - 1.0, 0.1 * (a + c));
+      }
+    }
+    return value;
+  }
+
+ private:
+  std::shared_ptr<const HalfEdgeMesh> mesh_;
+  ChartAtlas atlas_;
+  Index centre_;
+  int bidegree_;
+};
+
+TEST(PseudoManifold, ChartFitReproducesPolynomialsOfItsBidegree) {
+  const DoubleMesh mixed = test::mixedDegreeMesh();
+  const auto mesh = mixed.build();
+  // One vertex of each degree 3..9 (bidegree 4..7).
+  std::vector<bool> seen(16, false);
+  int tested = 0;
+  for (Index v = 0; v < mesh->vertexCount(); ++v) {
+    const int n = mesh->degree(v);
+    if (seen[n]) continue;
+    seen[n] = true;
+    const int d = std::min(n + 1, 7);
+    const PolynomialSource source(mesh, v, d);
+    const PseudoManifold pps(source);
+    ASSERT_EQ(pps.bidegree(v), d);
+    double worst = 0.0;
+    double size = 0.0;
+    const double radius = ChartAtlas::radius(n);
+    for (int i = 0; i <= 20; ++i) {
+      for (int j = 0; j <= 20; ++j) {
+        const Eigen::Vector2d p(radius * (i / 10.0 - 1.0), radius * (j / 10.0 - 1.0));
+        if (p.norm() >= radius) continue;
+        const Eigen::Vector3d expected = source.polynomial(p);
+        worst = std::max(worst, (pps.shapeFunction({v, p}) - expected).norm());
+        size = std::max(size, expected.norm());
+      }
+    }
+    std::printf(
+        "degree %d, bidegree %d: largest error %.3g of the largest value (condition %.3g)\n", n, d,
+        worst / size, pps.fitConditionNumber(n));
+    EXPECT_LT(worst / size, 1e-11) << "degree " << n;
+    ++tested;
+  }
+  EXPECT_EQ(tested, 7);
+}
+
+TEST(PseudoManifold, LoopBasedSurfaceIsAffineInvariant) {
+  const DoubleMesh m = test::mixedDegreeMesh();
+  Eigen::Matrix3d a;
+  a << 1.3, 0.4, -0.2, -0.3, 0.9, 0.5, 0.2, -0.6, 1.7;
+  const Eigen::Vector3d shift(10.0, -4.0, 2.5);
+  DoubleMesh moved = m;
+  for (Eigen::Vector3d& p : moved.positions) p = a * p + shift;
+  const Built original = buildLoop(m);
+  const Built image = buildLoop(moved);
+  double worst = 0.0;
+  double size = 0.0;
+  for (Index f = 0; f < original.mesh->faceCount(); ++f) {
+    for (const Eigen::Vector3d& bary : faceLattice(4)) {
+      const Eigen::Vector3d expected = a * original.pps->position({f, bary}) + shift;
+      worst = std::max(worst, (image.pps->position({f, bary}) - expected).norm());
+      size = std::max(size, expected.norm());
+    }
+  }
+  std::printf("affine image: largest difference %.3g of the largest coordinate\n", worst / size);
+  EXPECT_LT(worst / size, 1e-10);
+}
+
+TEST(PseudoManifold, WeightsHaveTheirExactValues) {
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  for (Index v = 0; v < b.mesh->vertexCount(); v += 13) {
+    const double r = ChartAtlas::radius(b.mesh->degree(v));
+    const Eigen::Vector2d direction = Eigen::Vector2d(0.6, -0.8);
+    EXPECT_EQ(b.pps->weight({v, Eigen::Vector2d::Zero()}), 1.0);
+    EXPECT_EQ(b.pps->weight({v, 0.25 * r * direction}), 1.0);
+    EXPECT_NEAR(b.pps->weight({v, 0.625 * r * direction}), 0.5, 1e-15);
+    EXPECT_EQ(b.pps->weight({v, r * direction}), 0.0);
+    EXPECT_EQ(b.pps->weight({v, 1.5 * r * direction}), 0.0);
+  }
+}
+
+TEST(PseudoManifold, DerivativesMatchFiniteDifferences) {
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  const HalfEdgeMesh& mesh = *b.mesh;
+  double worstFirst = 0.0;
+  double worstSecond = 0.0;
+  const double h = 1e-4;
+  for (Index f = 0; f < mesh.faceCount(); f += 11) {
+    for (const Eigen::Vector3d& bary :
+         {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
+          Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(1.0, 0.0, 0.0)}) {
+      for (int corner = 0; corner < 3; ++corner) {
+        if (!ChartAtlas::inChart(bary, corner)) continue;
+        const FacePoint point{f, bary};
+        const SurfaceDerivatives d = b.pps->chartDerivatives(point, corner);
+        const ChartPoint c = b.pps->atlas().toChart(point, corner);
+        const auto at = [&](double dx, double dy) {
+          return b.pps->position(
+              b.pps->atlas().fromChart({c.vertex, c.p + Eigen::Vector2d(dx, dy)}));
+        };
+        const Eigen::Vector3d fx = (at(h, 0) - at(-h, 0)) / (2 * h);
+        const Eigen::Vector3d fy = (at(0, h) - at(0, -h)) / (2 * h);
+        const Eigen::Vector3d fxx = (at(h, 0) - 2.0 * d.position + at(-h, 0)) / (h * h);
+        const Eigen::Vector3d fyy = (at(0, h) - 2.0 * d.position + at(0, -h)) / (h * h);
+        const Eigen::Vector3d fxy = (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4 * h * h);
+        const double scale1 = std::max(d.d[0].norm(), d.d[1].norm());
+        worstFirst =
+            std::max({worstFirst, (fx - d.d[0]).norm() / scale1, (fy - d.d[1]).norm() / scale1});
+        const double scale2 = std::max({d.dd[0].norm(), d.dd[1].norm(), d.dd[2].norm(), scale1});
+        worstSecond = std::max({worstSecond, (fxx - d.dd[0]).norm() / scale2,
+                                (fxy - d.dd[1]).norm() / scale2, (fyy - d.dd[2]).norm() / scale2});
+      }
+    }
+  }
+  std::printf("chart derivatives against central differences: first %.3g, second %.3g\n",
+              worstFirst, worstSecond);
+  EXPECT_LT(worstFirst, 1e-6);
+  EXPECT_LT(worstSecond, 1e-4);
+}
+
+TEST(PseudoManifold, FaceAndChartDerivativesGiveTheSameGeometry) {
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  double worst = 0.0;
+  for (Index f = 0; f < b.mesh->faceCount(); f += 5) {
+    const FacePoint point{f, Eigen::Vector3d(0.3, 0.45, 0.25)};
+    const std::optional<SurfaceDerivatives> face = b.pps->faceDerivatives(point);
+    ASSERT_TRUE(face.has_value());
+    const SurfacePoint g1 = surfaceGeometry(*face);
+    for (int corner = 0; corner < 3; ++corner) {
+      const SurfacePoint g2 = surfaceGeometry(b.pps->chartDerivatives(point, corner));
+      worst = std::max({worst, (g1.position - g2.position).norm(), (g1.normal - g2.normal).norm(),
+                        std::abs(g1.k1 - g2.k1), std::abs(g1.k2 - g2.k2)});
+    }
+  }
+  EXPECT_LT(worst, 1e-11);
+  // At a corner of degree != 6 the face parametrisation has no derivative.
+  const DoubleMesh tetra = test::tetrahedron();
+  const Built t = buildLoop(tetra);
+  EXPECT_FALSE(t.pps->faceDerivatives({0, Eigen::Vector3d(1.0, 0.0, 0.0)}).has_value());
+  EXPECT_TRUE(t.pps->faceDerivatives({0, Eigen::Vector3d(0.9, 0.1, 0.0)}).has_value());
+}
+
+TEST(PseudoManifold, SurfaceGeometryOfAnEllipsoid) {
+  // X(s, t) = (a cos s cos t, b sin s cos t, c sin t) at s = 0.3, t = 0.2 against the closed-form
+  // Gaussian and mean curvature of the ellipsoid (outward normal, k > 0).
+  const double a = 3.0, b = 2.0, c = 1.0, s = 0.3, t = 0.2;
+  SurfaceDerivatives d;
+  d.position = {a * std::cos(s) * std::cos(t), b * std::sin(s) * std::cos(t), c * std::sin(t)};
+  d.d[0] = {-a * std::sin(s) * std::cos(t), b * std::cos(s) * std::cos(t), 0.0};
+  d.d[1] = {-a * std::cos(s) * std::sin(t), -b * std::sin(s) * std::sin(t), c * std::cos(t)};
+  d.dd[0] = {-a * std::cos(s) * std::cos(t), -b * std::sin(s) * std::cos(t), 0.0};
+  d.dd[1] = {a * std::sin(s) * std::sin(t), -b * std::cos(s) * std::sin(t), 0.0};
+  d.dd[2] = {-a * std::cos(s) * std::cos(t), -b * std::sin(s) * std::cos(t), -c * std::sin(t)};
+  const SurfacePoint g = surfaceGeometry(d);
+  const Eigen::Vector3d x = d.position;
+  const double q = x.x() * x.x() / std::pow(a, 4) + x.y() * x.y() / std::pow(b, 4) +
+                   x.z() * x.z() / std::pow(c, 4);
+  const double gauss = 1.0 / (a * a * b * b * c * c * q * q);
+  const double mean =
+      (x.squaredNorm() - a * a - b * b - c * c) / (2.0 * a * a * b * b * c * c * std::pow(q, 1.5));
+  EXPECT_NEAR(g.k1 * g.k2, gauss, 1e-12);
+  EXPECT_NEAR(0.5 * (g.k1 + g.k2), -mean, 1e-12);
+  EXPECT_GT(g.normal.dot(x), 0.0);
+  EXPECT_GE(g.k1, g.k2);
+  EXPECT_NEAR(g.e1.dot(g.normal), 0.0, 1e-14);
+  EXPECT_NEAR(g.e2.dot(g.normal.cross(g.e1)), 1.0, 1e-14);
+}
+
+TEST(PseudoManifold, CloseToItsLoopSource) {
+  // A torus with every vertex of degree 6, and meshes with degrees 3 to 9 (the bunny included):
+  // distance from the PPS to the Loop limit surface at 4^3 samples per face (on every second
+  // face of the torus and every eighth of the bunny here; all faces in BENCHMARKS.md).
+  struct Case {
+    const char* name;
+    std::shared_ptr<const HalfEdgeMesh> mesh;
+    double bound;
+    int faceStep;  ///< every faceStep-th face, to keep the test fast
+  };
+  std::vector<Case> cases;
+  cases.push_back({"torus 48 x 16", test::torus(3.0, 1.0, 48, 16).build(), 2e-5, 2});
+  cases.push_back({"degrees 3-9", test::mixedDegreeMesh().build(), 1.5e-3, 1});
+  cases.push_back(
+      {"bunny",
+       std::make_shared<const HalfEdgeMesh>(readMesh(D2VDB_SOURCE_DIR "/volumes/bunny.obj")),
+       1.5e-3, 8});
+  for (const Case& c : cases) {
+    const LoopLimitSurface loop(c.mesh);
+    const PseudoManifold pps(loop);
+    const SourceDistanceStatistics s = distanceToSource(pps, loop, 8, c.faceStep);
+    std::printf(
+        "%s: distance to the Loop surface max %.3g, RMS %.3g of the diagonal "
+        "(same parameters: max %.3g, RMS %.3g; %zu samples)\n",
+        c.name, s.maxDistance / s.diagonal, s.rmsDistance / s.diagonal,
+        s.maxParametric / s.diagonal, s.rmsParametric / s.diagonal, s.samples);
+    EXPECT_LE(s.maxDistance / s.diagonal, c.bound) << c.name;
+  }
+}
+
+TEST(PseudoManifold, SameResultForAnyThreadCount) {
+  const DoubleMesh m = test::mixedDegreeMesh();
+  const auto mesh = m.build();
+  const LoopLimitSurface loop(mesh);
+  std::vector<FacePoint> points;
+  for (Index f = 0; f < mesh->faceCount(); ++f) {
+    for (const Eigen::Vector3d& bary : faceLattice(3)) points.push_back({f, bary});
+  }
+  const auto run = [&] {
+    const PseudoManifold pps(loop);
+    std::vector<Eigen::Vector3d> controls;
+    for (Index v = 0; v < mesh->vertexCount(); ++v) {
+      for (const Eigen::Vector3d& c : pps.controlPoints(v)) controls.push_back(c);
+    }
+    return std::make_pair(controls, pps.evaluate(points, Derivatives::Second));
+  };
+  const auto one = test::withThreads(1, run);
+  const auto two = test::withThreads(2, run);
+  ASSERT_EQ(one.first.size(), two.first.size());
+  for (std::size_t i = 0; i < one.first.size(); ++i) EXPECT_EQ(one.first[i], two.first[i]);
+  ASSERT_EQ(one.second.size(), two.second.size());
+  for (std::size_t i = 0; i < one.second.size(); ++i) {
+    EXPECT_EQ(one.second[i].position, two.second[i].position);
+    EXPECT_EQ(one.second[i].normal, two.second[i].normal);
+    EXPECT_EQ(one.second[i].k1, two.second[i].k1);
+    EXPECT_EQ(one.second[i].e1, two.second[i].e1);
+  }
+}
+
+TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
+  const Built b = buildLoop(test::icosphere(1));
+  const HalfEdgeMesh& mesh = *b.mesh;
+  // Dense samples of the surface as a brute-force reference.
+  std::vector<std::pair<FacePoint, Eigen::Vector3d>> samples;
+  for (Index f = 0; f < mesh.faceCount(); ++f) {
+    for (const Eigen::Vector3d& bary : faceLattice(24)) {
+      samples.push_back({{f, bary}, b.pps->position({f, bary})});
+    }
+  }
+  for (const Eigen::Vector3d& x :
+       {Eigen::Vector3d(1.3, 0.2, -0.1), Eigen::Vector3d(-0.2, 0.5, 0.6),
+        Eigen::Vector3d(0.1, -1.1, 0.9), Eigen::Vector3d(0.0, 0.0, -2.0)}) {
+    auto nearest = samples.front();
+    for (const auto& s : samples) {
+      if ((s.second - x).norm() < (nearest.second - x).norm()) nearest = s;
+    }
+    const PseudoManifold::Projection p = b.pps->project(x, nearest.first);
+    EXPECT_TRUE(p.converged);
+    EXPECT_LE(p.distance, (nearest.second - x).norm() + 1e-15);
+    // The residual is normal to the surface.
+    const SurfacePoint g = b.pps->evaluate(p.point, Derivatives::First);
+    EXPECT_LT((x - p.position).normalized().cross(g.normal).norm(), 1e-9);
+  }
+}
+
+TEST(PseudoManifold, RefusesBadOptions) {
+  const auto mesh = test::octahedron().build();
+  const LoopLimitSurface loop(mesh);
+  PseudoManifoldOptions options;
+  options.maxBidegree = 1;
+  EXPECT_THROW(PseudoManifold(loop, options), InputError);
+  options.maxBidegree = 7;
+  options.samplesPerControl = 1;
+  EXPECT_THROW(PseudoManifold(loop, options), InputError);
+  const PseudoManifold pps(loop);
+  EXPECT_THROW(pps.evaluate({99, Eigen::Vector3d(1, 0, 0)}, Derivatives::None), InputError);
+  EXPECT_THROW(pps.chartDerivatives({0, Eigen::Vector3d(0, 0.5, 0.5)}, 0), InputError);
+}
+
+}  // namespace
+}  // namespace d2vdb
