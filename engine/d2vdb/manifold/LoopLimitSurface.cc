@@ -181,29 +181,36 @@ const ExtraordinaryTemplate& LoopLimitSurface::templateFor(int valence) const {
 }
 
 void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen::Vector3d* bary,
-                                    std::size_t count, int order, SourceJet* out) const {
+                                    std::size_t count, Eigen::Vector3d* positions,
+                                    SourceJet* jets) const {
   const HalfEdgeMesh& mesh = *level.mesh;
   const std::uint8_t kind = level.kind[face];
   if (kind == kRegular) {
     const std::array<Eigen::Vector3d, 15> net = detail::regularNet(regularControls(mesh, face));
     for (std::size_t i = 0; i < count; ++i) {
-      const PatchJet jet = detail::evaluateTriangleBezier<4>(net, bary[i][1], bary[i][2], order);
-      out[i].position = jet.position;
-      out[i].d1 = jet.dv;
-      out[i].d2 = jet.dw;
-      out[i].derivativesValid = true;
+      if (jets == nullptr) {
+        positions[i] = detail::triangleBezierPosition<4>(net, bary[i][1], bary[i][2]);
+        continue;
+      }
+      const PatchJet jet = detail::evaluateTriangleBezier<4>(net, bary[i][1], bary[i][2], 1);
+      positions[i] = jet.position;
+      jets[i].position = jet.position;
+      jets[i].d1 = jet.dv;
+      jets[i].d2 = jet.dw;
+      jets[i].derivativesValid = true;
     }
     return;
   }
   const int corner = kind;
   const ExtraordinaryTemplate& tmpl = templateFor(mesh.degree(mesh.corner(face, corner)));
   const int size = tmpl.size();
-  // levels[j]: the template after j subdivision steps; nets[j][t]: Bézier net of sub-patch t of
-  // level j + 1 (computed on demand and kept for the batch).
   // The template is subdivided relative to the limit point of c: every rule is affine, and the
   // offsets shrink with the sub-triangles, so points near c keep their relative precision (the
   // differences that give derivatives do not cancel against the absolute position).
+  // levels[j]: the template after j subdivision steps; nets[j][t]: Bézier net of sub-patch t of
+  // level j + 1 (computed on demand and kept for the batch).
   std::vector<Eigen::MatrixX3d> levels;
+  levels.reserve(8);
   levels.push_back(extraordinaryControls(mesh, face, corner));
   Eigen::Vector3d limit = Eigen::Vector3d::Zero();
   for (int j = 1; j < size - 5; ++j) limit += levels[0].row(j).transpose();
@@ -214,12 +221,14 @@ void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen:
   for (std::size_t i = 0; i < count; ++i) {
     const double v = bary[i][(corner + 1) % 3];
     const double w = bary[i][(corner + 2) % 3];
-    SourceJet& result = out[i];
     if (!(v + w > 0.0)) {
-      result.position = limit;
-      result.d1.setZero();
-      result.d2.setZero();
-      result.derivativesValid = false;
+      positions[i] = limit;
+      if (jets != nullptr) {
+        jets[i].position = limit;
+        jets[i].d1.setZero();
+        jets[i].d2.setZero();
+        jets[i].derivativesValid = false;
+      }
       continue;
     }
     // The point lies in sub-triangle T1, T2 or T3 of level `depth` (depth >= 1) once
@@ -244,74 +253,70 @@ void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen:
       localV = 2.0 * bigV;
       localW = 2.0 * bigW - 1.0;
     }
+    // Small products: coefficient-wise (lazyProduct), no packing for a general product.
     while (static_cast<int>(levels.size()) < depth) {
-      levels.push_back(tmpl.step * levels.back());
+      levels.push_back(tmpl.step.lazyProduct(levels.back()));
     }
     if (static_cast<int>(nets.size()) < depth) {
       nets.resize(depth);
       haveNet.resize(depth, {false, false, false});
     }
     if (!haveNet[depth - 1][patch]) {
-      const Eigen::MatrixX3d& coarse = levels[depth - 1];
-      const Eigen::MatrixX3d finer = tmpl.step * coarse;
-      const Eigen::Matrix<double, 6, 3> extras = tmpl.extra * coarse;
-      std::array<Eigen::Vector3d, 12> controls;
-      for (int j = 0; j < 12; ++j) {
-        const int index = tmpl.subPatch[patch][j];
-        controls[j] = index < size ? Eigen::Vector3d(finer.row(index).transpose())
-                                   : Eigen::Vector3d(extras.row(index - size).transpose());
-      }
-      nets[depth - 1][patch] = detail::regularNet(controls);
+      const Eigen::Matrix<double, 15, 3> net =
+          tmpl.subPatchNet[patch].lazyProduct(levels[depth - 1]);
+      for (int j = 0; j < 15; ++j) nets[depth - 1][patch][j] = net.row(j).transpose();
       haveNet[depth - 1][patch] = true;
     }
-    const PatchJet jet =
-        detail::evaluateTriangleBezier<4>(nets[depth - 1][patch], localV, localW, order);
-    result.position = limit + jet.position;
-    result.derivativesValid = true;
-    if (order >= 1) {
-      // d/dv = (+-) 2 scale d/dlocalV (the centre sub-patch T2 is turned by a half turn).
-      const double factor = (patch == 1 ? -2.0 : 2.0) * scale;
-      toFaceDerivatives(corner, factor * jet.dv, factor * jet.dw, result);
+    const std::array<Eigen::Vector3d, 15>& net = nets[depth - 1][patch];
+    if (jets == nullptr) {
+      positions[i] = limit + detail::triangleBezierPosition<4>(net, localV, localW);
+      continue;
     }
+    const PatchJet jet = detail::evaluateTriangleBezier<4>(net, localV, localW, 1);
+    positions[i] = limit + jet.position;
+    jets[i].position = positions[i];
+    jets[i].derivativesValid = true;
+    // d/dv = (+-) 2 scale d/dlocalV (the centre sub-patch T2 is turned by a half turn).
+    const double factor = (patch == 1 ? -2.0 : 2.0) * scale;
+    toFaceDerivatives(corner, factor * jet.dv, factor * jet.dw, jets[i]);
   }
 }
 
 void LoopLimitSurface::positions(Index face, const Eigen::Vector3d* bary, std::size_t count,
                                  Eigen::Vector3d* out) const {
-  std::vector<SourceJet> jets(count);
   if (base_.kind[face] != kSubdivided) {
-    evaluateFace(base_, face, bary, count, 0, jets.data());
-  } else {
-    // Group the points by the sub-face that holds them.
-    std::array<std::vector<Eigen::Vector3d>, 4> fineBary;
-    std::array<std::vector<std::size_t>, 4> which;
-    for (std::size_t i = 0; i < count; ++i) {
-      Eigen::Vector3d fine;
-      const int sub = subFace(bary[i], fine);
-      fineBary[sub].push_back(fine);
-      which[sub].push_back(i);
-    }
-    std::vector<SourceJet> fineJets;
-    for (int sub = 0; sub < 4; ++sub) {
-      if (which[sub].empty()) continue;
-      fineJets.resize(which[sub].size());
-      evaluateFace(*fine_, 4 * face + static_cast<Index>(sub), fineBary[sub].data(),
-                   which[sub].size(), 0, fineJets.data());
-      for (std::size_t j = 0; j < which[sub].size(); ++j) jets[which[sub][j]] = fineJets[j];
-    }
+    evaluateFace(base_, face, bary, count, out, nullptr);
+    return;
   }
-  for (std::size_t i = 0; i < count; ++i) out[i] = jets[i].position;
+  // Group the points by the sub-face that holds them.
+  std::array<std::vector<Eigen::Vector3d>, 4> fineBary;
+  std::array<std::vector<std::size_t>, 4> which;
+  for (std::size_t i = 0; i < count; ++i) {
+    Eigen::Vector3d fine;
+    const int sub = subFace(bary[i], fine);
+    fineBary[sub].push_back(fine);
+    which[sub].push_back(i);
+  }
+  std::vector<Eigen::Vector3d> finePositions;
+  for (int sub = 0; sub < 4; ++sub) {
+    if (which[sub].empty()) continue;
+    finePositions.resize(which[sub].size());
+    evaluateFace(*fine_, 4 * face + static_cast<Index>(sub), fineBary[sub].data(),
+                 which[sub].size(), finePositions.data(), nullptr);
+    for (std::size_t j = 0; j < which[sub].size(); ++j) out[which[sub][j]] = finePositions[j];
+  }
 }
 
 SourceJet LoopLimitSurface::evaluate(const FacePoint& point) const {
   SourceJet jet;
+  Eigen::Vector3d position;
   if (base_.kind[point.face] != kSubdivided) {
-    evaluateFace(base_, point.face, &point.bary, 1, 1, &jet);
+    evaluateFace(base_, point.face, &point.bary, 1, &position, &jet);
     return jet;
   }
   Eigen::Vector3d fine;
   const int sub = subFace(point.bary, fine);
-  evaluateFace(*fine_, 4 * point.face + static_cast<Index>(sub), &fine, 1, 1, &jet);
+  evaluateFace(*fine_, 4 * point.face + static_cast<Index>(sub), &fine, 1, &position, &jet);
   toCoarse(sub, jet);
   return jet;
 }

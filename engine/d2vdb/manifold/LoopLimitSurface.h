@@ -74,9 +74,10 @@ class LoopLimitSurface final : public SourceSurface {
 
   void classify(Level& level, bool allowSubdivision);
   const detail::ExtraordinaryTemplate& templateFor(int valence) const;
-  /// Evaluates points of a face of `level` whose kind is regular or extraordinary.
+  /// Evaluates points of a face of `level` whose kind is regular or extraordinary: positions
+  /// into positions[i], and with first derivatives into jets[i] when jets is not null.
   void evaluateFace(const Level& level, HalfEdgeMesh::Index face, const Eigen::Vector3d* bary,
-                    std::size_t count, int order, SourceJet* out) const;
+                    std::size_t count, Eigen::Vector3d* positions, SourceJet* jets) const;
 
   std::shared_ptr<const HalfEdgeMesh> mesh_;
   Level base_;

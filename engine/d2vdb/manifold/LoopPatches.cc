@@ -125,13 +125,12 @@ const Eigen::Matrix<double, 15, kRegularControlCount>& regularPatchMatrix() {
 }
 
 std::array<Eigen::Vector3d, 15> regularNet(const std::array<Eigen::Vector3d, 12>& controls) {
-  const Eigen::Matrix<double, 15, kRegularControlCount>& m = regularPatchMatrix();
+  static const Eigen::Matrix<double, 15, kRegularControlCount> m = regularPatchMatrix();
+  Eigen::Matrix<double, kRegularControlCount, 3> points;
+  for (int c = 0; c < kRegularControlCount; ++c) points.row(c) = controls[c].transpose();
+  const Eigen::Matrix<double, 15, 3> product = m * points;
   std::array<Eigen::Vector3d, 15> net;
-  for (int r = 0; r < 15; ++r) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int c = 0; c < kRegularControlCount; ++c) sum += m(r, c) * controls[c];
-    net[r] = sum;
-  }
+  for (int r = 0; r < 15; ++r) net[r] = product.row(r).transpose();
   return net;
 }
 
@@ -186,6 +185,14 @@ ExtraordinaryTemplate::ExtraordinaryTemplate(int valenceN) : valence(valenceN) {
   subPatch[0] = {n1, a, m, c, nN, b, n2, x0 + 1, x0 + 2, x0, x0 + 3, d};      // T1 at n1
   subPatch[1] = {m, n2, n1, x0 + 2, x0 + 3, d, a, n3, c, e, nN, b};           // T2 centre
   subPatch[2] = {n2, m, d, n3, c, n1, e, x0 + 2, x0 + 3, a, x0 + 4, x0 + 5};  // T3 at n2
+
+  Eigen::MatrixXd stacked(k + 6, k);
+  stacked << step, extra;
+  for (int t = 0; t < 3; ++t) {
+    Eigen::MatrixXd selected(12, k);
+    for (int j = 0; j < 12; ++j) selected.row(j) = stacked.row(subPatch[t][j]);
+    subPatchNet[t] = regularPatchMatrix() * selected;
+  }
 
   const double chi = 1.0 / (3.0 / (8.0 * beta) + n);
   limitCentre = 1.0 - n * chi;

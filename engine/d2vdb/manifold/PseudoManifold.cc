@@ -11,6 +11,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -32,35 +34,119 @@ namespace {
 
 constexpr int kMaxBidegree = 12;
 
-/// Bernstein basis values of degree d at s with first and second derivatives (d >= 2).
-void bernsteinBasis(int d, double s, double* basis, double* first, double* second) {
-  double work[kMaxBidegree + 1];
-  double degreeMinus1[kMaxBidegree + 1];
-  double degreeMinus2[kMaxBidegree + 1];
+/// Bernstein basis of fixed degree D at s, with first (Order >= 1) and second (Order >= 2)
+/// derivatives; the loops have known trip counts, so the compiler unrolls them.
+template <int D, int Order>
+inline void fixedBernstein(double s, double* b, double* db, double* ddb) {
+  // B^m_i = C(m, i) s^i (1 - s)^(m - i) for m = D, D - 1, D - 2 from the powers of s and 1 - s:
+  // independent products, no long recurrence.
+  static constexpr auto binomials = [] {
+    std::array<std::array<double, D + 1>, D + 1> c{};
+    for (int n = 0; n <= D; ++n) {
+      c[n][0] = c[n][n] = 1.0;
+      for (int k = 1; k < n; ++k) c[n][k] = c[n - 1][k - 1] + c[n - 1][k];
+    }
+    return c;
+  }();
   const double r = 1.0 - s;
-  work[0] = 1.0;
-  for (int m = 1; m <= d; ++m) {
-    if (m == d - 1) std::copy(work, work + m, degreeMinus2);
-    if (m == d) std::copy(work, work + m, degreeMinus1);
-    work[m] = s * work[m - 1];
-    for (int i = m - 1; i > 0; --i) work[i] = r * work[i] + s * work[i - 1];
-    work[0] = r * work[0];
+  double ps[D + 1], pr[D + 1];
+  ps[0] = pr[0] = 1.0;
+  for (int i = 1; i <= D; ++i) {
+    ps[i] = ps[i - 1] * s;
+    pr[i] = pr[i - 1] * r;
   }
-  std::copy(work, work + d + 1, basis);
-  if (first != nullptr) {
-    for (int i = 0; i <= d; ++i) {
-      const double left = i > 0 ? degreeMinus1[i - 1] : 0.0;
-      const double right = i < d ? degreeMinus1[i] : 0.0;
-      first[i] = d * (left - right);
+  for (int i = 0; i <= D; ++i) b[i] = binomials[D][i] * ps[i] * pr[D - i];
+  if constexpr (Order >= 1) {
+    // dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i).
+    double lower[D + 1];
+    for (int i = 0; i < D; ++i) lower[i] = binomials[D - 1][i] * ps[i] * pr[D - 1 - i];
+    db[0] = -D * lower[0];
+    for (int i = 1; i < D; ++i) db[i] = D * (lower[i - 1] - lower[i]);
+    db[D] = D * lower[D - 1];
+  }
+  if constexpr (Order >= 2) {
+    double lower[D + 1];
+    for (int i = 0; i < D - 1; ++i) lower[i] = binomials[D - 2][i] * ps[i] * pr[D - 2 - i];
+    constexpr double kScale = D * (D - 1);
+    for (int i = 0; i <= D; ++i) {
+      const double a = i >= 2 ? lower[i - 2] : 0.0;
+      const double m = (i >= 1 && i - 1 <= D - 2) ? lower[i - 1] : 0.0;
+      const double c = i <= D - 2 ? lower[i] : 0.0;
+      ddb[i] = kScale * (a - 2.0 * m + c);
     }
   }
-  if (second != nullptr) {
-    for (int i = 0; i <= d; ++i) {
-      const double a = i >= 2 ? degreeMinus2[i - 2] : 0.0;
-      const double b = (i >= 1 && i - 1 <= d - 2) ? degreeMinus2[i - 1] : 0.0;
-      const double c = i <= d - 2 ? degreeMinus2[i] : 0.0;
-      second[i] = d * (d - 1) * (a - 2.0 * b + c);
+}
+
+/// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
+/// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
+/// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
+/// (D + 1)^2 values, rows of equal t-index with the s-index contiguous.
+template <int D, int Order>
+void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
+  constexpr int m = D + 1;
+  double bx[m], dbx[m], ddbx[m], by[m], dby[m], ddby[m];
+  fixedBernstein<D, Order>(s, bx, dbx, ddbx);
+  fixedBernstein<D, Order>(t, by, dby, ddby);
+  for (int c = 0; c < 3; ++c) {
+    const double* block = controls + c * m * m;
+    double t0[m] = {}, t1[m] = {}, t2[m] = {};
+    for (int k = 0; k < m; ++k) {
+      const double* row = block + k * m;
+      for (int j = 0; j < m; ++j) t0[j] += by[k] * row[j];
+      if constexpr (Order >= 1) {
+        for (int j = 0; j < m; ++j) t1[j] += dby[k] * row[j];
+      }
+      if constexpr (Order >= 2) {
+        for (int j = 0; j < m; ++j) t2[j] += ddby[k] * row[j];
+      }
     }
+    double v = 0, gs = 0, gt = 0, hss = 0, hst = 0, htt = 0;
+    for (int j = 0; j < m; ++j) {
+      v += bx[j] * t0[j];
+      if constexpr (Order >= 1) {
+        gs += dbx[j] * t0[j];
+        gt += bx[j] * t1[j];
+      }
+      if constexpr (Order >= 2) {
+        hss += ddbx[j] * t0[j];
+        hst += dbx[j] * t1[j];
+        htt += bx[j] * t2[j];
+      }
+    }
+    out[0][c] = v;
+    out[1][c] = gs;
+    out[2][c] = gt;
+    out[3][c] = hss;
+    out[4][c] = hst;
+    out[5][c] = htt;
+  }
+}
+
+template <int Order>
+void patch(int d, const double* controls, double s, double t, double out[6][3]) {
+  switch (d) {
+    case 2:
+      return fixedPatch<2, Order>(controls, s, t, out);
+    case 3:
+      return fixedPatch<3, Order>(controls, s, t, out);
+    case 4:
+      return fixedPatch<4, Order>(controls, s, t, out);
+    case 5:
+      return fixedPatch<5, Order>(controls, s, t, out);
+    case 6:
+      return fixedPatch<6, Order>(controls, s, t, out);
+    case 7:
+      return fixedPatch<7, Order>(controls, s, t, out);
+    case 8:
+      return fixedPatch<8, Order>(controls, s, t, out);
+    case 9:
+      return fixedPatch<9, Order>(controls, s, t, out);
+    case 10:
+      return fixedPatch<10, Order>(controls, s, t, out);
+    case 11:
+      return fixedPatch<11, Order>(controls, s, t, out);
+    default:
+      return fixedPatch<12, Order>(controls, s, t, out);
   }
 }
 
@@ -144,7 +230,8 @@ struct PseudoManifold::DegreeFit {
   PolarMap map;
   std::vector<Eigen::Vector2d> canonical;  ///< per sample, in its sector's corner frame
   std::vector<int> sectorStart;            ///< samples of sector k: [sectorStart[k], [k + 1])
-  Eigen::MatrixXd pseudoInverse;           ///< (bidegree + 1)^2 x samples
+  /// (bidegree + 1)^2 x samples, row-major (one contiguous row per coefficient)
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> pseudoInverse;
   double condition = 0.0;
 
   DegreeFit(int n, int d, int samplesPerControl) : degree(n), bidegree(d), map(n) {
@@ -181,7 +268,7 @@ struct PseudoManifold::DegreeFit {
       const BernsteinBasisValues by =
           bernsteinBasisValues(d, (samples[s].p.y() + radius) / (2.0 * radius));
       for (int j = 0; j <= d; ++j) {
-        for (int k = 0; k <= d; ++k) design(s, j * (d + 1) + k) = bx[j] * by[k];
+        for (int k = 0; k <= d; ++k) design(s, k * (d + 1) + j) = bx[j] * by[k];
       }
     }
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(design);
@@ -189,7 +276,8 @@ struct PseudoManifold::DegreeFit {
         qr.matrixQR().topLeftCorner(unknowns, unknowns).triangularView<Eigen::Upper>();
     const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(count, unknowns);
     pseudoInverse = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd(q.transpose()));
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(design);
+    // cond(design) = cond(R).
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r);
     const auto& sv = svd.singularValues();
     condition = sv[0] / sv[sv.size() - 1];
   }
@@ -208,38 +296,14 @@ struct PseudoManifold::Evaluator {
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double* controls = pps.controls_.data() + pps.controlOffset_[vertex];
     const double inv = 0.5 / radius;
-    double bx[kMaxBidegree + 1], dbx[kMaxBidegree + 1], ddbx[kMaxBidegree + 1];
-    double by[kMaxBidegree + 1], dby[kMaxBidegree + 1], ddby[kMaxBidegree + 1];
-    bernsteinBasis(d, (px.v + radius) * inv, bx, Order >= 1 ? dbx : nullptr,
-                   Order >= 2 ? ddbx : nullptr);
-    bernsteinBasis(d, (py.v + radius) * inv, by, Order >= 1 ? dby : nullptr,
-                   Order >= 2 ? ddby : nullptr);
-    double value[3] = {0, 0, 0}, gx[3] = {0, 0, 0}, gy[3] = {0, 0, 0};
-    double hxx[3] = {0, 0, 0}, hxy[3] = {0, 0, 0}, hyy[3] = {0, 0, 0};
-    for (int j = 0; j <= d; ++j) {
-      double r0[3] = {0, 0, 0}, r1[3] = {0, 0, 0}, r2[3] = {0, 0, 0};
-      const double* row = controls + 3 * j * (d + 1);
-      for (int k = 0; k <= d; ++k) {
-        for (int c = 0; c < 3; ++c) {
-          const double b = row[3 * k + c];
-          r0[c] += b * by[k];
-          if constexpr (Order >= 1) r1[c] += b * dby[k];
-          if constexpr (Order >= 2) r2[c] += b * ddby[k];
-        }
-      }
-      for (int c = 0; c < 3; ++c) {
-        value[c] += bx[j] * r0[c];
-        if constexpr (Order >= 1) {
-          gx[c] += dbx[j] * r0[c];
-          gy[c] += bx[j] * r1[c];
-        }
-        if constexpr (Order >= 2) {
-          hxx[c] += ddbx[j] * r0[c];
-          hxy[c] += dbx[j] * r1[c];
-          hyy[c] += bx[j] * r2[c];
-        }
-      }
-    }
+    double result[6][3];
+    patch<Order>(d, controls, (px.v + radius) * inv, (py.v + radius) * inv, result);
+    const double* value = result[0];
+    const double* gx = result[1];
+    const double* gy = result[2];
+    const double* hxx = result[3];
+    const double* hxy = result[4];
+    const double* hyy = result[5];
     Jet3<Order> out;
     out.v = toVector(value);
     if constexpr (Order >= 1) {
@@ -381,8 +445,7 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   for (Index v = 0; v < vertexCount; ++v) {
     const int n = mesh.degree(v);
     if (n > 0 && !fits_[n]) {
-      fits_[n] = std::make_unique<DegreeFit>(n, std::min(n + 1, options.maxBidegree),
-                                             options.samplesPerControl);
+      fits_[n] = sharedFit(n, std::min(n + 1, options.maxBidegree), options.samplesPerControl);
       degrees.push_back(n);
     }
   }
@@ -442,11 +505,15 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
             }
             // Fitting offsets from the vertex keeps round-off relative to the chart's size (the
             // fit reproduces constants, so the offset comes back exactly).
-            fitted.noalias() = fit.pseudoInverse * samples;
+            // One dot product per coefficient (row-major pseudo-inverse, column samples): no
+            // packing of the large matrix for a three-column product.
+            fitted.noalias() = fit.pseudoInverse.lazyProduct(samples);
             double* out = controls_.data() + controlOffset_[v];
-            for (int c = 0; c < fitted.rows(); ++c) {
-              for (int axis = 0; axis < 3; ++axis)
-                out[3 * c + axis] = fitted(c, axis) + centre[axis];
+            const Eigen::Index nn = fitted.rows();
+            for (int axis = 0; axis < 3; ++axis) {
+              for (Eigen::Index c = 0; c < nn; ++c) {
+                out[axis * nn + c] = fitted(c, axis) + centre[axis];
+              }
             }
           }
         });
@@ -457,6 +524,17 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
 PseudoManifold::~PseudoManifold() = default;
 PseudoManifold::PseudoManifold(PseudoManifold&&) noexcept = default;
 PseudoManifold& PseudoManifold::operator=(PseudoManifold&&) noexcept = default;
+
+std::shared_ptr<const PseudoManifold::DegreeFit> PseudoManifold::sharedFit(int degree, int bidegree,
+                                                                           int samplesPerControl) {
+  static std::mutex mutex;
+  static std::map<std::array<int, 3>, std::shared_ptr<const DegreeFit>> fits;
+  const std::array<int, 3> key = {degree, bidegree, samplesPerControl};
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::shared_ptr<const DegreeFit>& fit = fits[key];
+  if (!fit) fit = std::make_shared<const DegreeFit>(degree, bidegree, samplesPerControl);
+  return fit;
+}
 
 const PseudoManifold::DegreeFit& PseudoManifold::fitFor(int degree) const {
   return *fits_[degree];
@@ -469,8 +547,15 @@ int PseudoManifold::bidegree(Index vertex) const {
 
 std::vector<Eigen::Vector3d> PseudoManifold::controlPoints(Index vertex) const {
   std::vector<Eigen::Vector3d> points;
-  for (std::size_t i = controlOffset_[vertex]; i < controlOffset_[vertex + 1]; i += 3) {
-    points.push_back(toVector(controls_.data() + i));
+  const int d = bidegree(vertex);
+  if (d == 0) return points;
+  const int m = d + 1;
+  const double* base = controls_.data() + controlOffset_[vertex];
+  for (int j = 0; j <= d; ++j) {
+    for (int k = 0; k <= d; ++k) {
+      const int i = k * m + j;
+      points.emplace_back(base[i], base[m * m + i], base[2 * m * m + i]);
+    }
   }
   return points;
 }
@@ -564,6 +649,13 @@ SurfacePoint PseudoManifold::evaluate(const FacePoint& point, Derivatives deriva
 
 std::vector<SurfacePoint> PseudoManifold::evaluate(const std::vector<FacePoint>& points,
                                                    Derivatives derivatives) const {
+  std::vector<SurfacePoint> results;
+  evaluate(points, derivatives, results);
+  return results;
+}
+
+void PseudoManifold::evaluate(const std::vector<FacePoint>& points, Derivatives derivatives,
+                              std::vector<SurfacePoint>& results) const {
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].face >= mesh_->faceCount()) {
       throw InputError("point " + std::to_string(i) + ": face " + std::to_string(points[i].face) +
@@ -571,14 +663,13 @@ std::vector<SurfacePoint> PseudoManifold::evaluate(const std::vector<FacePoint>&
                        " faces)");
     }
   }
-  std::vector<SurfacePoint> results(points.size());
+  results.resize(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         results[i] = evaluate(points[i], derivatives);
                       }
                     });
-  return results;
 }
 
 std::optional<SurfaceDerivatives> PseudoManifold::faceDerivatives(const FacePoint& point) const {
@@ -640,14 +731,22 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
     // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
     const double maxStep = 0.5 * radius;
     if (step.norm() > maxStep) step *= maxStep / step.norm();
+    // A small Newton step (positive definite Hessian) is taken as it is: there the quadratic
+    // model is exact to far below what comparing distances could resolve. Otherwise the step is
+    // halved until the distance falls.
+    const bool trustedNewton = newton.info() == Eigen::Success && step.norm() < 1e-4 * radius;
     bool accepted = false;
     FacePoint next = current;
     for (int halving = 0; halving < 40; ++halving) {
       Eigen::Vector2d target = chartPoint.p + step;
       if (target.norm() >= 0.99 * radius) target *= 0.99 * radius / target.norm();
       next = atlas_.fromChart({chartPoint.vertex, target});
+      if (trustedNewton) {
+        accepted = true;
+        break;
+      }
       const double nextValue = 0.5 * (position(next) - x).squaredNorm();
-      if (nextValue <= value * (1.0 + 1e-15) + 1e-300) {
+      if (nextValue < value) {
         accepted = true;
         break;
       }
@@ -656,7 +755,9 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
     const double moved = step.norm();
     if (accepted) current = next;
     if (!accepted || moved <= 1e-12 * radius) {
-      result.converged = accepted || moved <= 1e-12 * radius || gradient.norm() == 0.0;
+      // No step lowers the distance any more (or the last one was negligible): a minimum to
+      // round-off.
+      result.converged = true;
       break;
     }
   }

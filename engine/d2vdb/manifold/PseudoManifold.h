@@ -76,7 +76,8 @@ SurfacePoint surfaceGeometry(const SurfaceDerivatives& derivatives);
 /// the same surface point (the reference construction maps samples affinely from the n-gon's
 /// sectors, which shifts the charts' contributions against each other for n != 6). The design
 /// matrix depends only on n, so its pseudo-inverse is computed once per degree (Householder QR,
-/// not the normal equations); each vertex then costs one matrix product.
+/// not the normal equations, and shared by every surface the process builds); each vertex then
+/// costs one matrix product.
 ///
 /// Weights: gamma_v(p) = xi(|p| / cos(pi / n)) with the C-infinity cut-off xi of BumpFunction.h
 /// (1 within a quarter of the chart radius, 0 from the rim on). The surface point of a face point
@@ -131,6 +132,9 @@ class PseudoManifold {
   /// index out of range (the first in index order).
   std::vector<SurfacePoint> evaluate(const std::vector<FacePoint>& points,
                                      Derivatives derivatives) const;
+  /// The same into `out` (resized to points.size(); its storage is reused).
+  void evaluate(const std::vector<FacePoint>& points, Derivatives derivatives,
+                std::vector<SurfacePoint>& out) const;
 
   /// Derivatives with respect to the face's barycentric coordinates (b1, b2) (b0 = 1 - b1 - b2).
   /// Nothing at a corner of degree != 6, where the map from the face to the chart (angles scaled
@@ -163,14 +167,18 @@ class PseudoManifold {
   struct Evaluator;
 
   const DegreeFit& fitFor(int degree) const;
+  /// The least-squares tables of one (degree, bidegree, density), computed once per process and
+  /// shared (they do not depend on the mesh).
+  static std::shared_ptr<const DegreeFit> sharedFit(int degree, int bidegree,
+                                                    int samplesPerControl);
 
   std::shared_ptr<const HalfEdgeMesh> mesh_;
   ChartAtlas atlas_;
   PseudoManifoldOptions options_;
   std::string sourceName_;
-  std::vector<std::unique_ptr<DegreeFit>> fits_;  ///< index: vertex degree
-  std::vector<std::size_t> controlOffset_;        ///< per vertex, into controls_ (doubles)
-  std::vector<double> controls_;                  ///< x, y, z per control point
+  std::vector<std::shared_ptr<const DegreeFit>> fits_;  ///< index: vertex degree
+  std::vector<std::size_t> controlOffset_;              ///< per vertex, into controls_ (doubles)
+  std::vector<double> controls_;                        ///< x, y, z per control point
 };
 
 }  // namespace d2vdb

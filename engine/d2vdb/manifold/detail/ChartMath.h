@@ -36,14 +36,30 @@ struct PolarMap {
   double sector;       ///< 2 pi / n
   double chartRadius;  ///< cos(pi / n)
 
+  bool rotation;  ///< degree 6: the map is the rotation by 2 pi k / 6 (radiusScale 1)
+
   explicit PolarMap(int degree)
       : angleScale(6.0 / degree),
-        radiusScale(std::cos(kPi / degree) / kCos30),
+        radiusScale(degree == 6 ? 1.0 : std::cos(kPi / degree) / kCos30),
         sector(2.0 * kPi / degree),
-        chartRadius(std::cos(kPi / degree)) {}
+        chartRadius(degree == 6 ? kCos30 : std::cos(kPi / degree)),
+        rotation(degree == 6) {}
+
+  /// cos and sin of 2 pi k / 6, exactly rounded.
+  static void sixth(int k, double& c, double& s) {
+    static constexpr double kCos[6] = {1.0, 0.5, -0.5, -1.0, -0.5, 0.5};
+    static constexpr double kSin[6] = {0.0, kCos30, kCos30, 0.0, -kCos30, -kCos30};
+    c = kCos[k % 6];
+    s = kSin[k % 6];
+  }
 
   /// The chart point of canonical point z of sector k.
   Eigen::Vector2d toChart(const Eigen::Vector2d& z, int k) const {
+    if (rotation) {
+      double c, s;
+      sixth(k, c, s);
+      return {c * z.x() - s * z.y(), s * z.x() + c * z.y()};
+    }
     const double r = z.norm();
     const double angle = std::atan2(z.y(), z.x()) * angleScale + sector * k;
     const double rho = r * radiusScale;
@@ -68,12 +84,21 @@ struct PolarMap {
   template <int Order>
   void toChart(const Jet<Order>& zx, const Jet<Order>& zy, int k, Jet<Order>& px,
                Jet<Order>& py) const {
+    if (rotation) {
+      double c, s;
+      sixth(k, c, s);
+      px = c * zx - s * zy;
+      py = s * zx + c * zy;
+      return;
+    }
     const Jet<Order> r = sqrt(zx * zx + zy * zy);
     Jet<Order> angle = angleScale * atan2(zy, zx);
     angle.v += sector * k;
     const Jet<Order> rho = radiusScale * r;
-    px = rho * cos(angle);
-    py = rho * sin(angle);
+    Jet<Order> sine, cosine;
+    sinCos(angle, sine, cosine);
+    px = rho * cosine;
+    py = rho * sine;
   }
 
   /// The canonical point of chart point p (jets) in sector k (p must not be 0 when Order > 0).
@@ -89,8 +114,10 @@ struct PolarMap {
     while (value > kPi) value -= 2.0 * kPi;
     beta.v = value;
     const Jet<Order> alpha = (1.0 / angleScale) * beta;
-    zx = r * cos(alpha);
-    zy = r * sin(alpha);
+    Jet<Order> sine, cosine;
+    sinCos(alpha, sine, cosine);
+    zx = r * cosine;
+    zy = r * sine;
   }
 };
 

@@ -49,8 +49,12 @@ template <int Order>
 Jet<Order> operator+(const Jet<Order>& a, const Jet<Order>& b) {
   Jet<Order> r;
   r.v = a.v + b.v;
-  for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] + b.d[i];
-  for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] + b.h[i];
+  if constexpr (Order >= 1) {
+    for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] + b.d[i];
+  }
+  if constexpr (Order >= 2) {
+    for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] + b.h[i];
+  }
   return r;
 }
 
@@ -58,8 +62,12 @@ template <int Order>
 Jet<Order> operator-(const Jet<Order>& a, const Jet<Order>& b) {
   Jet<Order> r;
   r.v = a.v - b.v;
-  for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] - b.d[i];
-  for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] - b.h[i];
+  if constexpr (Order >= 1) {
+    for (int i = 0; i < 2; ++i) r.d[i] = a.d[i] - b.d[i];
+  }
+  if constexpr (Order >= 2) {
+    for (int i = 0; i < 3; ++i) r.h[i] = a.h[i] - b.h[i];
+  }
   return r;
 }
 
@@ -67,8 +75,12 @@ template <int Order>
 Jet<Order> operator*(double s, const Jet<Order>& a) {
   Jet<Order> r;
   r.v = s * a.v;
-  for (int i = 0; i < 2; ++i) r.d[i] = s * a.d[i];
-  for (int i = 0; i < 3; ++i) r.h[i] = s * a.h[i];
+  if constexpr (Order >= 1) {
+    for (int i = 0; i < 2; ++i) r.d[i] = s * a.d[i];
+  }
+  if constexpr (Order >= 2) {
+    for (int i = 0; i < 3; ++i) r.h[i] = s * a.h[i];
+  }
   return r;
 }
 
@@ -104,6 +116,15 @@ template <int Order>
 Jet<Order> cos(const Jet<Order>& a) {
   const double c = std::cos(a.v);
   return a.apply(c, -std::sin(a.v), -c);
+}
+
+/// sin(a) and cos(a) together (one evaluation of each at the value).
+template <int Order>
+void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
+  const double s = std::sin(a.v);
+  const double c = std::cos(a.v);
+  sine = a.apply(s, c, -s);
+  cosine = a.apply(c, -s, -c);
 }
 
 /// atan2(y, x) with the derivatives of the polar angle (the same on every branch):

@@ -61,6 +61,9 @@ struct ExtraordinaryTemplate {
   /// For each regular sub-patch T1 (at n1), T2 (centre), T3 (at n2): its 12 control vertices as
   /// indices into the finer level's template followed by the six extra vertices (index K + i).
   std::array<std::array<int, 12>, 3> subPatch;
+  /// For each sub-patch: its quartic Bézier net (15 points) from the coarser level's template,
+  /// regularPatchMatrix() x (selection of subPatch[t]) x [step; extra], 15 x K.
+  std::array<Eigen::MatrixXd, 3> subPatchNet;
   /// Limit position weights of c (1 - N chi) and of each neighbour (chi), chi = 1 / (3 / (8 beta)
   /// + N).
   double limitCentre = 0.0;

@@ -67,4 +67,33 @@ PatchJet evaluateTriangleBezier(const std::array<Eigen::Vector3d, (N + 1) * (N +
   return jet;
 }
 
+/// The position alone, from the Bernstein basis N! / (i! j! k!) u^i v^j w^k directly (cheaper
+/// than de Casteljau for one point).
+template <int N>
+Eigen::Vector3d triangleBezierPosition(
+    const std::array<Eigen::Vector3d, (N + 1) * (N + 2) / 2>& net, double v, double w) {
+  const double u = 1.0 - v - w;
+  double pu[N + 1], pv[N + 1], pw[N + 1];
+  pu[0] = pv[0] = pw[0] = 1.0;
+  for (int i = 1; i <= N; ++i) {
+    pu[i] = pu[i - 1] * u;
+    pv[i] = pv[i - 1] * v;
+    pw[i] = pw[i - 1] * w;
+  }
+  // Multinomial coefficients N! / (i! j! k!) from binomials C(N, j) C(N - j, k).
+  double binomial[N + 1][N + 1] = {};
+  for (int n = 0; n <= N; ++n) {
+    binomial[n][0] = binomial[n][n] = 1.0;
+    for (int k = 1; k < n; ++k) binomial[n][k] = binomial[n - 1][k - 1] + binomial[n - 1][k];
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int j = 0; j <= N; ++j) {
+    for (int k = 0; k <= N - j; ++k) {
+      const double weight = binomial[N][j] * binomial[N - j][k] * pu[N - j - k] * pv[j] * pw[k];
+      sum += weight * net[triangleIndex(N, j, k)];
+    }
+  }
+  return sum;
+}
+
 }  // namespace d2vdb::detail

@@ -1,0 +1,149 @@
+// Smooth surfaces from triangle meshes (parametric pseudo-manifolds): construction and evaluation
+// speed, each benchmark taking the thread count as its last argument (tbb::global_control).
+//  (a) construction of the Loop-based surface of the bunny (volumes/bunny.obj, 1839 vertices) and
+//      of a dragon-sized mesh made reproducibly from it (the bunny after 4 Loop subdivision steps,
+//      470k vertices); items = vertices;
+//  (b) evaluation at random face points of the bunny's surface: position, position + normal,
+//      position + curvatures; next to it, in the same run, the exact Loop limit surface (the
+//      source) evaluated with first derivatives at the same points; items = points.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "d2vdb/manifold/LoopLimitSurface.h"
+#include "d2vdb/manifold/LoopSubdivision.h"
+#include "d2vdb/manifold/PseudoManifold.h"
+#include "d2vdb/mesh/MeshIO.h"
+
+namespace {
+
+using d2vdb::HalfEdgeMesh;
+
+tbb::global_control threadLimit(const benchmark::State& state, int argument) {
+  return tbb::global_control(tbb::global_control::max_allowed_parallelism,
+                             static_cast<std::size_t>(state.range(argument)));
+}
+
+const std::shared_ptr<const HalfEdgeMesh>& bunny() {
+  static const auto mesh = std::make_shared<const HalfEdgeMesh>(
+      d2vdb::readMesh(std::filesystem::path(D2VDB_SOURCE_DIR) / "volumes" / "bunny.obj"));
+  return mesh;
+}
+
+/// The bunny after four Loop subdivision steps.
+const std::shared_ptr<const HalfEdgeMesh>& dragonSized() {
+  static const std::shared_ptr<const HalfEdgeMesh> mesh = [] {
+    HalfEdgeMesh m = d2vdb::loopSubdivision(*bunny());
+    for (int step = 1; step < 4; ++step) m = d2vdb::loopSubdivision(m);
+    return std::make_shared<const HalfEdgeMesh>(std::move(m));
+  }();
+  return mesh;
+}
+
+const d2vdb::LoopLimitSurface& bunnyLoop() {
+  static const d2vdb::LoopLimitSurface surface(bunny());
+  return surface;
+}
+
+const d2vdb::PseudoManifold& bunnySurface() {
+  static const d2vdb::PseudoManifold surface(bunnyLoop());
+  return surface;
+}
+
+/// 200k random face points of the bunny (uniform barycentric coordinates).
+const std::vector<d2vdb::FacePoint>& randomPoints() {
+  static const std::vector<d2vdb::FacePoint> points = [] {
+    std::mt19937 random(7);
+    std::uniform_int_distribution<std::uint32_t> face(
+        0, static_cast<std::uint32_t>(bunny()->faceCount() - 1));
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<d2vdb::FacePoint> result;
+    for (int i = 0; i < 200000; ++i) {
+      double a = unit(random);
+      double b = unit(random);
+      if (a + b > 1.0) {
+        a = 1.0 - a;
+        b = 1.0 - b;
+      }
+      result.push_back({face(random), Eigen::Vector3d(1.0 - a - b, a, b)});
+    }
+    return result;
+  }();
+  return points;
+}
+
+void BM_BuildBunny(benchmark::State& state) {
+  const auto limit = threadLimit(state, 0);
+  const d2vdb::LoopLimitSurface& loop = bunnyLoop();
+  for (auto _ : state) {
+    const d2vdb::PseudoManifold surface(loop);
+    benchmark::DoNotOptimize(surface.memoryBytes());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(bunny()->vertexCount()));
+}
+BENCHMARK(BM_BuildBunny)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BuildDragonSized(benchmark::State& state) {
+  const auto limit = threadLimit(state, 0);
+  const d2vdb::LoopLimitSurface loop(dragonSized());
+  for (auto _ : state) {
+    const d2vdb::PseudoManifold surface(loop);
+    benchmark::DoNotOptimize(surface.memoryBytes());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(dragonSized()->vertexCount()));
+  state.counters["vertices"] = static_cast<double>(dragonSized()->vertexCount());
+}
+BENCHMARK(BM_BuildDragonSized)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void evaluate(benchmark::State& state, d2vdb::Derivatives derivatives) {
+  const auto limit = threadLimit(state, 0);
+  const d2vdb::PseudoManifold& surface = bunnySurface();
+  const auto& points = randomPoints();
+  std::vector<d2vdb::SurfacePoint> results;
+  for (auto _ : state) {
+    surface.evaluate(points, derivatives, results);
+    benchmark::DoNotOptimize(results.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(points.size()));
+}
+
+void BM_EvaluatePosition(benchmark::State& state) {
+  evaluate(state, d2vdb::Derivatives::None);
+}
+void BM_EvaluatePositionNormal(benchmark::State& state) {
+  evaluate(state, d2vdb::Derivatives::First);
+}
+void BM_EvaluateCurvature(benchmark::State& state) {
+  evaluate(state, d2vdb::Derivatives::Second);
+}
+BENCHMARK(BM_EvaluatePosition)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EvaluatePositionNormal)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_EvaluateCurvature)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// Reference: the Loop limit surface with first derivatives at the same points.
+void BM_LoopSourcePositionDerivatives(benchmark::State& state) {
+  const auto limit = threadLimit(state, 0);
+  const d2vdb::LoopLimitSurface& loop = bunnyLoop();
+  const auto& points = randomPoints();
+  std::vector<d2vdb::SourceJet> results(points.size());
+  for (auto _ : state) {
+    tbb::parallel_for(std::size_t{0}, points.size(),
+                      [&](std::size_t i) { results[i] = loop.evaluate(points[i]); });
+    benchmark::DoNotOptimize(results.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(points.size()));
+}
+BENCHMARK(BM_LoopSourcePositionDerivatives)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
