@@ -122,8 +122,8 @@ TEST(PnTriangles, PseudoManifoldOverPnIsSmoothAndClose) {
     FacePoint b{HalfEdgeMesh::face(twin), Eigen::Vector3d::Zero()};
     b.bary[twin % 3] = 0.6;
     b.bary[(twin + 1) % 3] = 0.4;
-    const SurfacePoint pa = pps.evaluate(a, Derivatives::Second);
-    const SurfacePoint pb = pps.evaluate(b, Derivatives::Second);
+    const SmoothPoint pa = pps.evaluate(a, Derivatives::Second);
+    const SmoothPoint pb = pps.evaluate(b, Derivatives::Second);
     const double scale = std::max({std::abs(pa.k1), std::abs(pa.k2), 1.0});
     worst = std::max({worst, (pa.position - pb.position).norm() / mesh->boundingBoxDiagonal(),
                       (pa.normal - pb.normal).norm() * 1e-2, std::abs(pa.k1 - pb.k1) / scale * 1e-4,

@@ -69,8 +69,8 @@ TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
     for (Index h = 0; h < mesh.halfEdgeCount(); ++h) {
       const Index t = mesh.twin(h);
       for (const double s : {0.0, 0.03, 0.1, 0.25, 0.5, 0.61, 0.77, 0.93, 1.0}) {
-        const SurfacePoint a = b.pps->evaluate(onEdge(h, s), Derivatives::Second);
-        const SurfacePoint c = b.pps->evaluate(onEdge(t, 1.0 - s), Derivatives::Second);
+        const SmoothPoint a = b.pps->evaluate(onEdge(h, s), Derivatives::Second);
+        const SmoothPoint c = b.pps->evaluate(onEdge(t, 1.0 - s), Derivatives::Second);
         worstPosition = std::max(worstPosition, (a.position - c.position).norm() / diagonal);
         worstNormal = std::max(worstNormal, angleBetween(a.normal, c.normal));
         const double scale = std::max({std::abs(a.k1), std::abs(a.k2), 1.0 / diagonal});
@@ -85,9 +85,9 @@ TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
     for (Index v = 0; v < mesh.vertexCount(); ++v) {
       const Eigen::Vector3d centre = b.pps->shapeFunction({v, Eigen::Vector2d::Zero()});
       for (int k = 0; k < mesh.degree(v); ++k) {
-        const SurfacePoint p = b.pps->evaluate(onEdge(mesh.ring(v, k), 0.0), Derivatives::First);
+        const SmoothPoint p = b.pps->evaluate(onEdge(mesh.ring(v, k), 0.0), Derivatives::First);
         worstPosition = std::max(worstPosition, (p.position - centre).norm() / diagonal);
-        const SurfacePoint q = b.pps->evaluate(onEdge(mesh.ring(v, 0), 0.0), Derivatives::First);
+        const SmoothPoint q = b.pps->evaluate(onEdge(mesh.ring(v, 0), 0.0), Derivatives::First);
         worstNormal = std::max(worstNormal, angleBetween(p.normal, q.normal));
       }
     }
@@ -175,8 +175,8 @@ TEST(PseudoManifold, NormalsAndCurvaturesVaryContinuouslyAcrossEdges) {
         a.bary[(h + 2) % 3] = eps;
         c.bary *= 1.0 - eps;
         c.bary[(t + 2) % 3] = eps;
-        const SurfacePoint pa = b.pps->evaluate(a, Derivatives::Second);
-        const SurfacePoint pc = b.pps->evaluate(c, Derivatives::Second);
+        const SmoothPoint pa = b.pps->evaluate(a, Derivatives::Second);
+        const SmoothPoint pc = b.pps->evaluate(c, Derivatives::Second);
         w = std::max({w, angleBetween(pa.normal, pc.normal), std::abs(pa.k1 - pc.k1),
                       std::abs(pa.k2 - pc.k2)});
       }
@@ -313,7 +313,7 @@ TEST(PseudoManifold, DerivativesMatchFiniteDifferences) {
       for (int corner = 0; corner < 3; ++corner) {
         if (!ChartAtlas::inChart(bary, corner)) continue;
         const FacePoint point{f, bary};
-        const SurfaceDerivatives d = b.pps->chartDerivatives(point, corner);
+        const SmoothDerivatives d = b.pps->chartDerivatives(point, corner);
         const ChartPoint c = b.pps->atlas().toChart(point, corner);
         const auto at = [&](double dx, double dy) {
           return b.pps->position(
@@ -344,11 +344,11 @@ TEST(PseudoManifold, FaceAndChartDerivativesGiveTheSameGeometry) {
   double worst = 0.0;
   for (Index f = 0; f < b.mesh->faceCount(); f += 5) {
     const FacePoint point{f, Eigen::Vector3d(0.3, 0.45, 0.25)};
-    const std::optional<SurfaceDerivatives> face = b.pps->faceDerivatives(point);
+    const std::optional<SmoothDerivatives> face = b.pps->faceDerivatives(point);
     ASSERT_TRUE(face.has_value());
-    const SurfacePoint g1 = surfaceGeometry(*face);
+    const SmoothPoint g1 = surfaceGeometry(*face);
     for (int corner = 0; corner < 3; ++corner) {
-      const SurfacePoint g2 = surfaceGeometry(b.pps->chartDerivatives(point, corner));
+      const SmoothPoint g2 = surfaceGeometry(b.pps->chartDerivatives(point, corner));
       worst = std::max({worst, (g1.position - g2.position).norm(), (g1.normal - g2.normal).norm(),
                         std::abs(g1.k1 - g2.k1), std::abs(g1.k2 - g2.k2)});
     }
@@ -365,14 +365,14 @@ TEST(PseudoManifold, SurfaceGeometryOfAnEllipsoid) {
   // X(s, t) = (a cos s cos t, b sin s cos t, c sin t) at s = 0.3, t = 0.2 against the closed-form
   // Gaussian and mean curvature of the ellipsoid (outward normal, k > 0).
   const double a = 3.0, b = 2.0, c = 1.0, s = 0.3, t = 0.2;
-  SurfaceDerivatives d;
+  SmoothDerivatives d;
   d.position = {a * std::cos(s) * std::cos(t), b * std::sin(s) * std::cos(t), c * std::sin(t)};
   d.d[0] = {-a * std::sin(s) * std::cos(t), b * std::cos(s) * std::cos(t), 0.0};
   d.d[1] = {-a * std::cos(s) * std::sin(t), -b * std::sin(s) * std::sin(t), c * std::cos(t)};
   d.dd[0] = {-a * std::cos(s) * std::cos(t), -b * std::sin(s) * std::cos(t), 0.0};
   d.dd[1] = {a * std::sin(s) * std::sin(t), -b * std::cos(s) * std::sin(t), 0.0};
   d.dd[2] = {-a * std::cos(s) * std::cos(t), -b * std::sin(s) * std::cos(t), -c * std::sin(t)};
-  const SurfacePoint g = surfaceGeometry(d);
+  const SmoothPoint g = surfaceGeometry(d);
   const Eigen::Vector3d x = d.position;
   const double q = x.x() * x.x() / std::pow(a, 4) + x.y() * x.y() / std::pow(b, 4) +
                    x.z() * x.z() / std::pow(c, 4);
@@ -467,7 +467,7 @@ TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
     EXPECT_TRUE(p.converged);
     EXPECT_LE(p.distance, (nearest.second - x).norm() + 1e-15);
     // The residual is normal to the surface.
-    const SurfacePoint g = b.pps->evaluate(p.point, Derivatives::First);
+    const SmoothPoint g = b.pps->evaluate(p.point, Derivatives::First);
     EXPECT_LT((x - p.position).normalized().cross(g.normal).norm(), 1e-9);
   }
 }

@@ -33,7 +33,7 @@ TEST(SmoothTessellation, ClosedManifoldOrientedWithTheExpectedCounts) {
     EXPECT_EQ(report.eulerCharacteristic, 2);
     EXPECT_EQ(report.degenerateTriangleCount, 0u);
     for (std::size_t i = 0; i < t.mesh.positions.size(); i += 7) {
-      const SurfacePoint p = pps.evaluate(t.where[i], Derivatives::Second);
+      const SmoothPoint p = pps.evaluate(t.where[i], Derivatives::Second);
       EXPECT_EQ(t.mesh.positions[i], p.position.cast<float>());
       EXPECT_EQ(t.mesh.normals[i], p.normal.cast<float>());
       if (levels == 1) {

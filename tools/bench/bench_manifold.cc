@@ -104,7 +104,7 @@ void evaluate(benchmark::State& state, d2vdb::Derivatives derivatives) {
   const auto limit = threadLimit(state, 0);
   const d2vdb::PseudoManifold& surface = bunnySurface();
   const auto& points = randomPoints();
-  std::vector<d2vdb::SurfacePoint> results;
+  std::vector<d2vdb::SmoothPoint> results;
   for (auto _ : state) {
     surface.evaluate(points, derivatives, results);
     benchmark::DoNotOptimize(results.data());

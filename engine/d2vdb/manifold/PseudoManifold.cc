@@ -185,8 +185,8 @@ Eigen::Vector3d toVector(const double* xyz) {
 
 }  // namespace
 
-SurfacePoint surfaceGeometry(const SurfaceDerivatives& x) {
-  SurfacePoint result;
+SmoothPoint surfaceGeometry(const SmoothDerivatives& x) {
+  SmoothPoint result;
   result.position = x.position;
   const Eigen::Vector3d cross = x.d[0].cross(x.d[1]);
   const Eigen::Vector3d n = cross.normalized();
@@ -606,8 +606,8 @@ int nearestCorner(const Eigen::Vector3d& bary) {
 }
 
 template <int Order>
-SurfaceDerivatives toDerivatives(const Jet3<Order>& jet) {
-  SurfaceDerivatives out;
+SmoothDerivatives toDerivatives(const Jet3<Order>& jet) {
+  SmoothDerivatives out;
   out.position = jet.v;
   for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
   for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
@@ -616,12 +616,12 @@ SurfaceDerivatives toDerivatives(const Jet3<Order>& jet) {
 
 }  // namespace
 
-SurfacePoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivatives) const {
+SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivatives) const {
   if (point.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(point.face) + " does not exist (the mesh has " +
                      std::to_string(mesh_->faceCount()) + " faces)");
   }
-  SurfacePoint result;
+  SmoothPoint result;
   const int centre = nearestCorner(point.bary);
   switch (derivatives) {
     case Derivatives::None:
@@ -647,15 +647,15 @@ SurfacePoint PseudoManifold::evaluate(const FacePoint& point, Derivatives deriva
   }
 }
 
-std::vector<SurfacePoint> PseudoManifold::evaluate(const std::vector<FacePoint>& points,
-                                                   Derivatives derivatives) const {
-  std::vector<SurfacePoint> results;
+std::vector<SmoothPoint> PseudoManifold::evaluate(const std::vector<FacePoint>& points,
+                                                  Derivatives derivatives) const {
+  std::vector<SmoothPoint> results;
   evaluate(points, derivatives, results);
   return results;
 }
 
 void PseudoManifold::evaluate(const std::vector<FacePoint>& points, Derivatives derivatives,
-                              std::vector<SurfacePoint>& results) const {
+                              std::vector<SmoothPoint>& results) const {
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].face >= mesh_->faceCount()) {
       throw InputError("point " + std::to_string(i) + ": face " + std::to_string(points[i].face) +
@@ -672,7 +672,7 @@ void PseudoManifold::evaluate(const std::vector<FacePoint>& points, Derivatives 
                     });
 }
 
-std::optional<SurfaceDerivatives> PseudoManifold::faceDerivatives(const FacePoint& point) const {
+std::optional<SmoothDerivatives> PseudoManifold::faceDerivatives(const FacePoint& point) const {
   if (point.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(point.face) + " does not exist");
   }
@@ -682,7 +682,7 @@ std::optional<SurfaceDerivatives> PseudoManifold::faceDerivatives(const FacePoin
   return toDerivatives(jet);
 }
 
-SurfaceDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int corner) const {
+SmoothDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int corner) const {
   if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
     throw InputError("no such face or corner");
   }

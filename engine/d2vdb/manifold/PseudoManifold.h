@@ -41,7 +41,7 @@ enum class Derivatives : std::uint8_t {
 /// curvatures (1 / world units), positive where the surface bends away from the normal (a sphere
 /// of radius R has k = 1/R); e1, e2 = normal x e1: unit principal directions. Fields beyond the
 /// requested Derivatives are left at their defaults.
-struct SurfacePoint {
+struct SmoothPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double k1 = 0.0;
@@ -52,7 +52,7 @@ struct SurfacePoint {
 
 /// Position with first and second derivatives with respect to two parameters (s, t):
 /// d[0] = dX/ds, d[1] = dX/dt, dd[0] = d2X/ds2, dd[1] = d2X/dsdt, dd[2] = d2X/dt2.
-struct SurfaceDerivatives {
+struct SmoothDerivatives {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d d[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   Eigen::Vector3d dd[3] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
@@ -60,9 +60,9 @@ struct SurfaceDerivatives {
 };
 
 /// The differential geometry (normal, principal curvatures and directions) of a parametrised
-/// surface from its first and second derivatives, conventions as in SurfacePoint. The tangent
+/// surface from its first and second derivatives, conventions as in SmoothPoint. The tangent
 /// vectors must be linearly independent (the result is not finite otherwise).
-SurfacePoint surfaceGeometry(const SurfaceDerivatives& derivatives);
+SmoothPoint surfaceGeometry(const SmoothDerivatives& derivatives);
 
 /// The parametric pseudo-manifold (PPS) of a closed mesh fitted to a source surface: a
 /// C-infinity surface that approximates the source, evaluated at (face, barycentric) points.
@@ -127,23 +127,23 @@ class PseudoManifold {
   /// The surface point at a face point (barycentric coordinates of a point of the face).
   Eigen::Vector3d position(const FacePoint& point) const;
   /// The surface point with the requested differential geometry.
-  SurfacePoint evaluate(const FacePoint& point, Derivatives derivatives) const;
+  SmoothPoint evaluate(const FacePoint& point, Derivatives derivatives) const;
   /// evaluate() for every point, in parallel; result i for points[i]. Throws InputError for a face
   /// index out of range (the first in index order).
-  std::vector<SurfacePoint> evaluate(const std::vector<FacePoint>& points,
-                                     Derivatives derivatives) const;
+  std::vector<SmoothPoint> evaluate(const std::vector<FacePoint>& points,
+                                    Derivatives derivatives) const;
   /// The same into `out` (resized to points.size(); its storage is reused).
   void evaluate(const std::vector<FacePoint>& points, Derivatives derivatives,
-                std::vector<SurfacePoint>& out) const;
+                std::vector<SmoothPoint>& out) const;
 
   /// Derivatives with respect to the face's barycentric coordinates (b1, b2) (b0 = 1 - b1 - b2).
   /// Nothing at a corner of degree != 6, where the map from the face to the chart (angles scaled
   /// by 6 / n) is not differentiable: use chartDerivatives() there.
-  std::optional<SurfaceDerivatives> faceDerivatives(const FacePoint& point) const;
+  std::optional<SmoothDerivatives> faceDerivatives(const FacePoint& point) const;
   /// Derivatives with respect to the chart coordinates of the face's corner `corner` (0..2),
   /// at a point of the face inside that chart (ChartAtlas::inChart). Smooth everywhere in the
   /// chart, centre included. Throws InputError when the point is not in the chart.
-  SurfaceDerivatives chartDerivatives(const FacePoint& point, int corner) const;
+  SmoothDerivatives chartDerivatives(const FacePoint& point, int corner) const;
 
   /// The closest surface point found by Newton's method on |X - x|^2 from `start`, in the
   /// coordinates of the chart nearest to the current iterate (walking across faces and charts).

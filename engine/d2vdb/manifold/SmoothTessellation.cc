@@ -89,7 +89,7 @@ SmoothTessellation tessellateSmooth(const PseudoManifold& surface, int levels, b
   });
 
   SmoothTessellation result;
-  const std::vector<SurfacePoint> points =
+  const std::vector<SmoothPoint> points =
       surface.evaluate(where, curvature ? Derivatives::Second : Derivatives::First);
   result.mesh.positions.resize(vertexCount);
   result.mesh.normals.resize(vertexCount);
