@@ -85,5 +85,6 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
 void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   addFitSurfaceCommand(app, registry, options);
   addFieldCommand(app, registry, options);
   addQueryCommand(app, registry, options);
+  addSmoothCommand(app, registry, options);
 
   try {
     app.parse(argc, argv);

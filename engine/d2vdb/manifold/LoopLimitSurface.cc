@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -134,6 +135,8 @@ void toCoarse(int sub, SourceJet& jet) {
 
 LoopLimitSurface::LoopLimitSurface(std::shared_ptr<const HalfEdgeMesh> mesh)
     : mesh_(std::move(mesh)) {
+  static std::atomic<std::uint64_t> instances{0};
+  id_ = ++instances;
   if (!mesh_) throw InputError("the Loop limit surface needs a mesh");
   base_.mesh = mesh_;
   classify(base_, true);
@@ -185,8 +188,35 @@ void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen:
                                     SourceJet* jets) const {
   const HalfEdgeMesh& mesh = *level.mesh;
   const std::uint8_t kind = level.kind[face];
+  // The face's gathered data stay in a per-thread cache: projections and batches ask for the
+  // same face many times in a row. The cached values are computed exactly as fresh ones, so
+  // results do not depend on what a thread evaluated before.
+  thread_local FaceCache cache;
+  if (cache.owner != id_ || cache.level != &level || cache.face != face) {
+    cache.owner = id_;
+    cache.level = &level;
+    cache.face = face;
+    cache.levels.clear();
+    cache.nets.clear();
+    cache.haveNet.clear();
+    if (kind == kRegular) {
+      cache.net = detail::regularNet(regularControls(mesh, face));
+    } else {
+      // The template is subdivided relative to the limit point of c: every rule is affine, and
+      // the offsets shrink with the sub-triangles, so points near c keep their relative
+      // precision (the differences that give derivatives do not cancel against the absolute
+      // position).
+      const ExtraordinaryTemplate& tmpl = templateFor(mesh.degree(mesh.corner(face, kind)));
+      cache.levels.push_back(extraordinaryControls(mesh, face, kind));
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int j = 1; j < tmpl.size() - 5; ++j) sum += cache.levels[0].row(j).transpose();
+      cache.limit =
+          tmpl.limitCentre * cache.levels[0].row(0).transpose() + tmpl.limitNeighbour * sum;
+      cache.levels[0].rowwise() -= cache.limit.transpose();
+    }
+  }
   if (kind == kRegular) {
-    const std::array<Eigen::Vector3d, 15> net = detail::regularNet(regularControls(mesh, face));
+    const std::array<Eigen::Vector3d, 15>& net = cache.net;
     for (std::size_t i = 0; i < count; ++i) {
       if (jets == nullptr) {
         positions[i] = detail::triangleBezierPosition<4>(net, bary[i][1], bary[i][2]);
@@ -203,21 +233,12 @@ void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen:
   }
   const int corner = kind;
   const ExtraordinaryTemplate& tmpl = templateFor(mesh.degree(mesh.corner(face, corner)));
-  const int size = tmpl.size();
-  // The template is subdivided relative to the limit point of c: every rule is affine, and the
-  // offsets shrink with the sub-triangles, so points near c keep their relative precision (the
-  // differences that give derivatives do not cancel against the absolute position).
   // levels[j]: the template after j subdivision steps; nets[j][t]: Bézier net of sub-patch t of
-  // level j + 1 (computed on demand and kept for the batch).
-  std::vector<Eigen::MatrixX3d> levels;
-  levels.reserve(8);
-  levels.push_back(extraordinaryControls(mesh, face, corner));
-  Eigen::Vector3d limit = Eigen::Vector3d::Zero();
-  for (int j = 1; j < size - 5; ++j) limit += levels[0].row(j).transpose();
-  limit = tmpl.limitCentre * levels[0].row(0).transpose() + tmpl.limitNeighbour * limit;
-  levels[0].rowwise() -= limit.transpose();
-  std::vector<std::array<std::array<Eigen::Vector3d, 15>, 3>> nets;
-  std::vector<std::array<bool, 3>> haveNet;
+  // level j + 1 (computed on demand).
+  std::vector<Eigen::MatrixX3d>& levels = cache.levels;
+  std::vector<std::array<std::array<Eigen::Vector3d, 15>, 3>>& nets = cache.nets;
+  std::vector<std::array<bool, 3>>& haveNet = cache.haveNet;
+  const Eigen::Vector3d limit = cache.limit;
   for (std::size_t i = 0; i < count; ++i) {
     const double v = bary[i][(corner + 1) % 3];
     const double w = bary[i][(corner + 2) % 3];

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -79,6 +80,19 @@ class LoopLimitSurface final : public SourceSurface {
   void evaluateFace(const Level& level, HalfEdgeMesh::Index face, const Eigen::Vector3d* bary,
                     std::size_t count, Eigen::Vector3d* positions, SourceJet* jets) const;
 
+  /// The data of the face a thread evaluated last (see evaluateFace).
+  struct FaceCache {
+    std::uint64_t owner = 0;
+    const Level* level = nullptr;
+    HalfEdgeMesh::Index face = 0;
+    std::array<Eigen::Vector3d, 15> net;   ///< regular face: quartic Bézier net
+    Eigen::Vector3d limit;                 ///< extraordinary: limit point of the corner
+    std::vector<Eigen::MatrixX3d> levels;  ///< extraordinary: template per level
+    std::vector<std::array<std::array<Eigen::Vector3d, 15>, 3>> nets;  ///< sub-patch nets
+    std::vector<std::array<bool, 3>> haveNet;
+  };
+
+  std::uint64_t id_ = 0;  ///< distinct for every instance of the process (cache key)
   std::shared_ptr<const HalfEdgeMesh> mesh_;
   Level base_;
   std::unique_ptr<Level> fine_;

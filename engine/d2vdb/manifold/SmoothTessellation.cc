@@ -20,12 +20,10 @@ std::size_t smoothTessellationTriangles(const HalfEdgeMesh& mesh, int levels) {
   return mesh.faceCount() * perFace;
 }
 
-SmoothTessellation tessellateSmooth(const PseudoManifold& surface, int levels, bool curvature,
-                                    std::size_t maxTriangles) {
+void checkSmoothTessellation(const HalfEdgeMesh& mesh, int levels, std::size_t maxTriangles) {
   if (levels < 0 || levels > 10) {
     throw InputError("the level of detail must lie in 0..10, not " + std::to_string(levels));
   }
-  const HalfEdgeMesh& mesh = surface.mesh();
   const std::size_t triangleCount = smoothTessellationTriangles(mesh, levels);
   if (triangleCount > maxTriangles ||
       triangleCount > std::numeric_limits<TriangleMesh::Index>::max()) {
@@ -35,6 +33,13 @@ SmoothTessellation tessellateSmooth(const PseudoManifold& surface, int levels, b
                      "), more than the limit of " + std::to_string(maxTriangles) +
                      "; choose a lower level");
   }
+}
+
+SmoothTessellation tessellateSmooth(const PseudoManifold& surface, int levels, bool curvature,
+                                    std::size_t maxTriangles) {
+  const HalfEdgeMesh& mesh = surface.mesh();
+  checkSmoothTessellation(mesh, levels, maxTriangles);
+  const std::size_t triangleCount = smoothTessellationTriangles(mesh, levels);
   const long g = 1L << levels;  // intervals per edge
   const std::size_t edgeInterior = static_cast<std::size_t>(g - 1);
   const std::size_t faceInterior = static_cast<std::size_t>((g - 1) * (g - 2) / 2);

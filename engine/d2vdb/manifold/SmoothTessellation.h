@@ -24,6 +24,12 @@ struct SmoothTessellation {
 /// Number of triangles tessellateSmooth() makes: 4^levels per input face. Saturates at SIZE_MAX.
 std::size_t smoothTessellationTriangles(const HalfEdgeMesh& mesh, int levels);
 
+/// The checks tessellateSmooth() makes before allocating anything (so a caller can make them
+/// before building the surface): throws InputError for levels outside 0..10 or more than
+/// `maxTriangles` triangles.
+void checkSmoothTessellation(const HalfEdgeMesh& mesh, int levels,
+                             std::size_t maxTriangles = std::size_t{200} * 1000 * 1000);
+
 /// Samples `surface` on the barycentric lattice with 2^levels intervals per edge of every face
 /// (4^levels triangles per face). Each mesh vertex, each edge's interior lattice points and each
 /// face's interior points are evaluated once and shared by the faces that meet there, so a closed
