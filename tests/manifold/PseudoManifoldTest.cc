@@ -101,7 +101,7 @@ TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
 }
 
 /// Largest distance between neighbouring points of the lattice with G intervals per edge, over
-/// 60 stations along every edge (and their lattice neighbours in both faces) and the lattice
+/// 20 stations along every edge (and their lattice neighbours in both faces) and the lattice
 /// neighbours of every vertex in each of its faces: where a discontinuity would show.
 double largestStep(const PseudoManifold& pps, long g) {
   const HalfEdgeMesh& mesh = pps.mesh();
@@ -123,8 +123,8 @@ double largestStep(const PseudoManifold& pps, long g) {
   for (Index f = 0; f < mesh.faceCount(); ++f) {
     // Stations on the edge b2 = 0 (corner 0 to 1) of every face: each edge is seen from both
     // of its faces; then the three corners.
-    for (long station = 0; station <= 60; ++station) {
-      const long i = station * g / 60;
+    for (long station = 0; station <= 20; ++station) {
+      const long i = station * g / 20;
       for (int rotation = 0; rotation < 3; ++rotation) {
         // Edge from corner `rotation` to the next: lattice (i, j) in that corner's terms.
         const long b0 = g - i;
