@@ -70,6 +70,27 @@ inline DoubleMesh octahedron() {
   return m;
 }
 
+/// Two apexes over a regular n-gon: apex degree n, equator vertices degree 4.
+inline DoubleMesh bipyramid(int n) {
+  DoubleMesh m;
+  for (int i = 0; i < n; ++i) {
+    const double angle = 2.0 * kPi * i / n;
+    m.positions.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+  }
+  m.positions.emplace_back(0.0, 0.0, 1.0);
+  m.positions.emplace_back(0.0, 0.0, -1.0);
+  const auto top = static_cast<std::uint32_t>(n);
+  const auto bottom = static_cast<std::uint32_t>(n + 1);
+  for (int i = 0; i < n; ++i) {
+    const auto a = static_cast<std::uint32_t>(i);
+    const auto b = static_cast<std::uint32_t>((i + 1) % n);
+    m.triangles.push_back({a, b, top});
+    m.triangles.push_back({b, a, bottom});
+  }
+  m.orientOutward();
+  return m;
+}
+
 /// Icosahedron with vertices on the unit sphere, subdivided `levels` times (midpoints pushed to
 /// the sphere).
 inline DoubleMesh icosphere(int levels) {

@@ -61,7 +61,9 @@ double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 }
 
 TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
-  for (const auto& [name, m] : continuityMeshes()) {
+  auto meshes = continuityMeshes();
+  meshes.emplace_back("bipyramid (degree 16)", test::bipyramid(16));
+  for (const auto& [name, m] : meshes) {
     const Built b = buildLoop(m);
     const HalfEdgeMesh& mesh = *b.mesh;
     const double diagonal = mesh.boundingBoxDiagonal();
@@ -480,6 +482,9 @@ TEST(PseudoManifold, RefusesBadOptions) {
   EXPECT_THROW(PseudoManifold(loop, options), InputError);
   options.maxBidegree = 7;
   options.samplesPerControl = 1;
+  EXPECT_THROW(PseudoManifold(loop, options), InputError);
+  options.samplesPerControl = 2;
+  options.maxBytes = 1000;  // 6 vertices x 36 control points x 24 bytes = 5184
   EXPECT_THROW(PseudoManifold(loop, options), InputError);
   const PseudoManifold pps(loop);
   EXPECT_THROW(pps.evaluate({99, Eigen::Vector3d(1, 0, 0)}, Derivatives::None), InputError);

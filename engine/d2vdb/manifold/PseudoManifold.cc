@@ -456,6 +456,13 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
         n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * (fits_[n]->bidegree + 1)) : 0;
     controlOffset_[v + 1] = controlOffset_[v] + 3 * count;
   }
+  const std::size_t bytes = controlOffset_[vertexCount] * sizeof(double);
+  if (bytes > options.maxBytes) {
+    throw InputError("the smooth surface of " + std::to_string(vertexCount) + " vertices needs " +
+                     std::to_string(bytes >> 20) + " MiB of control points, more than the limit of " +
+                     std::to_string(options.maxBytes >> 20) +
+                     " MiB; simplify the mesh or lower the bidegree cap");
+  }
   controls_.assign(controlOffset_[vertexCount], 0.0);
 
   // Fit every chart: samples of the source through the chart's polar map, then one product with

@@ -27,6 +27,9 @@ struct PseudoManifoldOptions {
   /// samplesPerControl * (bidegree + 1) points per side, of which those inside the chart disc
   /// are used. Range 2..8.
   int samplesPerControl = 2;
+  /// Refuse (InputError, before allocating) when the control points would take more bytes than
+  /// this: 3 doubles per control point, (bidegree + 1)^2 per vertex (1536 bytes at bidegree 7).
+  std::size_t maxBytes = std::size_t{8} << 30;
 };
 
 /// How much a surface evaluation computes.
@@ -95,7 +98,8 @@ SmoothPoint surfaceGeometry(const SmoothDerivatives& derivatives);
 class PseudoManifold {
  public:
   /// Builds the PPS of `source` (which is only read during construction). Throws InputError for
-  /// options out of range. `progress` reports the fitting stage.
+  /// options out of range or a surface whose control points would exceed options.maxBytes.
+  /// `progress` reports the fitting stage.
   explicit PseudoManifold(const SourceSurface& source, const PseudoManifoldOptions& options = {},
                           const ProgressCallback& progress = {});
   ~PseudoManifold();
