@@ -2,7 +2,10 @@
 // hold byte for byte, that the readers still read the geometry back, and bad attribute lists.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <utility>
+#include <vector>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/mesh/MeshIO.h"
@@ -40,6 +43,38 @@ TEST_F(VertexAttributesTest, AsciiPlyHoldsTheScalarAndColoursAfterThePosition) {
   const TriangleMesh back = readMesh(path);
   EXPECT_EQ(back.positions, mesh.positions);
   EXPECT_EQ(back.triangles, mesh.triangles);
+}
+
+TEST_F(VertexAttributesTest, FurtherNamedScalarsFollowTheScalarInPly) {
+  const TriangleMesh mesh = test::tetrahedron();
+  VertexAttributes attributes = attributesFor(mesh);
+  attributes.moreScalars.push_back({"k1", {1.5f, -2.0f, 0.0f, 3.0f}});
+  attributes.moreScalars.push_back({"k2", {-1.0f, 0.5f, 2.0f, 1e-7f}});
+  MeshWriteOptions options;
+  options.binary = false;
+  const fs::path path = scratch_ / "more.ply";
+  writeMesh(path, mesh, attributes, options);
+  const std::string text = test::readWholeFile(path);
+  EXPECT_NE(text.find("property float distance\nproperty float k1\nproperty float k2\n"
+                      "property uchar red\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\n1 0 0 -0.25 -2 0.5 10 128 255\n"), std::string::npos) << text;
+  EXPECT_EQ(readMesh(path).positions, mesh.positions);
+  writeMesh(scratch_ / "more_binary.ply", mesh, attributes);
+  EXPECT_EQ(readMesh(scratch_ / "more_binary.ply").positions, mesh.positions);
+  // Names: distinct, plain identifiers; values: one finite per vertex. Nothing is written.
+  for (const auto& [name, values] :
+       std::vector<std::pair<std::string, std::vector<float>>>{{"distance", {0, 0, 0, 0}},
+                                                               {"red", {0, 0, 0, 0}},
+                                                               {"k 1", {0, 0, 0, 0}},
+                                                               {"k3", {0, 0, 0}},
+                                                               {"k3", {0, 0, NAN, 0}}}) {
+    VertexAttributes bad = attributesFor(mesh);
+    bad.moreScalars.push_back({name, values});
+    EXPECT_THROW(writeMesh(scratch_ / "bad.ply", mesh, bad), InputError) << name;
+  }
+  EXPECT_FALSE(fs::exists(scratch_ / "bad.ply"));
 }
 
 TEST_F(VertexAttributesTest, BinaryPlyRecordsHaveTheDeclaredLayout) {

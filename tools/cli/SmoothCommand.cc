@@ -146,21 +146,22 @@ void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
     nlohmann::json curvatureReport;
     if (args->curvature) {
       const std::size_t count = tessellation.k1.size();
-      PlyVertexProperties properties;
-      std::vector<float> k1(count), k2(count);
+      VertexAttributes attributes;
+      std::vector<float> k2(count);
+      attributes.scalarName = "k1";
+      attributes.scalars.resize(count);
       std::vector<double> mean(count), absMean(count);
       for (std::size_t i = 0; i < count; ++i) {
-        k1[i] = static_cast<float>(tessellation.k1[i]);
+        attributes.scalars[i] = static_cast<float>(tessellation.k1[i]);
         k2[i] = static_cast<float>(tessellation.k2[i]);
         mean[i] = 0.5 * (tessellation.k1[i] + tessellation.k2[i]);
         absMean[i] = std::abs(mean[i]);
       }
       const double scale = quantile(absMean, 0.99);
-      properties.colours.reserve(count);
-      for (const double h : mean) properties.colours.push_back(meanCurvatureColour(h, scale));
-      properties.scalars.push_back({"k1", std::move(k1)});
-      properties.scalars.push_back({"k2", std::move(k2)});
-      writePlyWithProperties(args->output, tessellation.mesh, properties);
+      attributes.colours.reserve(count);
+      for (const double h : mean) attributes.colours.push_back(meanCurvatureColour(h, scale));
+      attributes.moreScalars.push_back({"k2", std::move(k2)});
+      writeMesh(args->output, tessellation.mesh, attributes);
       const auto range = [](const std::vector<double>& values) {
         const auto [low, high] = std::minmax_element(values.begin(), values.end());
         return nlohmann::json{{"min", *low}, {"max", *high}};

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "d2vdb/mesh/TriangleMesh.h"
@@ -47,6 +48,10 @@ struct VertexAttributes {
   std::string scalarName;                            ///< e.g. "distance"; a PLY identifier
   std::vector<float> scalars;                        ///< one per vertex, finite
   std::vector<std::array<std::uint8_t, 3>> colours;  ///< RGB, one per vertex
+  /// Further named scalars (PLY only, as "property float <name>" after the scalar above, in this
+  /// order; OBJ and STL leave them out): names are PLY identifiers distinct from each other,
+  /// from scalarName and from x, y, z, nx, ny, nz, red, green, blue; one finite value per vertex.
+  std::vector<std::pair<std::string, std::vector<float>>> moreScalars;
 };
 
 /// Writes `mesh` to `path` in the format of its extension, atomically (a failure leaves an existing
@@ -60,7 +65,7 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
 
 /// writeMesh() with per-vertex attributes. InputError as writeMesh(), and for attribute lists
 /// whose size is not the vertex count, a non-finite scalar, or a scalar name that is empty or not
-/// a plain identifier (letters, digits, '_') while scalars are given.
+/// a plain identifier (letters, digits, '_') while scalars are given, or repeats another name.
 void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                const VertexAttributes& attributes, const MeshWriteOptions& options = {});
 

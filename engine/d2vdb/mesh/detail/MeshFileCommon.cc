@@ -143,6 +143,31 @@ void checkVertexAttributes(const TriangleMesh& mesh, const VertexAttributes& att
       }
     }
   }
+  std::vector<std::string> names = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue"};
+  if (!attributes.scalars.empty()) names.push_back(attributes.scalarName);
+  for (const auto& [name, values] : attributes.moreScalars) {
+    const bool identifier = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+    });
+    if (!identifier) {
+      throw InputError("cannot write the mesh: the vertex scalar name '" + name +
+                       "' is not a plain identifier");
+    }
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      throw InputError("cannot write the mesh: the vertex property '" + name + "' appears twice");
+    }
+    names.push_back(name);
+    if (values.size() != count) {
+      throw InputError("cannot write the mesh: " + std::to_string(values.size()) + " values of " +
+                       name + " for " + std::to_string(count) + " vertices");
+    }
+    for (std::size_t v = 0; v < count; ++v) {
+      if (!std::isfinite(values[v])) {
+        throw InputError("cannot write the mesh: the " + name + " of vertex " + std::to_string(v) +
+                         " is not finite");
+      }
+    }
+  }
   if (!attributes.colours.empty() && attributes.colours.size() != count) {
     throw InputError("cannot write the mesh: " + std::to_string(attributes.colours.size()) +
                      " vertex colours for " + std::to_string(count) + " vertices");

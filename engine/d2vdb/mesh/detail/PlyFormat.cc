@@ -730,6 +730,10 @@ std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding,
   header += "\nproperty float x\nproperty float y\nproperty float z\n";
   if (mesh.hasNormals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
   if (hasScalars(attributes)) header += "property float " + attributes->scalarName + "\n";
+  if (attributes != nullptr) {
+    for (const auto& more : attributes->moreScalars)
+      header += "property float " + more.first + "\n";
+  }
   if (hasColours(attributes)) {
     header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   }
@@ -756,6 +760,12 @@ void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh&
     if (hasScalars(attributes)) {
       buffer += ' ';
       detail::appendFloat(buffer, attributes->scalars[v]);
+    }
+    if (attributes != nullptr) {
+      for (const auto& more : attributes->moreScalars) {
+        buffer += ' ';
+        detail::appendFloat(buffer, more.second[v]);
+      }
     }
     if (hasColours(attributes)) {
       for (const std::uint8_t channel : attributes->colours[v]) {
@@ -790,6 +800,11 @@ void appendBinaryBody(std::string& buffer, std::ostream& out, const TriangleMesh
       }
     }
     if (hasScalars(attributes)) detail::appendScalar(buffer, attributes->scalars[v], order);
+    if (attributes != nullptr) {
+      for (const auto& more : attributes->moreScalars) {
+        detail::appendScalar(buffer, more.second[v], order);
+      }
+    }
     if (hasColours(attributes)) {
       for (const std::uint8_t channel : attributes->colours[v]) {
         detail::appendScalar(buffer, channel, order);
