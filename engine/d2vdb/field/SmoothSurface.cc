@@ -87,8 +87,12 @@ Approximant SmoothSurface::approximantAt(const Eigen::Vector3d& point) const {
 }
 
 Approximant SmoothSurface::approximantAtAnyPoint(const Eigen::Vector3d& point) const {
-  const PseudoManifold::Projection projection = project(point);
-  const SmoothPoint geometry = surface_->evaluate(projection.point, Derivatives::Second);
+  return approximantOf(point, project(point));
+}
+
+Approximant SmoothSurface::approximantOf(const Eigen::Vector3d& point,
+                                         const PseudoManifold::Projection& projection) {
+  const SmoothPoint& geometry = projection.geometry;
   Approximant result;
   result.kind = TargetKind::Surface;
   result.origin = point;

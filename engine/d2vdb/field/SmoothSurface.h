@@ -49,8 +49,13 @@ class SmoothSurface final : public SquaredDistanceTarget {
   /// The approximant at `point` without the domain check (for field construction over a padded
   /// box). Throws InputError when `point` is not finite.
   Approximant approximantAtAnyPoint(const Eigen::Vector3d& point) const;
-  /// The projection of `point` onto the surface (footpoint, face point, distance).
+  /// The projection of `point` onto the surface (footpoint, face point, distance), by Newton's
+  /// method from the nearest of the target's surface samples.
   PseudoManifold::Projection project(const Eigen::Vector3d& point) const;
+  /// The approximant at `point` from its projection onto the surface (as approximantAt() makes
+  /// it): footpoint, signed distance, the surface's normal, e1, k1, k2 and flags.
+  static Approximant approximantOf(const Eigen::Vector3d& point,
+                                   const PseudoManifold::Projection& projection);
 
   const PseudoManifold& surface() const { return *surface_; }
   /// Bounding box of the surface's samples.

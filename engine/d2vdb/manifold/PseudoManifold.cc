@@ -459,7 +459,8 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   const std::size_t bytes = controlOffset_[vertexCount] * sizeof(double);
   if (bytes > options.maxBytes) {
     throw InputError("the smooth surface of " + std::to_string(vertexCount) + " vertices needs " +
-                     std::to_string(bytes >> 20) + " MiB of control points, more than the limit of " +
+                     std::to_string(bytes >> 20) +
+                     " MiB of control points, more than the limit of " +
                      std::to_string(options.maxBytes >> 20) +
                      " MiB; simplify the mesh or lower the bidegree cap");
   }
@@ -709,15 +710,29 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
   const Evaluator<2> evaluator{*this};
   Projection result;
   FacePoint current = start;
+  FacePoint previous = start;
+  double previousValue = std::numeric_limits<double>::infinity();
+  bool careful = false;    // set once an unchecked step went uphill
+  bool checkLast = false;  // the last step was taken unchecked and must lower the distance
+  Jet3<2> jet;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     result.iterations = iteration + 1;
     const int centre = nearestCorner(current.bary);
     const ChartPoint chartPoint = atlas_.toChart(current, centre);
     const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
-    const Jet3<2> jet = evaluator.chart(current, centre);
+    jet = evaluator.chart(current, centre);
     const Eigen::Vector3d residual = jet.v - x;
     const double value = 0.5 * residual.squaredNorm();
+    if (checkLast && value > previousValue) {
+      // The last (unchecked) Newton step went uphill: go back and search carefully from there.
+      careful = true;
+      checkLast = false;
+      current = previous;
+      continue;
+    }
+    previous = current;
+    previousValue = value;
     Eigen::Matrix2d jtj;
     jtj << jet.d[0].dot(jet.d[0]), jet.d[0].dot(jet.d[1]), jet.d[0].dot(jet.d[1]),
         jet.d[1].dot(jet.d[1]);
@@ -730,47 +745,56 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
     // Newton where the Hessian is positive definite, else Gauss-Newton (always a descent step).
     Eigen::Vector2d step;
     const Eigen::LLT<Eigen::Matrix2d> newton(hessian);
-    if (newton.info() == Eigen::Success) {
-      step = -newton.solve(gradient);
-    } else {
-      step = -jtj.ldlt().solve(gradient);
+    const bool definite = newton.info() == Eigen::Success;
+    step = definite ? Eigen::Vector2d(-newton.solve(gradient))
+                    : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
+    if (!step.allFinite()) {
+      result.converged = true;  // a degenerate point: stay (the jet there is the answer)
+      break;
     }
     // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
     const double maxStep = 0.5 * radius;
     if (step.norm() > maxStep) step *= maxStep / step.norm();
-    // A small Newton step (positive definite Hessian) is taken as it is: there the quadratic
-    // model is exact to far below what comparing distances could resolve. Otherwise the step is
-    // halved until the distance falls.
-    const bool trustedNewton = newton.info() == Eigen::Success && step.norm() < 1e-4 * radius;
-    bool accepted = false;
-    FacePoint next = current;
-    for (int halving = 0; halving < 40; ++halving) {
-      Eigen::Vector2d target = chartPoint.p + step;
-      if (target.norm() >= 0.99 * radius) target *= 0.99 * radius / target.norm();
-      next = atlas_.fromChart({chartPoint.vertex, target});
-      if (trustedNewton) {
-        accepted = true;
-        break;
-      }
-      const double nextValue = 0.5 * (position(next) - x).squaredNorm();
-      if (nextValue < value) {
-        accepted = true;
-        break;
-      }
-      step *= 0.5;
+    if (step.norm() <= 1e-12 * radius) {
+      result.converged = true;  // `current` and its jet are the answer
+      break;
     }
-    const double moved = step.norm();
-    if (accepted) current = next;
-    if (!accepted || moved <= 1e-12 * radius) {
-      // No step lowers the distance any more (or the last one was negligible): a minimum to
-      // round-off.
-      result.converged = true;
+    const auto target = [&](const Eigen::Vector2d& move) {
+      Eigen::Vector2d p = chartPoint.p + move;
+      if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
+      return atlas_.fromChart({chartPoint.vertex, p});
+    };
+    // A tiny Newton step (positive definite Hessian) is taken as it is: there the quadratic
+    // model is exact to far below what comparing distances could resolve. Until a step has gone
+    // uphill, Newton steps up to a tenth of the radius are taken too, checked by the next
+    // iteration's distance. Other steps are halved until the distance falls.
+    const bool tiny = definite && step.norm() < 1e-4 * radius;
+    if (tiny || (!careful && definite && step.norm() <= 0.1 * radius)) {
+      checkLast = !tiny;
+      current = target(step);
+      continue;
+    }
+    checkLast = false;
+    bool accepted = false;
+    for (int halving = 0; halving < 40 && !accepted; ++halving) {
+      const FacePoint next = target(step);
+      if (0.5 * (position(next) - x).squaredNorm() < value) {
+        current = next;
+        accepted = true;
+      } else {
+        step *= 0.5;
+      }
+    }
+    if (!accepted) {
+      result.converged = true;  // no step lowers the distance: a minimum to round-off
       break;
     }
   }
+  if (!result.converged) jet = evaluator.chart(current, nearestCorner(current.bary));
   result.point = current;
-  result.position = position(current);
-  result.distance = (result.position - x).norm();
+  result.position = jet.v;
+  result.distance = (jet.v - x).norm();
+  result.geometry = surfaceGeometry(toDerivatives(jet));
   return result;
 }
 

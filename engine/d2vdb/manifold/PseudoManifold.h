@@ -155,11 +155,17 @@ class PseudoManifold {
     FacePoint point;                                     ///< where it ended
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< surface point there
     double distance = 0.0;                               ///< |x - position|
+    SmoothPoint geometry;  ///< position, normal, curvatures and directions there
     int iterations = 0;
-    bool converged = false;  ///< the last Newton step was below 1e-12 of the chart radius
+    /// The last Newton step was below 1e-12 of the chart radius, or no step lowered the distance.
+    bool converged = false;
   };
   /// Local projection of `x` onto the surface from `start` (a local minimum of the distance near
-  /// start, not necessarily the global one). Throws InputError for non-finite x.
+  /// start, not necessarily the global one). Newton steps (Gauss-Newton where the Hessian of the
+  /// squared distance is not positive definite) of at most half the chart radius. Newton steps
+  /// below 1e-4 of the radius are always taken; until one has gone uphill, Newton steps below a
+  /// tenth of the radius are taken and checked by the next iterate's distance (an uphill one is
+  /// undone); other steps are halved until the distance falls. Throws InputError for non-finite x.
   Projection project(const Eigen::Vector3d& x, const FacePoint& start) const;
 
   /// Bytes held (control points, tables).
