@@ -1,0 +1,37 @@
+// The approximant field of a smooth surface built from a mesh: every band voxel's footpoint is
+// its exact projection onto the surface, its curvatures the surface's own.
+#pragma once
+
+#include "d2vdb/core/Progress.h"
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/manifold/PseudoManifold.h"
+
+#include <string>
+
+namespace d2vdb {
+
+/// One line stored with fields built by smoothSurfaceField() (shown by `d2vdb info`).
+inline constexpr const char* kSmoothSurfaceEstimator =
+    "exact projection onto the smooth surface (parametric pseudo-manifold)";
+
+/// Builds the approximant field of a smooth surface built from a mesh (PseudoManifold.h): the band
+/// holds every voxel (cubic, `voxelSize`, voxel (i, j, k) centred at (i, j, k) voxelSize) whose
+/// distance to the surface is below halfWidth voxels, found from seeds on the surface at most 0.8
+/// voxel apart (a barycentric lattice per face, refined until neighbouring seeds are that close);
+/// each voxel's approximant is SmoothSurface::approximantOf() the voxel centre's projection onto
+/// the surface (PseudoManifold::project(), Newton's method from the nearest seed, ties to the
+/// lowest seed, so it does not depend on the order of the voxels or the thread count): the exact
+/// footpoint, signed distance, the surface's own normal, k1 >= k2 and e1 there, not second
+/// differences of a level set. Curvatures beyond 1 / voxel are clamped to it and flagged
+/// kFlagCurvatureClamped, as the level-set estimator does; kFlagCutLocus and kFlagDegradedEstimate
+/// as SmoothSurface sets them. The working domain pads the bounding box of the seeds (options);
+/// `label` says what the field is of (describe(), e.g. the input file's name). Parallel (TBB),
+/// deterministic. Throws InputError for a non-positive or non-finite voxel size, halfWidth
+/// outside 1..64, more than 4 x options.maxActiveVoxels seeds or a band over
+/// options.maxActiveVoxels (before the approximants are computed).
+ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelSize,
+                                    double halfWidth, const std::string& label = {},
+                                    const ApproximantFieldOptions& options = {},
+                                    const ProgressCallback& progress = {});
+
+}  // namespace d2vdb
