@@ -150,4 +150,39 @@ TEST_F(SmoothCliTest, RefusesBadFilesAndOptions) {
   }
 }
 
+TEST_F(SmoothCliTest, FieldOfTheSmoothSurface) {
+  write("octa.obj", kOctahedron);
+  const CliResult result = run("field " + path("octa.obj") + " " + path("octa.vdb") +
+                               " --smooth --resolution 24 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["input_kind"], "mesh");
+  EXPECT_EQ(report["smooth"]["source"], "loop");
+  EXPECT_EQ(report["smooth"]["subdivided_faces"], 8);
+  EXPECT_NE(report["estimator"].get<std::string>().find("smooth surface"), std::string::npos);
+  EXPECT_GT(report["active_voxels"].get<long>(), 1000);
+  // The written field answers queries like any other.
+  const CliResult query = run("query " + path("octa.vdb") + " 0 0 0.9 --json");
+  ASSERT_EQ(query.exitCode, 0) << query.err;
+  const auto answer = nlohmann::json::parse(query.out);
+  EXPECT_GT(answer["k1"].get<double>(), 0.0);
+  // PN source; refusals: not a mesh, not a closed manifold.
+  EXPECT_EQ(
+      run("field " + path("octa.obj") + " " + path("pn.vdb") + " --smooth pn --resolution 16 -q")
+          .exitCode,
+      0);
+  write("line.json",
+        R"({"type": "polyline", "version": 1, "dimension": 2, "points": [[0, 0], [1, 0]]})");
+  const CliResult curve = run("field " + path("line.json") + " " + path("c.vdb") + " --smooth");
+  EXPECT_EQ(curve.exitCode, 2);
+  EXPECT_NE(curve.err.find("--smooth"), std::string::npos) << curve.err;
+  std::string open = kOctahedron;
+  write("open.obj", open.substr(0, open.rfind("f ")));
+  const CliResult bad = run("field " + path("open.obj") + " " + path("o.vdb") + " --smooth");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("boundary edges"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "c.vdb"));
+  EXPECT_FALSE(fs::exists(scratch_ / "o.vdb"));
+}
+
 }  // namespace

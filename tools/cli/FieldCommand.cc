@@ -1,6 +1,7 @@
 // d2vdb field: the squared-distance approximant field of a mesh, a level set, a point set, a
 // B-spline curve or a polyline, written as one .vdb file (FieldFile.h).
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,9 +12,12 @@
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/field/SmoothSurfaceField.h"
 #include "d2vdb/io/FieldFile.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/PolylineFile.h"
+#include "d2vdb/manifold/LoopLimitSurface.h"
+#include "d2vdb/manifold/PnTriangles.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -28,6 +32,7 @@ struct Arguments {
   double padding = 0.5;
   std::uint64_t maxVoxels = kDefaultMaxActiveVoxels;
   bool half = false, noCompression = false;
+  std::string smooth;  ///< "", "loop" or "pn": build a mesh's field from its smooth surface
 };
 
 // Voxel size for targets whose size the command measures itself (curves, points).
@@ -47,7 +52,44 @@ struct BuiltField {
   std::optional<ApproximantField> field;
   std::string inputKind;  // "mesh", "level set", "field", "points", "curve", "polyline"
   std::vector<std::string> warnings;
+  nlohmann::json smooth;  // with --smooth: what the smooth surface was built from
 };
+
+/// The field of a mesh's smooth surface (--smooth): half-edge mesh, source, pseudo-manifold,
+/// then every band voxel projected onto it.
+void buildSmoothField(const Arguments& args, const TriangleMesh& mesh,
+                      const ApproximantFieldOptions& fieldOptions, const ProgressCallback& progress,
+                      BuiltField& built) {
+  const Stopwatch clock;
+  std::shared_ptr<const HalfEdgeMesh> halfEdges;
+  try {
+    halfEdges = std::make_shared<const HalfEdgeMesh>(mesh);
+  } catch (const InputError& error) {
+    throw InputError(args.input + ": " + error.what());
+  }
+  Eigen::AlignedBox3d bounds;
+  for (const Eigen::Vector3f& p : mesh.positions) bounds.extend(p.cast<double>());
+  const double voxelSize = chooseVoxelSize(args, bounds, "mesh");
+  std::unique_ptr<SourceSurface> source;
+  std::size_t subdivided = 0;
+  if (args.smooth == "pn") {
+    source = std::make_unique<PnTriangles>(halfEdges);
+  } else {
+    auto loop = std::make_unique<LoopLimitSurface>(halfEdges);
+    subdivided = loop->subdividedFaceCount();
+    source = std::move(loop);
+  }
+  const PseudoManifold surface(*source, PseudoManifoldOptions{}, progress);
+  const double surfaceSeconds = clock.seconds();
+  built.field.emplace(smoothSurfaceField(surface, voxelSize, args.halfWidth,
+                                         std::filesystem::path(args.input).filename().string(),
+                                         fieldOptions, progress));
+  built.inputKind = "mesh";
+  built.smooth = {{"source", args.smooth},
+                  {"surface_seconds", surfaceSeconds},
+                  {"field_seconds", clock.seconds() - surfaceSeconds}};
+  if (args.smooth == "loop") built.smooth["subdivided_faces"] = subdivided;
+}
 
 BuiltField buildField(const Arguments& args, const ApproximantFieldOptions& fieldOptions,
                       const GlobalOptions& options) {
@@ -55,6 +97,16 @@ BuiltField buildField(const Arguments& args, const ApproximantFieldOptions& fiel
   load.purpose = "the input of 'd2vdb field'";
   load.field = fieldOptions;
   load.progress = makeProgressPrinter(options);
+  if (!args.smooth.empty()) {
+    // --smooth: meshes only, refused before anything else is built.
+    load.purpose = "the input of 'd2vdb field --smooth' (the field of a mesh's smooth surface)";
+    TriangleMesh mesh = loadInput(args.input, {InputKind::Mesh}, load).take<MeshInput>().mesh;
+    status(options, "read " + args.input + ": " + std::to_string(mesh.vertexCount()) +
+                        " vertices, " + std::to_string(mesh.triangleCount()) + " triangles");
+    BuiltField built;
+    buildSmoothField(args, mesh, fieldOptions, load.progress, built);
+    return built;
+  }
   LoadedInput input = loadInput(args.input,
                                 {InputKind::Mesh, InputKind::PointSet, InputKind::Field,
                                  InputKind::Curve, InputKind::Polylines, InputKind::Surface},
@@ -136,10 +188,12 @@ void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
       "Build the squared-distance approximant field of a target and write it as one .vdb file:\n"
       "the distance grid plus companion grids (normal, curvatures, principal directions or\n"
       "tangent, flags) that any OpenVDB tool can open. Targets: meshes (.obj, .ply, .stl; made\n"
-      "into a level set first), level sets (.vdb), point sets (.xyz, .ply without faces),\n"
-      "B-spline curves and polylines (.json, slice --polylines output included).\n"
+      "into a level set first, or with --smooth projected onto their smooth surface), level\n"
+      "sets (.vdb), point sets (.xyz, .ply without faces), B-spline curves and polylines\n"
+      "(.json, slice --polylines output included).\n"
       "Example: d2vdb field volumes/torus.vdb torus-field.vdb\n"
-      "         d2vdb field helix.json helix-field.vdb --resolution 128 --half-width 4");
+      "         d2vdb field helix.json helix-field.vdb --resolution 128 --half-width 4\n"
+      "         d2vdb field volumes/bunny.obj bunny-field.vdb --smooth");
   command->add_option("input", args->input, "Target file (mesh, .vdb, .xyz, curve .json)")
       ->required();
   command->add_option("output", args->output, "Output .vdb file (written atomically)")->required();
@@ -166,6 +220,13 @@ void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
       ->capture_default_str();
   command->add_flag("--half", args->half, "Store values as 16-bit half floats (smaller, lossy)");
   command->add_flag("--no-compression", args->noCompression, "Write without Blosc compression");
+  command
+      ->add_option("--smooth", args->smooth,
+                   "Meshes: the field of the mesh's smooth (C-infinity) surface, every band "
+                   "voxel projected onto it (source: loop, the default, or pn)")
+      ->expected(0, 1)
+      ->default_str("loop")
+      ->check(CLI::IsMember({"loop", "pn"}));
   command->add_flag("--json", options.json, "Print the summary as JSON on stdout");
 
   registry.add(command, [args, &options]() {
@@ -190,6 +251,7 @@ void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
     report["output"] = args->output;
     report["seconds"] = clock.seconds();
     report["warnings"] = built.warnings;
+    if (!built.smooth.is_null()) report["smooth"] = built.smooth;
     if (options.json) {
       printJson(report);
     } else {
