@@ -1,10 +1,8 @@
 // End-to-end tests of `d2vdb smooth`: output mesh, curvature properties, JSON report, thread
 // independence, and refusals (exit 2 for bad input, exit 1 for bad options, nothing written).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,32 +16,14 @@ namespace {
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
 using d2vdb::test::readWholeFile;
-using d2vdb::test::runCli;
 
 const char* kOctahedron =
     "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
     "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
 
-class SmoothCliTest : public ::testing::Test {
+class SmoothCliTest : public d2vdb::test::CliFixture {
  protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-smooth-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-  void write(const std::string& name, const std::string& text) const {
-    std::ofstream(scratch_ / name) << text;
-  }
   static std::string bunny() { return std::string("'") + D2VDB_SOURCE_DIR + "/volumes/bunny.obj'"; }
-
-  fs::path scratch_;
 };
 
 TEST_F(SmoothCliTest, SmoothsTheBunnyWithCurvatures) {

@@ -9,6 +9,7 @@
 
 #include "Command.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/manifold/HalfEdgeMesh.h"
 #include "d2vdb/manifold/LoopLimitSurface.h"
 #include "d2vdb/manifold/PnTriangles.h"
@@ -102,7 +103,10 @@ void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
                                  "per-vertex properties), not " +
                                      args->output);
     }
-    const TriangleMesh input = readMesh(args->input);
+    LoadOptions load;
+    load.purpose = "the input of 'd2vdb smooth'";
+    const TriangleMesh input =
+        loadInput(args->input, {InputKind::Mesh}, load).take<MeshInput>().mesh;
     std::shared_ptr<const HalfEdgeMesh> mesh;
     try {
       mesh = std::make_shared<const HalfEdgeMesh>(input);
