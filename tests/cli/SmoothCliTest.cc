@@ -142,10 +142,13 @@ TEST_F(SmoothCliTest, FieldOfTheSmoothSurface) {
   EXPECT_NE(report["estimator"].get<std::string>().find("smooth surface"), std::string::npos);
   EXPECT_GT(report["active_voxels"].get<long>(), 1000);
   // The written field answers queries like any other.
-  const CliResult query = run("query " + path("octa.vdb") + " 0 0 0.9 --json");
+  const CliResult query = run("query " + path("octa.vdb") + " 0 0 0.7 --json");
   ASSERT_EQ(query.exitCode, 0) << query.err;
   const auto answer = nlohmann::json::parse(query.out);
+  // Above the top vertex, outside the surface (the Loop limit surface of an octahedron lies well
+  // inside it): a positive distance along z to a convex footpoint on the z axis.
   EXPECT_GT(answer["k1"].get<double>(), 0.0);
+  EXPECT_NEAR(answer["distance"].get<double>(), 0.7 - answer["footpoint"][2].get<double>(), 1e-6);
   // PN source; refusals: not a mesh, not a closed manifold.
   EXPECT_EQ(
       run("field " + path("octa.obj") + " " + path("pn.vdb") + " --smooth pn --resolution 16 -q")
