@@ -20,7 +20,8 @@ double solidPolynomial(const Eigen::VectorXd& c, int degree, const Eigen::Vector
   const Eigen::VectorXd y = evaluateHarmonics(degree, p / r);
   double sum = 0.0;
   for (int l = 0; l <= degree; ++l) {
-    for (int m = -l; m <= l; ++m) sum += c[harmonicIndex(l, m)] * std::pow(r, l) * y[harmonicIndex(l, m)];
+    for (int m = -l; m <= l; ++m)
+      sum += c[harmonicIndex(l, m)] * std::pow(r, l) * y[harmonicIndex(l, m)];
   }
   return sum;
 }
@@ -45,11 +46,13 @@ TEST(SphericalHarmonics, AreOrthonormalUpToDegree24) {
   const int degree = 24;
   const SphereQuadrature rule = sphereQuadrature(2 * degree);
   const int count = harmonicCount(degree);
-  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(count, count);
+  Eigen::MatrixXd values(static_cast<Eigen::Index>(rule.nodes.size()), count);
+  Eigen::VectorXd weights(values.rows());
   for (std::size_t q = 0; q < rule.nodes.size(); ++q) {
-    const Eigen::VectorXd y = evaluateHarmonics(degree, rule.nodes[q]);
-    gram.noalias() += rule.weights[q] * y * y.transpose();
+    values.row(static_cast<Eigen::Index>(q)) = evaluateHarmonics(degree, rule.nodes[q]).transpose();
+    weights[static_cast<Eigen::Index>(q)] = rule.weights[q];
   }
+  const Eigen::MatrixXd gram = values.transpose() * weights.asDiagonal() * values;
   EXPECT_LT((gram - Eigen::MatrixXd::Identity(count, count)).cwiseAbs().maxCoeff(), 1e-12);
 }
 
@@ -66,11 +69,10 @@ TEST(SphericalHarmonics, LadderDerivativesMatchFiniteDifferences) {
       const double h = 1e-5;
       const Eigen::Vector3d step = h * Eigen::Vector3d::Unit(axis);
       // Fourth-order central difference.
-      const double numeric = (-solidPolynomial(c, degree, p + 2 * step) +
-                              8 * solidPolynomial(c, degree, p + step) -
-                              8 * solidPolynomial(c, degree, p - step) +
-                              solidPolynomial(c, degree, p - 2 * step)) /
-                             (12 * h);
+      const double numeric =
+          (-solidPolynomial(c, degree, p + 2 * step) + 8 * solidPolynomial(c, degree, p + step) -
+           8 * solidPolynomial(c, degree, p - step) + solidPolynomial(c, degree, p - 2 * step)) /
+          (12 * h);
       const double exact = solidPolynomial(d, degree - 1, p);
       EXPECT_NEAR(exact, numeric, 1e-7 * (1.0 + std::abs(exact))) << "axis " << axis;
     }
@@ -85,12 +87,13 @@ TEST(SphericalHarmonics, SolidHarmonicsAreHarmonicAndDerivativesCommute) {
   for (Eigen::Index j = 0; j < c.size(); ++j) c[j] = uniform(engine);
   Eigen::VectorXd laplacian = Eigen::VectorXd::Zero(harmonicCount(degree - 2));
   for (int axis = 0; axis < 3; ++axis) {
-    laplacian += harmonicPartialDerivative(harmonicPartialDerivative(c, degree, axis), degree - 1,
-                                           axis);
+    laplacian +=
+        harmonicPartialDerivative(harmonicPartialDerivative(c, degree, axis), degree - 1, axis);
   }
-  const double scale = harmonicPartialDerivative(harmonicPartialDerivative(c, degree, 2), degree - 1, 2)
-                           .cwiseAbs()
-                           .maxCoeff();
+  const double scale =
+      harmonicPartialDerivative(harmonicPartialDerivative(c, degree, 2), degree - 1, 2)
+          .cwiseAbs()
+          .maxCoeff();
   EXPECT_LT(laplacian.cwiseAbs().maxCoeff(), 1e-13 * scale);
   const Eigen::VectorXd xy =
       harmonicPartialDerivative(harmonicPartialDerivative(c, degree, 0), degree - 1, 1);
@@ -118,7 +121,8 @@ TEST(SphereQuadrature, IntegratesPolynomialsExactly) {
   EXPECT_NEAR(area, 4 * kPi, 1e-13);
   EXPECT_NEAR(x4, 4 * kPi / 5, 1e-13);
   // Integral of x^2 y^2 z^8 over S^2 = 2 Gamma(3/2)^2 Gamma(9/2) / Gamma(15/2).
-  const double exact = 2 * std::tgamma(1.5) * std::tgamma(1.5) * std::tgamma(4.5) / std::tgamma(7.5);
+  const double exact =
+      2 * std::tgamma(1.5) * std::tgamma(1.5) * std::tgamma(4.5) / std::tgamma(7.5);
   EXPECT_NEAR(x2y2z8, exact, 1e-15);
 }
 

@@ -105,7 +105,7 @@ TEST(SupportFit, EllipsoidErrorFallsGeometricallyWithTheDegree) {
 TEST(SupportFit, EllipsoidMeetsTheAccuracyGoalsAtDegrees16And24) {
   const test::Ellipsoid ellipsoid;
   const OrientedSamples samples = ellipsoid.samples(12000, 23);
-  const auto normals = test::randomUnitVectors(20000, 24);
+  const auto normals = test::randomUnitVectors(6000, 24);
   SupportFitReport report16;
   const SupportFunction h16 = fitSupportFunction(samples, {16}, &report16);
   const double error16 = maxSurfaceError(h16, ellipsoid, normals);
@@ -114,10 +114,10 @@ TEST(SupportFit, EllipsoidMeetsTheAccuracyGoalsAtDegrees16And24) {
   const SupportFunction h24 = fitSupportFunction(samples, {24}, &report24);
   const double error24 = maxSurfaceError(h24, ellipsoid, normals);
   EXPECT_LT(error24, 5e-7 * ellipsoid.a);
-  std::printf("ellipsoid fit, 12k samples: max error / a = %.3g (L = 16), %.3g (L = 24); "
-              "residual rms %.3g, %.3g\n",
-              error16 / ellipsoid.a, error24 / ellipsoid.a, report16.rmsResidual,
-              report24.rmsResidual);
+  std::printf(
+      "ellipsoid fit, 12k samples: max error / a = %.3g (L = 16), %.3g (L = 24); "
+      "residual rms %.3g, %.3g\n",
+      error16 / ellipsoid.a, error24 / ellipsoid.a, report16.rmsResidual, report24.rmsResidual);
   const double a = ellipsoid.a, b = ellipsoid.b, c = ellipsoid.c;
   for (const double sign : {1.0, -1.0}) {
     const SupportPoint tip = h24.evaluate(sign * Eigen::Vector3d::UnitX());

@@ -10,6 +10,9 @@
 #include <random>
 #include <vector>
 
+#include <algorithm>
+
+#include "d2vdb/mesh/TriangleMesh.h"
 #include "d2vdb/support/SupportFit.h"
 
 namespace d2vdb::test {
@@ -59,5 +62,73 @@ struct Ellipsoid {
     return s;
   }
 };
+
+}  // namespace d2vdb::test
+
+namespace d2vdb::test {
+
+/// Signed distance from p to the ellipsoid (negative inside), by bisection on the Lagrange
+/// parameter t of the closest point x_i = e_i^2 p_i / (t + e_i^2), the unique root in
+/// (-min e_i^2, inf) of sum (e_i p_i / (t + e_i^2))^2 = 1 (Eberly, "Distance from a point to an
+/// ellipse, an ellipsoid, or a hyperellipsoid", 2013).
+inline double signedDistanceToEllipsoid(const Ellipsoid& e, const Eigen::Vector3d& point) {
+  const Eigen::Vector3d p = point - e.centre;
+  const double axes[3] = {e.a, e.b, e.c};
+  double smallest = std::min({e.a, e.b, e.c});
+  // Nudge coordinates off the symmetry planes: the root is then unique and simple.
+  double q[3];
+  for (int i = 0; i < 3; ++i) q[i] = std::abs(p[i]) < 1e-12 ? 1e-12 : p[i];
+  const auto f = [&](double t) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double r = axes[i] * q[i] / (t + axes[i] * axes[i]);
+      sum += r * r;
+    }
+    return sum - 1.0;
+  };
+  double lo = -smallest * smallest;
+  double hi = 1.0;
+  while (f(hi) > 0.0) hi *= 2.0;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (f(mid) > 0.0 ? lo : hi) = mid;
+  }
+  const double t = 0.5 * (lo + hi);
+  Eigen::Vector3d closest;
+  for (int i = 0; i < 3; ++i) closest[i] = axes[i] * axes[i] * q[i] / (t + axes[i] * axes[i]);
+  const double inside =
+      (p.x() / e.a) * (p.x() / e.a) + (p.y() / e.b) * (p.y() / e.b) + (p.z() / e.c) * (p.z() / e.c);
+  const double distance = (Eigen::Vector3d(q[0], q[1], q[2]) - closest).norm();
+  return inside < 1.0 ? -distance : distance;
+}
+
+/// The one-sheeted hyperboloid x^2 + y^2 - z^2 = 1, |z| <= zMax, as an outward-oriented grid
+/// mesh (angle steps x height steps) with exact unit normals (x, y, -z) / |.|. Its support
+/// function is sqrt(n_x^2 + n_y^2 - n_z^2); its principal radii are sqrt(1 + 2 z^2) (along the
+/// circles) and -(1 + 2 z^2)^(3/2) (along the meridians).
+inline TriangleMesh hyperboloidPatch(int angles, int heights, double zMax) {
+  TriangleMesh mesh;
+  for (int i = 0; i < angles; ++i) {
+    const double theta = 2.0 * kPi * i / angles;
+    for (int j = 0; j < heights; ++j) {
+      const double z = -zMax + 2.0 * zMax * j / (heights - 1);
+      const double rho = std::sqrt(1.0 + z * z);
+      const Eigen::Vector3d p(rho * std::cos(theta), rho * std::sin(theta), z);
+      mesh.positions.push_back(p.cast<float>());
+      mesh.normals.push_back(Eigen::Vector3d(p.x(), p.y(), -p.z()).normalized().cast<float>());
+    }
+  }
+  const auto index = [&](int i, int j) {
+    return static_cast<TriangleMesh::Index>((i % angles) * heights + j);
+  };
+  for (int i = 0; i < angles; ++i) {
+    for (int j = 0; j + 1 < heights; ++j) {
+      mesh.triangles.push_back({index(i, j), index(i + 1, j), index(i + 1, j + 1)});
+      mesh.triangles.push_back({index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+    }
+  }
+  return mesh;
+}
 
 }  // namespace d2vdb::test

@@ -68,8 +68,7 @@ const RecurrenceTables& recurrenceTables() {
 void checkDegree(int degree) {
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("spherical-harmonic degree " + std::to_string(degree) +
-                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) +
-                     ")");
+                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) + ")");
   }
 }
 
@@ -106,8 +105,8 @@ int harmonicDegreeOf(int index) {
   return l;
 }
 
-void evaluateHarmonicBlock(int degree, int count, const double* x, const double* y,
-                           const double* z, double* out, int stride) {
+void evaluateHarmonicBlock(int degree, int count, const double* x, const double* y, const double* z,
+                           double* out, int stride) {
   if (count <= 0) return;
   const RecurrenceTables& tables = recurrenceTables();
   using ConstArray = Eigen::Map<const Eigen::ArrayXd>;

@@ -119,8 +119,7 @@ SupportFunction fitSupportFunction(OrientedSamples samples, const SupportFitOpti
   const int degree = options.degree;
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("support function degree " + std::to_string(degree) +
-                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) +
-                     ")");
+                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) + ")");
   }
   if (!(options.regularization >= 0.0) || !std::isfinite(options.regularization)) {
     throw InputError("the regularisation weight must be a finite number >= 0");
@@ -129,9 +128,8 @@ SupportFunction fitSupportFunction(OrientedSamples samples, const SupportFitOpti
   const int count = harmonicCount(degree);
   const std::size_t total = samples.points.size();
   if (total < static_cast<std::size_t>(count)) {
-    throw InputError(sourceName + ": " + std::to_string(total) +
-                     " samples are fewer than the " + std::to_string(count) +
-                     " unknowns of a degree-" + std::to_string(degree) +
+    throw InputError(sourceName + ": " + std::to_string(total) + " samples are fewer than the " +
+                     std::to_string(count) + " unknowns of a degree-" + std::to_string(degree) +
                      " support function; give more samples or a lower degree");
   }
 
@@ -173,8 +171,8 @@ SupportFunction fitSupportFunction(OrientedSamples samples, const SupportFitOpti
   for (int j = 0; j < count; ++j) {
     const double diagonal = normal(j, j);
     if (!(diagonal > 0.0) || !std::isfinite(diagonal)) {
-      throw InputError(sourceName + ": the samples do not determine harmonic " +
-                       std::to_string(j) + " of the degree-" + std::to_string(degree) +
+      throw InputError(sourceName + ": the samples do not determine harmonic " + std::to_string(j) +
+                       " of the degree-" + std::to_string(degree) +
                        " support function (its column of the normal matrix is zero)");
     }
     scale[j] = 1.0 / std::sqrt(diagonal);
@@ -189,7 +187,8 @@ SupportFunction fitSupportFunction(OrientedSamples samples, const SupportFitOpti
                      "precision); lower the degree, sample more directions, or raise the "
                      "regularisation");
   }
-  const Eigen::VectorXd coefficients = scale.asDiagonal() * cholesky.solve(scale.asDiagonal() * rhs);
+  const Eigen::VectorXd coefficients =
+      scale.asDiagonal() * cholesky.solve(scale.asDiagonal() * rhs);
   SupportFunction fitted(degree, coefficients);
 
   if (report != nullptr) {

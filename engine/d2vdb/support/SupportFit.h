@@ -19,7 +19,7 @@ inline constexpr double kDefaultSupportRegularization = 1e-10;
 
 /// Default regularisation weight of fits over a patch's Gauss image: the harmonics are then only
 /// sampled on part of the sphere and the penalty decides the function elsewhere.
-inline constexpr double kPatchSupportRegularization = 1e-7;
+inline constexpr double kPatchSupportRegularization = 1e-13;
 
 /// Parameters of fitSupportFunction().
 struct SupportFitOptions {

@@ -156,8 +156,8 @@ void forEachBlock(std::size_t total, const Body& body) {
                       Eigen::MatrixXd result;
                       for (std::size_t block = range.begin(); block != range.end(); ++block) {
                         const std::size_t begin = block * detail::kSupportBlock;
-                        const int count = static_cast<int>(std::min<std::size_t>(
-                            detail::kSupportBlock, total - begin));
+                        const int count = static_cast<int>(
+                            std::min<std::size_t>(detail::kSupportBlock, total - begin));
                         body(begin, count, basis, result);
                       }
                     });
@@ -175,8 +175,7 @@ SupportFunction::SupportFunction(int degree, Eigen::VectorXd coefficients)
     : degree_(degree), coefficients_(std::move(coefficients)) {
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("support function degree " + std::to_string(degree) +
-                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) +
-                     ")");
+                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) + ")");
   }
   if (coefficients_.size() != harmonicCount(degree)) {
     throw InputError("a support function of degree " + std::to_string(degree) + " needs " +
@@ -191,8 +190,7 @@ SupportFunction::SupportFunction(int degree, Eigen::VectorXd coefficients)
   evaluator_ = std::make_shared<const detail::SupportEvaluator>(degree_, coefficients_);
 }
 
-SupportFunction SupportFunction::sphere(const Eigen::Vector3d& centre, double radius,
-                                        int degree) {
+SupportFunction SupportFunction::sphere(const Eigen::Vector3d& centre, double radius, int degree) {
   if (degree < 1 || degree > kMaxSupportDegree) {
     throw InputError("a sphere's support function needs a degree from 1 to " +
                      std::to_string(kMaxSupportDegree) + ", got " + std::to_string(degree));
@@ -224,14 +222,14 @@ std::vector<SupportPoint> SupportFunction::evaluate(
     const std::vector<Eigen::Vector3d>& normals) const {
   const std::vector<Eigen::Vector3d> unit = normalisedAll(normals);
   std::vector<SupportPoint> out(unit.size());
-  forEachBlock(unit.size(), [&](std::size_t begin, int count, Eigen::MatrixXd& basis,
-                                Eigen::MatrixXd& result) {
-    evaluator_->evaluateBlock(count, unit.data() + begin, basis, result, false);
-    for (int i = 0; i < count; ++i) {
-      out[begin + static_cast<std::size_t>(i)] =
-          detail::assembleSupportPoint(unit[begin + static_cast<std::size_t>(i)], result, i);
-    }
-  });
+  forEachBlock(unit.size(),
+               [&](std::size_t begin, int count, Eigen::MatrixXd& basis, Eigen::MatrixXd& result) {
+                 evaluator_->evaluateBlock(count, unit.data() + begin, basis, result, false);
+                 for (int i = 0; i < count; ++i) {
+                   out[begin + static_cast<std::size_t>(i)] = detail::assembleSupportPoint(
+                       unit[begin + static_cast<std::size_t>(i)], result, i);
+                 }
+               });
   return out;
 }
 
@@ -283,7 +281,8 @@ SupportFunction SupportFunction::rotated(const Eigen::Matrix3d& rotation) const 
   // polynomials of degree <= 2L, by a product rule exact to that degree.
   const SphereQuadrature rule = sphereQuadrature(2 * degree_);
   std::vector<Eigen::Vector3d> turned(rule.nodes.size());
-  for (std::size_t q = 0; q < rule.nodes.size(); ++q) turned[q] = rotation.transpose() * rule.nodes[q];
+  for (std::size_t q = 0; q < rule.nodes.size(); ++q)
+    turned[q] = rotation.transpose() * rule.nodes[q];
   const int count = harmonicCount(degree_);
   Eigen::VectorXd c = Eigen::VectorXd::Zero(count);
   Eigen::MatrixXd basis(detail::kSupportBlock, count);
@@ -317,8 +316,7 @@ SupportFunction SupportFunction::rotated(const Eigen::Matrix3d& rotation) const 
 SupportFunction SupportFunction::withDegree(int degree) const {
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("support function degree " + std::to_string(degree) +
-                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) +
-                     ")");
+                     " is not supported (expected 0 to " + std::to_string(kMaxSupportDegree) + ")");
   }
   Eigen::VectorXd c = Eigen::VectorXd::Zero(harmonicCount(degree));
   const Eigen::Index common = std::min<Eigen::Index>(c.size(), coefficients_.size());

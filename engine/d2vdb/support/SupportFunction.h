@@ -27,14 +27,14 @@ struct SupportEvaluator;
 ///   normal (a sphere of radius R with outward normals has radii R and curvatures 1/R); a radius
 ///   of zero (a point of the parabolic set, where x_h is singular) gives an infinite curvature.
 struct SupportPoint {
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();    ///< n, unit
-  double value = 0.0;                                   ///< h(n)
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();          ///< n, unit
+  double value = 0.0;                                         ///< h(n)
   Eigen::Vector3d surfaceGradient = Eigen::Vector3d::Zero();  ///< grad_S h(n), orthogonal to n
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();      ///< x_h(n)
-  double radius1 = 0.0;                                 ///< smaller principal radius
-  double radius2 = 0.0;                                 ///< larger principal radius
-  Eigen::Vector3d direction1 = Eigen::Vector3d::UnitX();  ///< principal direction of radius1
-  Eigen::Vector3d direction2 = Eigen::Vector3d::UnitY();  ///< principal direction of radius2
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();            ///< x_h(n)
+  double radius1 = 0.0;                                       ///< smaller principal radius
+  double radius2 = 0.0;                                       ///< larger principal radius
+  Eigen::Vector3d direction1 = Eigen::Vector3d::UnitX();      ///< principal direction of radius1
+  Eigen::Vector3d direction2 = Eigen::Vector3d::UnitY();      ///< principal direction of radius2
 
   /// det(Hess_S h + h I) = radius1 * radius2: x_h is regular at n exactly when it is non-zero.
   double determinant() const { return radius1 * radius2; }

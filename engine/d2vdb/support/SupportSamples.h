@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "d2vdb/mesh/TriangleMesh.h"
+#include "d2vdb/support/SphericalTriangulation.h"
 
 namespace d2vdb {
 
@@ -36,5 +37,30 @@ SampleCheck checkOrientedSamples(OrientedSamples& samples, const std::string& so
 /// vertex, else area-weighted vertex normals (VertexNormals.h) when it has triangles. Throws
 /// InputError (naming `sourceName`) for a mesh without vertices, or a point set without normals.
 OrientedSamples samplesFromMesh(const TriangleMesh& mesh, const std::string& sourceName);
+
+/// A triangle mesh seen through its Gauss map: its used vertices as oriented samples and its
+/// triangles carried over to their normals (the Gauss image, a triangulation of part of the
+/// sphere), with how each triangle's Gauss image is oriented.
+struct MeshGaussImage {
+  OrientedSamples samples;  ///< as samplesFromMesh()
+  /// The mesh's triangles over samples.normals, each wound counter-clockwise on the sphere.
+  SphericalTriangulation gaussImage;
+  /// Triangles whose Gauss image keeps the mesh's orientation (det(n_a, n_b, n_c) > 0 for a
+  /// triangle wound counter-clockwise seen from outside): convex (or concave) there.
+  std::size_t preservingTriangles = 0;
+  /// Triangles whose Gauss image is reversed: saddle-shaped there.
+  std::size_t reversingTriangles = 0;
+  /// Triangles whose corner normals are (nearly) coplanar with the origin: |det| below 1e-12 of
+  /// the triangle's normal spread, so the Gauss map collapses them (flat or cylindrical parts).
+  std::size_t collapsedTriangles = 0;
+  bool closed = false;  ///< every edge shared by exactly two triangles
+};
+
+/// The Gauss image of a mesh with triangles (normals as samplesFromMesh() takes them). A mesh
+/// whose Gauss map is injective (a closed convex mesh, or a patch whose triangles all keep or all
+/// reverse orientation and do not overlap on the sphere) is what a single support function can
+/// represent; preservingTriangles and reversingTriangles tell whether it is. Throws InputError
+/// (naming `sourceName`) for a mesh without triangles or vertices.
+MeshGaussImage meshGaussImage(const TriangleMesh& mesh, const std::string& sourceName);
 
 }  // namespace d2vdb

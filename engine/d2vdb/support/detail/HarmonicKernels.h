@@ -11,8 +11,8 @@ namespace d2vdb::detail {
 /// degree <= `degree` into `out`: out[j * stride + i] (column j holds harmonic j at all points,
 /// so the recurrences run vectorised over the points). `degree` must be in 0..kMaxSupportDegree
 /// (not checked here). Each point's values depend on that point only (bit for bit).
-void evaluateHarmonicBlock(int degree, int count, const double* x, const double* y,
-                           const double* z, double* out, int stride);
+void evaluateHarmonicBlock(int degree, int count, const double* x, const double* y, const double* z,
+                           double* out, int stride);
 
 /// The matrix D of d/dx_axis on coefficient vectors: harmonicPartialDerivative(c, degree, axis)
 /// = D c, with harmonicCount(degree - 1) rows and harmonicCount(degree) columns and at most two

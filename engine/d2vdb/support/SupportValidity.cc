@@ -1,0 +1,269 @@
+#include "d2vdb/support/SupportValidity.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <utility>
+
+#include "d2vdb/core/Error.h"
+
+namespace d2vdb {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+RadiusSigns classify(double radius1, double radius2) {
+  if (radius1 > 0.0) return RadiusSigns::Convex;
+  if (radius2 < 0.0) return RadiusSigns::Concave;
+  if (radius1 < 0.0 && radius2 > 0.0) return RadiusSigns::Saddle;
+  return RadiusSigns::Parabolic;
+}
+
+std::string formatNumber(double value) {
+  if (value == kInfinity) return "inf";
+  if (value == -kInfinity) return "-inf";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+std::string formatNormal(const Eigen::Vector3d& n) {
+  return "(" + formatNumber(n.x()) + ", " + formatNumber(n.y()) + ", " + formatNumber(n.z()) + ")";
+}
+
+// Unit vector at angle t from n along the unit tangent e.
+Eigen::Vector3d alongGreatCircle(const Eigen::Vector3d& n, const Eigen::Vector3d& e, double t) {
+  return (std::cos(t) * n + std::sin(t) * e).normalized();
+}
+
+// Local minimum of `objective` on the sphere near `start` by compass search: eight directions in
+// the tangent plane, the step halved whenever none improves, down to 1e-9 rad.
+template <typename Objective>
+Eigen::Vector3d polishMinimum(const Objective& objective, const Eigen::Vector3d& start,
+                              double initialStep, double& best) {
+  Eigen::Vector3d current = start;
+  best = objective(current);
+  double step = initialStep;
+  for (int iteration = 0; iteration < 400 && step > 1e-9; ++iteration) {
+    const Eigen::Vector3d e1 = current.unitOrthogonal();
+    const Eigen::Vector3d e2 = current.cross(e1);
+    Eigen::Vector3d candidate = current;
+    double candidateValue = best;
+    for (int k = 0; k < 8; ++k) {
+      const double angle = k * 0.78539816339744831;
+      const Eigen::Vector3d direction = std::cos(angle) * e1 + std::sin(angle) * e2;
+      const Eigen::Vector3d n = alongGreatCircle(current, direction, step);
+      const double value = objective(n);
+      if (value < candidateValue) {
+        candidateValue = value;
+        candidate = n;
+      }
+    }
+    if (candidateValue < best) {
+      best = candidateValue;
+      current = candidate;
+    } else {
+      step *= 0.5;
+    }
+  }
+  return current;
+}
+
+}  // namespace
+
+const char* radiusSignsName(RadiusSigns signs) {
+  switch (signs) {
+    case RadiusSigns::Convex:
+      return "convex";
+    case RadiusSigns::Saddle:
+      return "saddle";
+    case RadiusSigns::Concave:
+      return "concave";
+    default:
+      return "parabolic";
+  }
+}
+
+std::string SupportValidity::describe() const {
+  std::string text;
+  if (regular()) {
+    text = std::string("regular, ") + radiusSignsName(signs) + ": radii " +
+           formatNumber(minRadius) + " .. " + formatNumber(maxRadius) + ", safe offsets (" +
+           formatNumber(safeOffsetMin) + ", " + formatNumber(safeOffsetMax) + ")";
+  } else {
+    text = "singular: " + std::to_string(parabolicCrossings) +
+           " crossings of the parabolic set (det(Hess_S h + h I) = 0) on " +
+           std::to_string(normalsChecked) + " sampled normals (" + std::to_string(convexNormals) +
+           " convex, " + std::to_string(saddleNormals) + " saddle, " +
+           std::to_string(concaveNormals) + " concave, " + std::to_string(parabolicNormals) +
+           " parabolic), radii " + formatNumber(minRadius) + " .. " + formatNumber(maxRadius);
+  }
+  return text;
+}
+
+SphericalTriangulation validationSphere(int degree) {
+  const double spacing = 0.5 / std::max(degree, 1);
+  return geodesicSphere(std::clamp(geodesicSubdivisionsForSpacing(spacing), 2, 9));
+}
+
+SupportValidity analyzeSupportValidity(const SupportFunction& h, SphericalTriangulation domain) {
+  validateSphericalTriangulation(domain, "the support function's domain");
+  const bool whole = coversWholeSphere(domain);
+  std::vector<Eigen::Vector3d> normals = domain.normals;
+  double spacing = 0.0;
+  for (const auto& tri : domain.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& a = domain.normals[tri[static_cast<std::size_t>(k)]];
+      const Eigen::Vector3d& b = domain.normals[tri[static_cast<std::size_t>((k + 1) % 3)]];
+      spacing = std::max(spacing, std::atan2(a.cross(b).norm(), a.dot(b)));
+    }
+    if (!whole) {
+      // Points inside the spherical triangle (barycentric (2,1,1)/4 and permutations).
+      const Eigen::Vector3d& a = domain.normals[tri[0]];
+      const Eigen::Vector3d& b = domain.normals[tri[1]];
+      const Eigen::Vector3d& c = domain.normals[tri[2]];
+      normals.push_back((2 * a + b + c).normalized());
+      normals.push_back((a + 2 * b + c).normalized());
+      normals.push_back((a + b + 2 * c).normalized());
+    }
+  }
+  const std::vector<SupportPoint> points = h.evaluate(normals);
+
+  SupportValidity v;
+  v.normalsChecked = points.size();
+  v.minRadius = kInfinity;
+  v.maxRadius = -kInfinity;
+  std::vector<RadiusSigns> signs(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SupportPoint& p = points[i];
+    v.minRadius = std::min(v.minRadius, p.radius1);
+    v.maxRadius = std::max(v.maxRadius, p.radius2);
+    signs[i] = classify(p.radius1, p.radius2);
+    switch (signs[i]) {
+      case RadiusSigns::Convex:
+        ++v.convexNormals;
+        break;
+      case RadiusSigns::Saddle:
+        ++v.saddleNormals;
+        break;
+      case RadiusSigns::Concave:
+        ++v.concaveNormals;
+        break;
+      default:
+        ++v.parabolicNormals;
+        break;
+    }
+  }
+
+  // Parabolic crossings along the domain's edges, each located by bisection of the sign pattern.
+  std::map<std::pair<SphericalTriangulation::Index, SphericalTriangulation::Index>, bool> edges;
+  for (const auto& tri : domain.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      edges.emplace(
+          std::minmax(tri[static_cast<std::size_t>(k)], tri[static_cast<std::size_t>((k + 1) % 3)]),
+          true);
+    }
+  }
+  for (const auto& edge : edges) {
+    const auto a = edge.first.first;
+    const auto b = edge.first.second;
+    if (signs[a] == signs[b]) continue;
+    ++v.parabolicCrossings;
+    if (v.parabolicPoints.size() >= kMaxParabolicPoints) continue;
+    Eigen::Vector3d lo = domain.normals[a];
+    Eigen::Vector3d hi = domain.normals[b];
+    const RadiusSigns loSigns = signs[a];
+    for (int iteration = 0; iteration < 24; ++iteration) {
+      const Eigen::Vector3d mid = (lo + hi).normalized();
+      const SupportPoint p = h.evaluate(mid);
+      if (classify(p.radius1, p.radius2) == loSigns) {
+        lo = mid;
+      } else {
+        hi = mid;
+      }
+    }
+    v.parabolicPoints.push_back((lo + hi).normalized());
+  }
+
+  if (!v.regular()) {
+    v.safeOffsetMin = std::numeric_limits<double>::quiet_NaN();
+    v.safeOffsetMax = std::numeric_limits<double>::quiet_NaN();
+    return v;
+  }
+  v.signs = signs.empty() ? RadiusSigns::Convex : signs.front();
+  // The limiting radii: smallest positive one (lower limit) and smallest |negative| one (upper).
+  const auto positiveRadius = [&](const SupportPoint& p) {
+    return v.signs == RadiusSigns::Convex ? p.radius1 : p.radius2;
+  };
+  const auto negativeMagnitude = [&](const SupportPoint& p) {
+    return v.signs == RadiusSigns::Concave ? -p.radius2 : -p.radius1;
+  };
+  v.safeOffsetMin = -kInfinity;
+  v.safeOffsetMax = kInfinity;
+  if (v.signs != RadiusSigns::Concave) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      if (positiveRadius(points[i]) < positiveRadius(points[best])) best = i;
+    }
+    double value = positiveRadius(points[best]);
+    Eigen::Vector3d where = points[best].normal;
+    if (whole) {
+      where = polishMinimum([&](const Eigen::Vector3d& n) { return positiveRadius(h.evaluate(n)); },
+                            where, spacing, value);
+    }
+    v.safeOffsetMin = -value;
+    v.safeOffsetMinNormal = where;
+  }
+  if (v.signs != RadiusSigns::Convex) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      if (negativeMagnitude(points[i]) < negativeMagnitude(points[best])) best = i;
+    }
+    double value = negativeMagnitude(points[best]);
+    Eigen::Vector3d where = points[best].normal;
+    if (whole) {
+      where =
+          polishMinimum([&](const Eigen::Vector3d& n) { return negativeMagnitude(h.evaluate(n)); },
+                        where, spacing, value);
+    }
+    v.safeOffsetMax = value;
+    v.safeOffsetMaxNormal = where;
+  }
+  // The polished extremes refine the sampled radius range.
+  if (v.signs == RadiusSigns::Convex) v.minRadius = std::min(v.minRadius, -v.safeOffsetMin);
+  if (v.signs == RadiusSigns::Concave) v.maxRadius = std::max(v.maxRadius, -v.safeOffsetMax);
+  return v;
+}
+
+void requireRegularOffset(const SupportValidity& validity, double distance) {
+  if (!std::isfinite(distance)) throw InputError("the offset distance is not finite");
+  if (!validity.regular()) {
+    throw InputError("the support function is " + validity.describe() +
+                     ": its surface x_h has cusps or edges where the radii change sign, so no "
+                     "offset of it is a regular surface");
+  }
+  if (distance <= validity.safeOffsetMin) {
+    throw InputError("offset distance " + formatNumber(distance) + " is outside the safe range (" +
+                     formatNumber(validity.safeOffsetMin) + ", " +
+                     formatNumber(validity.safeOffsetMax) + "): at the normal " +
+                     formatNormal(validity.safeOffsetMinNormal) + " the principal radius " +
+                     formatNumber(-validity.safeOffsetMin) + " would become " +
+                     formatNumber(distance - validity.safeOffsetMin) +
+                     " <= 0, so the offset surface would have a cusp and fold over itself");
+  }
+  if (distance >= validity.safeOffsetMax) {
+    throw InputError("offset distance " + formatNumber(distance) + " is outside the safe range (" +
+                     formatNumber(validity.safeOffsetMin) + ", " +
+                     formatNumber(validity.safeOffsetMax) + "): at the normal " +
+                     formatNormal(validity.safeOffsetMaxNormal) + " the principal radius " +
+                     formatNumber(-validity.safeOffsetMax) + " would become " +
+                     formatNumber(distance - validity.safeOffsetMax) +
+                     " >= 0, so the offset surface would have a cusp and fold over itself");
+  }
+}
+
+}  // namespace d2vdb
