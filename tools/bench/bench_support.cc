@@ -1,0 +1,202 @@
+// Support-function benchmarks (Gravesen, Juettler, Sir 2008; results in BENCHMARKS.md).
+//  - BM_FitVsDenseProduct/samples/degree/threads: one least-squares fit (fitSupportFunction, no
+//    report) next to the floor of a direct least-squares fit, one dense product M^T M of the same
+//    3N x (L+1)^2 design matrix by Eigen (general product M.transpose() * M, and the symmetric
+//    rank update that computes only half of it), timed alternately in every iteration. Counters:
+//    fit_ms, mtm_ms, syrk_ms (medians) and the ratios fit/mtm, fit/syrk. Eigen's products run on
+//    one thread (no OpenMP); `threads` limits TBB in the fit.
+//  - BM_FitSpeedup/samples/degree: the fit with 1 and 2 threads alternately; counters t1_ms,
+//    t2_ms (medians) and speedup.
+//  - BM_Evaluate/degree/threads: SupportFunction::evaluate (x_h, radii, directions) at 1M random
+//    normals; items per second.
+//  - BM_OffsetComparison/voxelsPerA/offsetIndex/method: the ellipsoid with semi-axes 2, 1.5, 1
+//    offset by d = -0.3, 0.25, 1.0: method 0 = support function (fit at L = 24 from 12k exact
+//    random oriented samples, tessellated over a geodesic sphere with about as many vertices as
+//    the level-set mesh), method 1 = level set (meshToLevelSet of a 655k-vertex mesh of the
+//    ellipsoid at voxel size a / voxelsPerA, OpenVDB's LevelSetFilter::offset, marching cubes).
+//    Counters: error_max, error_rms (world units: | signed distance of each output vertex to the
+//    ellipsoid - d |, exact point-ellipsoid distances), vertices, and the time split into setup
+//    (fit / mesh to level set, paid once for any number of offsets) and per-offset work.
+#include <benchmark/benchmark.h>
+#include <openvdb/tools/LevelSetFilter.h>
+#include <tbb/global_control.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "d2vdb/contour/IsoSurface.h"
+#include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/field/OpenVdbSetup.h"
+#include "d2vdb/support/SphericalTriangulation.h"
+#include "d2vdb/support/SupportFit.h"
+#include "d2vdb/support/SupportTessellation.h"
+#include "d2vdb/support/detail/SupportDesign.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+std::vector<Eigen::Vector3d> randomUnitVectors(std::size_t count, unsigned seed) {
+  std::mt19937_64 engine(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(count);
+  while (out.size() < count) {
+    const Eigen::Vector3d v(gauss(engine), gauss(engine), gauss(engine));
+    if (v.norm() > 1e-6) out.push_back(v.normalized());
+  }
+  return out;
+}
+
+// The ellipsoid with semi-axes (2, 1.5, 1): h(n) = |A n|, x_h(n) = A^2 n / |A n|.
+constexpr double kA = 2.0, kB = 1.5, kC = 1.0;
+
+Eigen::Vector3d ellipsoidPoint(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d an(kA * n.x(), kB * n.y(), kC * n.z());
+  return Eigen::Vector3d(kA * an.x(), kB * an.y(), kC * an.z()) / an.norm();
+}
+
+d2vdb::OrientedSamples ellipsoidSamples(std::size_t count, unsigned seed) {
+  d2vdb::OrientedSamples samples;
+  samples.normals = randomUnitVectors(count, seed);
+  for (const auto& n : samples.normals) samples.points.push_back(ellipsoidPoint(n));
+  return samples;
+}
+
+// Signed distance to the ellipsoid (Eberly 2013: bisection on the Lagrange parameter).
+double signedDistanceToEllipsoid(const Eigen::Vector3d& p) {
+  const double axes[3] = {kA, kB, kC};
+  double q[3];
+  for (int i = 0; i < 3; ++i) q[i] = std::abs(p[i]) < 1e-12 ? 1e-12 : p[i];
+  const auto f = [&](double t) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double r = axes[i] * q[i] / (t + axes[i] * axes[i]);
+      sum += r * r;
+    }
+    return sum - 1.0;
+  };
+  double lo = -kC * kC;
+  double hi = 1.0;
+  while (f(hi) > 0.0) hi *= 2.0;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (f(mid) > 0.0 ? lo : hi) = mid;
+  }
+  const double t = 0.5 * (lo + hi);
+  Eigen::Vector3d closest;
+  for (int i = 0; i < 3; ++i) closest[i] = axes[i] * axes[i] * q[i] / (t + axes[i] * axes[i]);
+  const double inside = (p.x() / kA) * (p.x() / kA) + (p.y() / kB) * (p.y() / kB) +
+                        (p.z() / kC) * (p.z() / kC);
+  const double distance = (Eigen::Vector3d(q[0], q[1], q[2]) - closest).norm();
+  return inside < 1.0 ? -distance : distance;
+}
+
+void BM_FitVsDenseProduct(benchmark::State& state) {
+  const auto samples = static_cast<std::size_t>(state.range(0));
+  const int degree = static_cast<int>(state.range(1));
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(2)));
+  const d2vdb::OrientedSamples data = ellipsoidSamples(samples, 1);
+  const Eigen::MatrixXd design = d2vdb::detail::supportDesignMatrix(data.normals, degree);
+  std::vector<double> fit, mtm, syrk;
+  for (auto _ : state) {
+    auto start = Clock::now();
+    const d2vdb::SupportFunction h = d2vdb::fitSupportFunction(data, {degree});
+    fit.push_back(secondsSince(start));
+    benchmark::DoNotOptimize(h.coefficients().data());
+    start = Clock::now();
+    const Eigen::MatrixXd product = design.transpose() * design;
+    mtm.push_back(secondsSince(start));
+    benchmark::DoNotOptimize(product.data());
+    start = Clock::now();
+    Eigen::MatrixXd half = Eigen::MatrixXd::Zero(design.cols(), design.cols());
+    half.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
+    syrk.push_back(secondsSince(start));
+    benchmark::DoNotOptimize(half.data());
+    state.SetIterationTime(fit.back());
+  }
+  state.counters["fit_ms"] = 1e3 * median(fit);
+  state.counters["mtm_ms"] = 1e3 * median(mtm);
+  state.counters["syrk_ms"] = 1e3 * median(syrk);
+  state.counters["fit/mtm"] = median(fit) / median(mtm);
+  state.counters["fit/syrk"] = median(fit) / median(syrk);
+}
+
+void BM_FitSpeedup(benchmark::State& state) {
+  const auto samples = static_cast<std::size_t>(state.range(0));
+  const int degree = static_cast<int>(state.range(1));
+  const d2vdb::OrientedSamples data = ellipsoidSamples(samples, 2);
+  std::vector<double> one, two;
+  for (auto _ : state) {
+    for (const int threads : {1, 2}) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
+      const auto start = Clock::now();
+      const d2vdb::SupportFunction h = d2vdb::fitSupportFunction(data, {degree});
+      (threads == 1 ? one : two).push_back(secondsSince(start));
+      benchmark::DoNotOptimize(h.coefficients().data());
+    }
+    state.SetIterationTime(one.back() + two.back());
+  }
+  state.counters["t1_ms"] = 1e3 * median(one);
+  state.counters["t2_ms"] = 1e3 * median(two);
+  state.counters["speedup"] = median(one) / median(two);
+}
+
+void BM_Evaluate(benchmark::State& state) {
+  const int degree = static_cast<int>(state.range(0));
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(1)));
+  const d2vdb::SupportFunction h =
+      d2vdb::fitSupportFunction(ellipsoidSamples(4 * static_cast<std::size_t>(degree + 1) *
+                                                     static_cast<std::size_t>(degree + 1),
+                                                 3),
+                                {degree});
+  const std::vector<Eigen::Vector3d> normals = randomUnitVectors(1000000, 4);
+  for (auto _ : state) {
+    const std::vector<d2vdb::SupportPoint> points = h.evaluate(normals);
+    benchmark::DoNotOptimize(points.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(normals.size()));
+}
+
+}  // namespace
+
+BENCHMARK(BM_FitVsDenseProduct)
+    ->Args({100000, 16, 1})
+    ->Args({100000, 16, 2})
+    ->Args({12000, 24, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(5);
+BENCHMARK(BM_FitSpeedup)
+    ->Args({100000, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(7);
+BENCHMARK(BM_Evaluate)
+    ->Args({16, 1})
+    ->Args({24, 1})
+    ->Args({16, 2})
+    ->Args({24, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
+
+BENCHMARK_MAIN();
