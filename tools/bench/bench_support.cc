@@ -32,7 +32,6 @@
 
 #include "d2vdb/contour/IsoSurface.h"
 #include "d2vdb/field/MeshToLevelSet.h"
-#include "d2vdb/field/OpenVdbSetup.h"
 #include "d2vdb/support/SphericalTriangulation.h"
 #include "d2vdb/support/SupportFit.h"
 #include "d2vdb/support/SupportTessellation.h"
@@ -102,8 +101,8 @@ double signedDistanceToEllipsoid(const Eigen::Vector3d& p) {
   const double t = 0.5 * (lo + hi);
   Eigen::Vector3d closest;
   for (int i = 0; i < 3; ++i) closest[i] = axes[i] * axes[i] * q[i] / (t + axes[i] * axes[i]);
-  const double inside = (p.x() / kA) * (p.x() / kA) + (p.y() / kB) * (p.y() / kB) +
-                        (p.z() / kC) * (p.z() / kC);
+  const double inside =
+      (p.x() / kA) * (p.x() / kA) + (p.y() / kB) * (p.y() / kB) + (p.z() / kC) * (p.z() / kC);
   const double distance = (Eigen::Vector3d(q[0], q[1], q[2]) - closest).norm();
   return inside < 1.0 ? -distance : distance;
 }
@@ -164,17 +163,123 @@ void BM_Evaluate(benchmark::State& state) {
   const int degree = static_cast<int>(state.range(0));
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                   static_cast<std::size_t>(state.range(1)));
-  const d2vdb::SupportFunction h =
-      d2vdb::fitSupportFunction(ellipsoidSamples(4 * static_cast<std::size_t>(degree + 1) *
-                                                     static_cast<std::size_t>(degree + 1),
-                                                 3),
-                                {degree});
+  const d2vdb::SupportFunction h = d2vdb::fitSupportFunction(
+      ellipsoidSamples(
+          4 * static_cast<std::size_t>(degree + 1) * static_cast<std::size_t>(degree + 1), 3),
+      {degree});
   const std::vector<Eigen::Vector3d> normals = randomUnitVectors(1000000, 4);
   for (auto _ : state) {
     const std::vector<d2vdb::SupportPoint> points = h.evaluate(normals);
     benchmark::DoNotOptimize(points.data());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(normals.size()));
+}
+
+// --- The offset comparison -----------------------------------------------------------------
+
+constexpr double kOffsets[3] = {-0.3, 0.25, 1.0};
+
+// Geodesic subdivision whose spacing on the ellipsoid (radii up to a^2 / c = 4, mean about 1.5)
+// is about one voxel of a / voxelsPerA: 7, 8, 9 for 128, 256, 512.
+int subdivisionsFor(int voxelsPerA) {
+  const double voxel = kA / voxelsPerA;
+  return d2vdb::geodesicSubdivisionsForSpacing(voxel / 1.5);
+}
+
+struct SupportSetup {
+  d2vdb::SupportFunction h;
+  double fitSeconds = 0.0;
+};
+
+const SupportSetup& supportSetup() {
+  static const SupportSetup setup = [] {
+    SupportSetup s;
+    const d2vdb::OrientedSamples samples = ellipsoidSamples(12000, 23);
+    const auto start = Clock::now();
+    s.h = d2vdb::fitSupportFunction(samples, {24});
+    s.fitSeconds = secondsSince(start);
+    return s;
+  }();
+  return setup;
+}
+
+// The input of the level-set method: the ellipsoid as a mesh, a geodesic sphere of 655k vertices
+// mapped to the exact surface points (chord sag at most r theta^2 / 8 = 1.1e-5).
+const d2vdb::TriangleMesh& ellipsoidMesh() {
+  static const d2vdb::TriangleMesh mesh = [] {
+    const d2vdb::SphericalTriangulation sphere = d2vdb::geodesicSphere(8);
+    d2vdb::TriangleMesh m;
+    for (const auto& n : sphere.normals) {
+      m.positions.push_back(ellipsoidPoint(n).cast<float>());
+      m.normals.push_back(n.cast<float>());  // x_h(n) has the normal n
+    }
+    for (const auto& t : sphere.triangles) m.triangles.push_back({t[0], t[1], t[2]});
+    return m;
+  }();
+  return mesh;
+}
+
+struct Errors {
+  double max = 0.0;
+  double rms = 0.0;
+};
+
+Errors offsetErrors(const std::vector<Eigen::Vector3d>& points, double d) {
+  Errors e;
+  double sum = 0.0;
+  for (const auto& p : points) {
+    const double error = std::abs(signedDistanceToEllipsoid(p) - d);
+    e.max = std::max(e.max, error);
+    sum += error * error;
+  }
+  e.rms = std::sqrt(sum / static_cast<double>(points.size()));
+  return e;
+}
+
+void BM_OffsetComparison(benchmark::State& state) {
+  const int voxelsPerA = static_cast<int>(state.range(0));
+  const double d = kOffsets[state.range(1)];
+  const bool levelSet = state.range(2) == 1;
+  std::vector<Eigen::Vector3d> points;
+  double setupSeconds = 0.0;
+  std::vector<double> perOffset;
+  for (auto _ : state) {
+    if (!levelSet) {
+      const SupportSetup& setup = supportSetup();
+      setupSeconds = setup.fitSeconds;
+      const d2vdb::SphericalTriangulation sphere =
+          d2vdb::geodesicSphere(subdivisionsFor(voxelsPerA));
+      const auto start = Clock::now();
+      points = setup.h.points(sphere.normals, d);
+      perOffset.push_back(secondsSince(start));
+    } else {
+      d2vdb::LevelSetOptions options;
+      options.voxelSize = kA / voxelsPerA;
+      options.halfWidth = 3.0;
+      auto start = Clock::now();
+      const d2vdb::LevelSetResult result = d2vdb::meshToLevelSet(ellipsoidMesh(), options);
+      setupSeconds = secondsSince(start);
+      start = Clock::now();
+      openvdb::FloatGrid::Ptr grid = result.grid->deepCopy();
+      openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+      filter.offset(static_cast<float>(-d));  // OpenVDB adds the value: + moves inward
+      d2vdb::IsoSurfaceOptions iso;
+      iso.computeNormals = false;
+      const d2vdb::TriangleMesh mesh = d2vdb::extractIsoSurface(*grid, iso);
+      perOffset.push_back(secondsSince(start));
+      points.clear();
+      for (const auto& p : mesh.positions) points.push_back(p.cast<double>());
+    }
+    state.SetIterationTime(perOffset.back());
+  }
+  const Errors errors = offsetErrors(points, d);
+  state.counters["d"] = d;
+  state.counters["error_max"] = errors.max;
+  state.counters["error_rms"] = errors.rms;
+  state.counters["vertices"] = static_cast<double>(points.size());
+  state.counters["setup_s"] = setupSeconds;
+  state.counters["offset_s"] = median(perOffset);
+  state.counters["total_s"] = setupSeconds + median(perOffset);
 }
 
 }  // namespace
@@ -198,5 +303,11 @@ BENCHMARK(BM_Evaluate)
     ->Args({24, 2})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(5);
+
+BENCHMARK(BM_OffsetComparison)
+    ->ArgsProduct({{128, 256, 512}, {0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(1);
 
 BENCHMARK_MAIN();
