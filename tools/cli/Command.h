@@ -86,5 +86,7 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

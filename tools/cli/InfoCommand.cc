@@ -10,6 +10,7 @@
 #include "Command.h"
 #include "FieldReports.h"
 #include "JsonReports.h"
+#include "SupportInputs.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/FieldFile.h"
@@ -161,6 +162,16 @@ nlohmann::json splineJson(const Spline& spline) {
 
 int runInfo(const std::string& file, const GlobalOptions& options) {
   const std::filesystem::path path(file);
+  // Support-function files are JSON with their own "type", read by the support commands' reader.
+  if (isSupportFunctionFile(file)) {
+    const nlohmann::json report = supportFileReport(file);
+    if (options.json) {
+      printJson(report);
+    } else {
+      std::cout << file << ": support function\n" << supportText(report, "  ");
+    }
+    return kSuccess;
+  }
   LoadOptions load;
   load.purpose = "the file given to 'd2vdb info'";
   LoadedInput input = loadInput(

@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   addFieldCommand(app, registry, options);
   addQueryCommand(app, registry, options);
   addSmoothCommand(app, registry, options);
+  addSupportCommand(app, registry, options);
+  addOffsetCommand(app, registry, options);
 
   try {
     app.parse(argc, argv);

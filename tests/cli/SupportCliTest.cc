@@ -1,0 +1,204 @@
+// End-to-end tests of `d2vdb support`, `d2vdb offset` and `d2vdb info` on support-function files:
+// an ellipsoid mesh fitted and offset against the exact ellipsoid, a hyperboloid patch, the
+// level-set method, and the error paths (exit code 2, nothing written).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/CliRunner.h"
+#include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/support/SphericalTriangulation.h"
+#include "support/SupportTestSupport.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using d2vdb::test::CliResult;
+using d2vdb::test::runCli;
+
+class SupportCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    scratch_ = fs::temp_directory_path() /
+               (std::string("d2vdb-support-cli-") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
+                std::to_string(::getpid()));
+    fs::remove_all(scratch_);
+    fs::create_directories(scratch_);
+  }
+  void TearDown() override { fs::remove_all(scratch_); }
+
+  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
+  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
+  bool exists(const std::string& name) const { return fs::exists(scratch_ / name); }
+
+  // The ellipsoid (2, 1.5, 1) as a mesh: a geodesic sphere mapped through x_h with exact normals.
+  std::string ellipsoidMesh(int subdivisions = 4) const {
+    const d2vdb::test::Ellipsoid ellipsoid;
+    const d2vdb::SphericalTriangulation sphere = d2vdb::geodesicSphere(subdivisions);
+    d2vdb::TriangleMesh mesh;
+    for (const Eigen::Vector3d& n : sphere.normals) {
+      mesh.positions.push_back(ellipsoid.point(n).cast<float>());
+      mesh.normals.push_back(n.cast<float>());
+    }
+    for (const auto& t : sphere.triangles) mesh.triangles.push_back({t[0], t[1], t[2]});
+    d2vdb::writeMesh(scratch_ / "ellipsoid.obj", mesh);
+    return path("ellipsoid.obj");
+  }
+
+  fs::path scratch_;
+};
+
+TEST_F(SupportCliTest, FitsAnEllipsoidAndOffsetsItExactly) {
+  const CliResult fitted =
+      run("support " + ellipsoidMesh() + " --degree 14 --out " + path("e.json") + " --json");
+  ASSERT_EQ(fitted.exitCode, 0) << fitted.err;
+  const nlohmann::json report = nlohmann::json::parse(fitted.out);
+  EXPECT_TRUE(report.at("regular").get<bool>());
+  EXPECT_EQ(report.at("signs"), "convex");
+  EXPECT_EQ(report.at("domain"), "sphere");
+  EXPECT_EQ(report.at("input_kind"), "mesh");
+  EXPECT_NEAR(report.at("safe_offset").at("min").get<double>(), -0.5, 2e-3);  // -c^2 / a
+  EXPECT_TRUE(report.at("safe_offset").at("max").is_null());                  // unbounded
+  EXPECT_NEAR(report.at("volume").get<double>(), 4.0 * d2vdb::test::kPi, 1e-3);
+  EXPECT_LT(report.at("fit").at("max_residual").get<double>(), 2e-4);
+  ASSERT_TRUE(exists("e.json"));
+
+  const CliResult offset = run("offset " + path("e.json") + " " + path("o.obj") +
+                               " --distance -0.3 --distance 0.25 --subdivisions 4 --json");
+  ASSERT_EQ(offset.exitCode, 0) << offset.err;
+  const nlohmann::json outputs = nlohmann::json::parse(offset.out).at("outputs");
+  ASSERT_EQ(outputs.size(), 2u);
+  const d2vdb::test::Ellipsoid ellipsoid;
+  for (const auto& [name, d] :
+       {std::pair<std::string, double>{"o_d-0.3.obj", -0.3}, {"o_d0.25.obj", 0.25}}) {
+    ASSERT_TRUE(exists(name)) << name;
+    const d2vdb::TriangleMesh mesh = d2vdb::readMesh(scratch_ / name);
+    EXPECT_EQ(mesh.vertexCount(), 2562u);
+    double worst = 0.0;
+    for (const Eigen::Vector3f& p : mesh.positions) {
+      worst = std::max(
+          worst, std::abs(d2vdb::test::signedDistanceToEllipsoid(ellipsoid, p.cast<double>()) - d));
+    }
+    EXPECT_LT(worst, 2e-4) << name;  // the fit at L = 14 plus float output
+  }
+
+  const CliResult info = run("info " + path("e.json") + " --json");
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  const nlohmann::json described = nlohmann::json::parse(info.out);
+  EXPECT_EQ(described.at("kind"), "support_function");
+  EXPECT_EQ(described.at("degree"), 14);
+  EXPECT_NEAR(described.at("safe_offset").at("min").get<double>(), -0.5, 2e-3);
+}
+
+TEST_F(SupportCliTest, HyperboloidPatchIsFittedOverItsGaussImage) {
+  d2vdb::writeMesh(scratch_ / "hyperboloid.obj", d2vdb::test::hyperboloidPatch(64, 21, 0.5));
+  const CliResult fitted = run("support " + path("hyperboloid.obj") + " --degree 16 --out " +
+                               path("h.json") + " --json");
+  ASSERT_EQ(fitted.exitCode, 0) << fitted.err;
+  const nlohmann::json report = nlohmann::json::parse(fitted.out);
+  EXPECT_EQ(report.at("input_kind"), "mesh patch");
+  EXPECT_EQ(report.at("domain"), "patch");
+  EXPECT_EQ(report.at("signs"), "saddle");
+  EXPECT_NEAR(report.at("safe_offset").at("min").get<double>(), -1.0, 1e-3);
+  EXPECT_NEAR(report.at("safe_offset").at("max").get<double>(), 1.0, 1e-3);
+  const CliResult offset =
+      run("offset " + path("h.json") + " " + path("h-out.obj") + " --distance 0.1");
+  ASSERT_EQ(offset.exitCode, 0) << offset.err;
+  EXPECT_TRUE(exists("h-out.obj"));
+  const CliResult tooFar =
+      run("offset " + path("h.json") + " " + path("far.obj") + " --distance 1.5");
+  EXPECT_EQ(tooFar.exitCode, 2);
+  EXPECT_NE(tooFar.err.find("safe range"), std::string::npos) << tooFar.err;
+  EXPECT_FALSE(exists("far.obj"));
+}
+
+TEST_F(SupportCliTest, LevelSetMethodOffsetsTheMesh) {
+  const CliResult result = run("offset " + ellipsoidMesh(3) + " " + path("ls.obj") +
+                               " --distance 0.2 --method levelset --resolution 48 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report.at("method"), "levelset");
+  EXPECT_NEAR(report.at("voxel_size").get<double>(), 4.0 / 48.0, 1e-3);
+  const d2vdb::TriangleMesh mesh = d2vdb::readMesh(scratch_ / "ls.obj");
+  const d2vdb::test::Ellipsoid ellipsoid;
+  // The level-set offset of a coarse mesh at a coarse voxel: within a voxel of the exact offset.
+  for (std::size_t i = 0; i < mesh.positions.size(); i += 101) {
+    const double distance =
+        d2vdb::test::signedDistanceToEllipsoid(ellipsoid, mesh.positions[i].cast<double>());
+    EXPECT_NEAR(distance, 0.2, 4.0 / 48.0) << i;
+  }
+}
+
+TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
+  const std::string mesh = ellipsoidMesh(0);  // 12 vertices
+  // Fewer samples than unknowns.
+  CliResult result = run("support " + mesh + " --degree 4 --out " + path("a.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("fewer than the 25 unknowns"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("a.json"));
+  // Degree beyond the limit.
+  result = run("support " + mesh + " --degree 65 --out " + path("a.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("not supported"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("a.json"));
+  // A point set with a zero normal.
+  {
+    std::ofstream ply(scratch_ / "points.ply");
+    ply << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+           "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+           "end_header\n1 0 0 1 0 0\n0 1 0 0 0 0\n0 0 1 0 0 1\n";
+  }
+  result = run("support " + path("points.ply") + " --degree 0 --out " + path("p.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("zero normal"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("p.json"));
+  // A NaN normal (rejected by the PLY reader with the line).
+  {
+    std::ofstream ply(scratch_ / "nan.ply");
+    ply << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+           "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+           "end_header\n1 0 0 nan 0 0\n";
+  }
+  result = run("support " + path("nan.ply") + " --degree 0 --out " + path("n.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_FALSE(exists("n.json"));
+  // A non-convex closed mesh: the bundled bunny.
+  result = run(std::string("support '") + D2VDB_SOURCE_DIR +
+               "/volumes/bunny.obj' --degree 8 --out " + path("b.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("not injective"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("b.json"));
+  result = run(std::string("offset '") + D2VDB_SOURCE_DIR + "/volumes/bunny.obj' " + path("b.obj") +
+               " --distance 0.01 --degree 8");
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_FALSE(exists("b.obj"));
+  // Offsets outside the safe range; a malformed support-function file.
+  ASSERT_EQ(run("support " + ellipsoidMesh(3) + " --degree 8 --out " + path("e.json")).exitCode, 0);
+  result =
+      run("offset " + path("e.json") + " " + path("o.obj") + " --distance 0.1 --distance -0.7");
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("safe range"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("o_d0.1.obj"));
+  EXPECT_FALSE(exists("o_d-0.7.obj"));
+  {
+    std::ifstream in(scratch_ / "e.json");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.find("\"degree\""), 0, "\"colour\": \"red\", ");
+    std::ofstream(scratch_ / "bad.json") << text;
+  }
+  result = run("offset " + path("bad.json") + " " + path("o.obj") + " --distance 0.1");
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("colour"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("o.obj"));
+  result = run("info " + path("bad.json"));
+  EXPECT_EQ(result.exitCode, 2);
+}
+
+}  // namespace

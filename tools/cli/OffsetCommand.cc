@@ -1,0 +1,304 @@
+// d2vdb offset: offset surfaces at given distances, either exactly through the support function
+// (h + d, tessellated over a geodesic sphere of normals or a patch's Gauss image) or the OpenVDB
+// way (level set of the input, LevelSetFilter::offset, marching cubes) as the reference.
+#include <openvdb/tools/LevelSetFilter.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Command.h"
+#include "SupportInputs.h"
+#include "d2vdb/contour/IsoSurface.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/field/VoxelBudget.h"
+#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/support/SupportTessellation.h"
+
+namespace d2vdb::cli {
+namespace {
+
+constexpr int kDefaultResolution = 256;
+
+struct Arguments {
+  std::string input, output, method = "support";
+  std::vector<double> distances;
+  int degree = 16;
+  double regularization = -1.0;
+  int subdivisions = 6;
+  bool allowSingular = false;
+  double voxelSize = 0.0;
+  int resolution = 0;
+  double halfWidth = 3.0;
+  std::uint64_t maxVoxels = kDefaultMaxActiveVoxels;
+};
+
+std::string shortNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", value);
+  return buffer;
+}
+
+// OUT itself for one distance; OUT's stem + "_d<distance>" + extension for several.
+std::filesystem::path outputFor(const std::filesystem::path& output, double distance,
+                                std::size_t count) {
+  if (count == 1) return output;
+  std::filesystem::path name = output;
+  name.replace_filename(output.stem().string() + "_d" + shortNumber(distance) +
+                        output.extension().string());
+  return name;
+}
+
+struct Written {
+  double distance = 0.0;
+  std::string path;
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  double seconds = 0.0;
+};
+
+// Writes every offset once all are computed, so a bad input never leaves some of them written.
+void writeAll(const std::vector<TriangleMesh>& meshes, const std::vector<Written>& written,
+              const GlobalOptions& options) {
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    writeMesh(written[i].path, meshes[i]);
+    status(options, "wrote " + written[i].path + ": offset " + shortNumber(written[i].distance) +
+                        ", " + std::to_string(written[i].vertices) + " vertices");
+  }
+}
+
+nlohmann::json writtenJson(const std::vector<Written>& written) {
+  nlohmann::json outputs = nlohmann::json::array();
+  for (const Written& w : written) {
+    outputs.push_back({{"distance", w.distance},
+                       {"output", w.path},
+                       {"vertices", w.vertices},
+                       {"triangles", w.triangles},
+                       {"seconds", w.seconds}});
+  }
+  return outputs;
+}
+
+// The support-function method: fit (or read) h, check every distance, then tessellate x_{h+d}.
+nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& options,
+                               std::vector<Written>& written, std::vector<std::string>& warnings) {
+  const SupportInput input = loadSupportInput(args.input, options);
+  warnings.insert(warnings.end(), input.warnings.begin(), input.warnings.end());
+  if (!input.document) {
+    status(options, "fitting degree " + std::to_string(args.degree) + " to " +
+                        std::to_string(input.samples.points.size()) + " samples of " + args.input +
+                        " (" + input.kind + ")");
+  }
+  const CheckedSupport support =
+      fitAndCheck(input, args.input, args.degree, args.regularization, args.allowSingular);
+  warnings.insert(warnings.end(), support.warnings.begin(), support.warnings.end());
+  for (const double d : args.distances) {
+    if (!support.validity.regular()) break;  // already refused or warned about
+    try {
+      requireRegularOffset(support.validity, d);
+    } catch (const InputError& error) {
+      if (!args.allowSingular) {
+        throw InputError(std::string(error.what()) +
+                         "; choose a distance inside the safe range or pass --allow-singular");
+      }
+      warnings.push_back(std::string(error.what()) + " (kept: --allow-singular)");
+    }
+  }
+  const SphericalTriangulation domain =
+      support.document.patch ? *support.document.patch : geodesicSphere(args.subdivisions);
+  std::vector<TriangleMesh> meshes;
+  for (const double d : args.distances) {
+    const Stopwatch clock;
+    meshes.push_back(tessellateSupport(support.document.function, domain, d));
+    written.push_back({d, outputFor(args.output, d, args.distances.size()).string(),
+                       meshes.back().vertexCount(), meshes.back().triangleCount(),
+                       clock.seconds()});
+  }
+  writeAll(meshes, written, options);
+  nlohmann::json report = supportJson(support);
+  report["input_kind"] = input.kind;
+  report["tessellation"] =
+      support.document.patch
+          ? std::string("gauss image")
+          : "geodesic sphere, " + std::to_string(args.subdivisions) + " subdivisions";
+  return report;
+}
+
+// The level-set method (OpenVDB's way): level set of the input, offset by LevelSetFilter in steps
+// of at most half a voxel with renormalisation, marching cubes.
+nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& options,
+                                std::vector<Written>& written, std::vector<std::string>& warnings) {
+  const std::filesystem::path input(args.input);
+  std::string extension = input.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const ProgressCallback progress = makeProgressPrinter(options);
+  const Stopwatch setup;
+  openvdb::FloatGrid::Ptr levelSet;
+  std::string kind;
+  if (extension == ".vdb") {
+    levelSet = readLevelSet(input);
+    kind = "level set";
+  } else if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
+    const TriangleMesh mesh = readMesh(input);
+    if (mesh.triangles.empty()) {
+      throw InputError("'" + args.input +
+                       "' has no triangles: the level-set method needs a closed mesh or a level "
+                       "set");
+    }
+    LevelSetOptions levelSetOptions;
+    levelSetOptions.voxelSize = args.voxelSize;
+    levelSetOptions.resolution =
+        args.voxelSize > 0 ? 0 : (args.resolution > 0 ? args.resolution : kDefaultResolution);
+    levelSetOptions.halfWidth = args.halfWidth;
+    levelSetOptions.maxActiveVoxels = args.maxVoxels;
+    LevelSetResult result = meshToLevelSet(mesh, levelSetOptions, progress);
+    warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
+    levelSet = result.grid;
+    kind = "mesh";
+  } else {
+    throw InputError(
+        "the level-set method offsets meshes (.obj, .ply, .stl) and level sets "
+        "(.vdb), not '" +
+        args.input + "'");
+  }
+  const double voxel = levelSet->voxelSize()[0];
+  const double setupSeconds = setup.seconds();
+  // The band keeps its width while it moves, so an outward offset grows it with the surface:
+  // bound the offset surface's area by that of the bounding box grown by d.
+  const openvdb::CoordBBox indexBox = levelSet->evalActiveVoxelBoundingBox();
+  const openvdb::Vec3d size = indexBox.dim().asVec3d() * voxel;
+  for (const double d : args.distances) {
+    const double grow = std::max(0.0, 2.0 * d);
+    const double sx = size.x() + grow, sy = size.y() + grow, sz = size.z() + grow;
+    const double area = 2.0 * (sx * sy + sy * sz + sz * sx);
+    const double estimate = area / (voxel * voxel) * 2.0 * args.halfWidth * 1.25;
+    if (estimate > static_cast<double>(args.maxVoxels)) {
+      throw InputError("offsetting by " + shortNumber(d) + " at voxel size " + shortNumber(voxel) +
+                       " would need about " + std::to_string(static_cast<long long>(estimate)) +
+                       " active voxels, above --max-voxels " + std::to_string(args.maxVoxels) +
+                       "; use a larger --voxel-size");
+    }
+  }
+  std::vector<TriangleMesh> meshes;
+  for (const double d : args.distances) {
+    const Stopwatch clock;
+    openvdb::FloatGrid::Ptr grid = levelSet->deepCopy();
+    openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+    filter.offset(static_cast<float>(-d));  // OpenVDB adds its argument to the distances
+    IsoSurfaceOptions iso;
+    const TriangleMesh mesh = extractIsoSurface(*grid, iso, progress);
+    if (mesh.triangles.empty()) {
+      throw InputError("the offset at distance " + shortNumber(d) + " of '" + args.input +
+                       "' is empty (the body is thinner than 2 |d|)");
+    }
+    written.push_back({d, outputFor(args.output, d, args.distances.size()).string(),
+                       mesh.vertexCount(), mesh.triangleCount(), clock.seconds()});
+    meshes.push_back(mesh);
+  }
+  writeAll(meshes, written, options);
+  return {{"input_kind", kind},
+          {"voxel_size", voxel},
+          {"half_width", args.halfWidth},
+          {"active_voxels", levelSet->activeVoxelCount()},
+          {"setup_seconds", setupSeconds}};
+}
+
+}  // namespace
+
+void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
+  auto args = std::make_shared<Arguments>();
+  CLI::App* command = app.add_subcommand(
+      "offset",
+      "Offset a surface by signed distances d (along the outward normals; d < 0 moves inward)\n"
+      "and write each offset as a mesh. --method support (default): the support function h is\n"
+      "fitted (or read from a .json written by 'd2vdb support') and the offset is exactly\n"
+      "h + d, tessellated over a geodesic sphere of normals (closed inputs) or the input's\n"
+      "Gauss image (open meshes); a distance outside the safe range (where a principal radius\n"
+      "r + d would change sign: cusps, swallowtails) is refused unless --allow-singular, and so\n"
+      "is a non-convex closed input. --method levelset: the OpenVDB way, as a reference: level\n"
+      "set of the input, LevelSetFilter::offset, marching cubes. Several --distance values give\n"
+      "OUT's name with _d<distance> inserted before the extension.\n"
+      "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
+      "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset");
+  command
+      ->add_option("input", args->input, "Mesh, point set (.ply), .vdb or support-function .json")
+      ->required();
+  command->add_option("output", args->output, "Output mesh (.obj, .ply, .stl; written atomically)")
+      ->required();
+  command->add_option("--distance", args->distances, "Signed offset distance (repeatable)")
+      ->required()
+      ->allow_extra_args(false);
+  command->add_option("--method", args->method, "support or levelset")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"support", "levelset"}));
+  command
+      ->add_option("--degree", args->degree,
+                   "support: spherical-harmonic degree of the fit (inputs other than .json)")
+      ->capture_default_str();
+  command
+      ->add_option("--regularization", args->regularization,
+                   "support: smoothness weight of the fit (default 1e-10 sphere, 1e-13 patch)")
+      ->check(CLI::Range(0.0, 1e6));
+  command
+      ->add_option("--subdivisions", args->subdivisions,
+                   "support: geodesic sphere of normals, 10 * 4^s + 2 vertices")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 9));
+  command->add_flag("--allow-singular", args->allowSingular,
+                    "support: write offsets outside the safe range or of a singular function");
+  auto* voxelSize = command->add_option("--voxel-size", args->voxelSize,
+                                        "levelset: voxel edge length in world units");
+  auto* resolution = command->add_option(
+      "--resolution", args->resolution,
+      "levelset: voxels along the longest side of a mesh's bounding box (default 256)");
+  voxelSize->excludes(resolution)->check(CLI::PositiveNumber);
+  resolution->excludes(voxelSize)->check(CLI::PositiveNumber);
+  command->add_option("--half-width", args->halfWidth, "levelset: band half-width in voxels")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
+  command
+      ->add_option("--max-voxels", args->maxVoxels,
+                   "levelset: refuse when the estimated number of active voxels exceeds this")
+      ->capture_default_str();
+  command->add_flag("--json", options.json, "Print the report as JSON on stdout");
+
+  registry.add(command, [args, &options]() {
+    const Stopwatch clock;
+    meshFormatFromPath(args->output);  // an unsupported extension fails before any work
+    for (const double d : args->distances) {
+      if (!std::isfinite(d)) throw InputError("--distance must be a finite number");
+    }
+    std::vector<Written> written;
+    std::vector<std::string> warnings;
+    nlohmann::json report = args->method == "support"
+                                ? offsetBySupport(*args, options, written, warnings)
+                                : offsetByLevelSet(*args, options, written, warnings);
+    for (const std::string& message : warnings) warning(message);
+    report["input"] = args->input;
+    report["method"] = args->method;
+    report["distances"] = args->distances;
+    report["outputs"] = writtenJson(written);
+    report["warnings"] = warnings;
+    report["seconds"] = clock.seconds();
+    if (options.json) {
+      printJson(report);
+    } else if (args->method == "support") {
+      std::string summary = supportText(report, "  ");
+      summary.pop_back();
+      status(options, "offset " + args->input + " by support function (" +
+                          std::to_string(clock.seconds()) + " s):\n" + summary);
+    } else {
+      status(options, "offset " + args->input + " by level set, voxel size " +
+                          shortNumber(report["voxel_size"].get<double>()) + " (" +
+                          std::to_string(clock.seconds()) + " s)");
+    }
+    return kSuccess;
+  });
+}
+
+}  // namespace d2vdb::cli

@@ -1,0 +1,291 @@
+#include "SupportInputs.h"
+
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/support/SupportMeasures.h"
+
+namespace d2vdb::cli {
+namespace {
+
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+std::string formatNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
+  return buffer;
+}
+
+// A number for JSON, with null for +-infinity (JSON has none): an unbounded side of a range.
+nlohmann::json finiteOrNull(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
+                                    const GlobalOptions& options) {
+  const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(path);
+  const ProgressCallback progress = makeProgressPrinter(options);
+  std::optional<ApproximantField> field;
+  isField = isFieldFile(grids);
+  if (isField) {
+    field.emplace(ApproximantField::fromGrids(grids, path, {}, progress));
+  } else {
+    field.emplace(ApproximantField::fromLevelSet(readLevelSet(path), {}, progress));
+  }
+  if (field->kind() != TargetKind::Surface) {
+    throw InputError("'" + path + "' is a field of a " + targetKindName(field->kind()) +
+                     ", not of a surface: a support function needs a closed surface");
+  }
+  const openvdb::FloatGrid::ConstPtr grid = field->distanceGrid();
+  const double limit = 0.5 * field->voxelSize();
+  ApproximantField::Accessor accessor(*field);
+  OrientedSamples samples;
+  for (auto it = grid->cbeginValueOn(); it; ++it) {
+    if (std::abs(static_cast<double>(*it)) > limit) continue;
+    const openvdb::Vec3d world = grid->indexToWorld(it.getCoord());
+    const Approximant a = accessor.approximantAt(Eigen::Vector3d(world.x(), world.y(), world.z()));
+    if ((a.flags & kFlagCutLocus) != 0) continue;
+    samples.points.push_back(a.footpoint);
+    samples.normals.push_back(a.normal);
+  }
+  if (samples.points.empty()) {
+    throw InputError("'" + path + "' has no band voxels within half a voxel of its surface");
+  }
+  return samples;
+}
+
+SupportInput loadSupportInput(const std::string& path, const GlobalOptions& options) {
+  const std::filesystem::path file(path);
+  const std::string extension = lowerExtension(file);
+  SupportInput input;
+  if (extension == ".json") {
+    input.kind = "support function";
+    input.document = readSupportFunctionJson(file);
+    return input;
+  }
+  if (extension == ".vdb") {
+    bool isField = false;
+    input.samples = samplesFromLevelSet(path, isField, options);
+    input.kind = isField ? "field" : "level set";
+    return input;
+  }
+  if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
+    const TriangleMesh mesh = readMesh(file);
+    if (mesh.triangles.empty()) {
+      input.kind = "points";
+      input.samples = samplesFromMesh(mesh, "'" + path + "'");
+      return input;
+    }
+    MeshGaussImage image = meshGaussImage(mesh, "'" + path + "'");
+    input.samples = image.samples;
+    input.kind = image.closed ? "mesh" : "mesh patch";
+    if (!image.closed) input.patch = image.gaussImage;
+    if (!mesh.hasNormals()) {
+      input.warnings.push_back("'" + path +
+                               "' has no vertex normals: using area-weighted normals of its "
+                               "triangles, which limit the fit's accuracy to the facets' size");
+    }
+    input.gaussImage = std::move(image);
+    return input;
+  }
+  throw InputError("cannot tell what '" + path + "' is from its extension '" + extension +
+                   "'; a support function is fitted to meshes (.obj, .ply, .stl), point sets "
+                   "with normals (.ply with nx ny nz), level sets and fields (.vdb), or read "
+                   "from a support-function file (.json)");
+}
+
+SphericalTriangulation validityDomain(const SupportFunctionDocument& document) {
+  return document.patch ? *document.patch : validationSphere(document.function.degree());
+}
+
+CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source, int degree,
+                           double regularization, bool allowSingular) {
+  CheckedSupport checked;
+  if (input.document) {
+    checked.document = *input.document;
+  } else {
+    SupportFitOptions fitOptions;
+    fitOptions.degree = degree;
+    fitOptions.regularization = regularization >= 0.0 ? regularization
+                                : input.patch         ? kPatchSupportRegularization
+                                                      : kDefaultSupportRegularization;
+    SupportFitReport report;
+    checked.document.function =
+        fitSupportFunction(input.samples, fitOptions, &report, "'" + source + "'");
+    checked.document.patch = input.patch;
+    checked.document.fit =
+        SupportFitRecord{std::filesystem::path(source).filename().string(), report.samples,
+                         report.regularization, report.rmsResidual, report.maxResidual};
+    if (report.renormalisedNormals > 0) {
+      checked.warnings.push_back(std::to_string(report.renormalisedNormals) +
+                                 " sample normals were not unit length (off by up to " +
+                                 formatNumber(report.largestNormalDeviation) +
+                                 ") and were normalised");
+    }
+    checked.fit = report;
+  }
+  checked.validity =
+      analyzeSupportValidity(checked.document.function, validityDomain(checked.document));
+  if (!checked.validity.regular()) {
+    std::string why =
+        "'" + source + "': the support function is " + checked.validity.describe() + ". ";
+    if (input.gaussImage && input.gaussImage->reversingTriangles > 0 &&
+        input.gaussImage->preservingTriangles > 0) {
+      why += "Of its " +
+             std::to_string(input.gaussImage->preservingTriangles +
+                            input.gaussImage->reversingTriangles +
+                            input.gaussImage->collapsedTriangles) +
+             " triangles, " + std::to_string(input.gaussImage->reversingTriangles) +
+             " have a saddle-shaped (orientation-reversing) Gauss image and " +
+             std::to_string(input.gaussImage->preservingTriangles) +
+             " a convex one, so its Gauss map is not injective. ";
+    }
+    why += checked.document.patch
+               ? "A patch has a support function only where its Gauss map is injective (all "
+                 "convex or all saddle-shaped, no fold)"
+               : "A closed surface has a support function only if it is convex (its Gauss map "
+                 "is then injective)";
+    why +=
+        "; offset non-convex shapes with --method levelset, or fit patches whose Gauss map "
+        "is injective (an open mesh is fitted over its own Gauss image)";
+    if (!allowSingular) throw InputError(why + ", or pass --allow-singular to keep this result");
+    checked.warnings.push_back(why + " (kept: --allow-singular)");
+  }
+  return checked;
+}
+
+nlohmann::json supportJson(const CheckedSupport& support) {
+  const SupportFunction& h = support.document.function;
+  const SupportValidity& v = support.validity;
+  nlohmann::json report;
+  report["degree"] = h.degree();
+  report["coefficients"] = h.coefficients().size();
+  report["basis"] = "real_spherical_harmonics";
+  report["domain"] = support.document.patch ? "patch" : "sphere";
+  if (support.document.patch) {
+    report["domain_normals"] = support.document.patch->normals.size();
+    report["domain_triangles"] = support.document.patch->triangles.size();
+  }
+  if (support.document.fit) {
+    const SupportFitRecord& fit = *support.document.fit;
+    report["fit"] = {{"source", fit.source},
+                     {"samples", fit.samples},
+                     {"regularization", fit.regularization},
+                     {"rms_residual", fit.rmsResidual},
+                     {"max_residual", fit.maxResidual}};
+    if (support.fit) {
+      report["fit"]["size"] = support.fit->size;
+      report["fit"]["relative_max_residual"] =
+          support.fit->size > 0 ? support.fit->maxResidual / support.fit->size : 0.0;
+      report["fit"]["reciprocal_condition"] = support.fit->reciprocalCondition;
+      report["fit"]["renormalised_normals"] = support.fit->renormalisedNormals;
+    }
+  }
+  report["regular"] = v.regular();
+  report["signs"] = v.regular() ? radiusSignsName(v.signs) : "mixed";
+  report["radii"] = {{"min", v.minRadius}, {"max", v.maxRadius}};
+  report["normals_checked"] = v.normalsChecked;
+  report["sign_counts"] = {{"convex", v.convexNormals},
+                           {"saddle", v.saddleNormals},
+                           {"concave", v.concaveNormals},
+                           {"parabolic", v.parabolicNormals}};
+  report["parabolic_crossings"] = v.parabolicCrossings;
+  nlohmann::json points = nlohmann::json::array();
+  for (std::size_t i = 0; i < v.parabolicPoints.size() && i < 100; ++i) {
+    const Eigen::Vector3d& n = v.parabolicPoints[i];
+    points.push_back({n.x(), n.y(), n.z()});
+  }
+  report["parabolic_points"] = points;  // the first 100
+  if (v.regular()) {
+    report["safe_offset"] = {{"min", finiteOrNull(v.safeOffsetMin)},
+                             {"max", finiteOrNull(v.safeOffsetMax)}};
+  } else {
+    report["safe_offset"] = nullptr;
+  }
+  if (!support.document.patch) {
+    const SupportMeasures measures = supportMeasures(h);
+    report["area"] = measures.area;
+    report["volume"] = measures.volume;
+    report["mean_curvature_integral"] = measures.meanCurvatureIntegral;
+    const Eigen::Vector3d steiner = h.linearPart();
+    report["steiner_point"] = {steiner.x(), steiner.y(), steiner.z()};
+  }
+  return report;
+}
+
+bool isSupportFunctionFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
+  return json.is_object() && json.contains("type") && json["type"].is_string() &&
+         json["type"].get<std::string>() == kSupportFunctionJsonType;
+}
+
+nlohmann::json supportFileReport(const std::string& path) {
+  CheckedSupport checked;
+  checked.document = readSupportFunctionJson(path);
+  checked.validity =
+      analyzeSupportValidity(checked.document.function, validityDomain(checked.document));
+  nlohmann::json report = supportJson(checked);
+  report["file"] = path;
+  report["kind"] = kSupportFunctionJsonType;
+  return report;
+}
+
+std::string supportText(const nlohmann::json& report, const std::string& indent) {
+  std::string text;
+  text += indent + "support function: degree " + report["degree"].dump() + " (" +
+          report["coefficients"].dump() + " coefficients), domain " +
+          report["domain"].get<std::string>() + "\n";
+  if (report.contains("fit")) {
+    const auto& fit = report["fit"];
+    text += indent + "fit: " + fit["samples"].dump() + " samples, residual rms " +
+            formatNumber(fit["rms_residual"].get<double>()) + ", max " +
+            formatNumber(fit["max_residual"].get<double>());
+    if (fit.contains("relative_max_residual")) {
+      text += " (" + formatNumber(fit["relative_max_residual"].get<double>()) + " of the size)";
+    }
+    text += ", regularisation " + formatNumber(fit["regularization"].get<double>()) + "\n";
+  }
+  text += indent + (report["regular"].get<bool>() ? "regular, " : "SINGULAR, ") +
+          report["signs"].get<std::string>() + ": principal radii " +
+          formatNumber(report["radii"]["min"].get<double>()) + " .. " +
+          formatNumber(report["radii"]["max"].get<double>()) + " on " +
+          report["normals_checked"].dump() + " normals";
+  if (report["parabolic_crossings"].get<std::size_t>() > 0) {
+    text += ", " + report["parabolic_crossings"].dump() + " parabolic crossings";
+  }
+  text += "\n";
+  if (!report["safe_offset"].is_null()) {
+    const auto side = [](const nlohmann::json& value, const char* infinite) {
+      return value.is_null() ? std::string(infinite) : formatNumber(value.get<double>());
+    };
+    text += indent + "safe offsets: (" + side(report["safe_offset"]["min"], "-inf") + ", " +
+            side(report["safe_offset"]["max"], "inf") + ")\n";
+  }
+  if (report.contains("volume")) {
+    text += indent + "volume " + formatNumber(report["volume"].get<double>()) + ", area " +
+            formatNumber(report["area"].get<double>()) + "\n";
+  }
+  return text;
+}
+
+}  // namespace d2vdb::cli

@@ -1,0 +1,77 @@
+// Shared by the support and offset sub-commands: loading oriented samples from any input
+// (meshes, point sets with normals, level sets and fields), fitting and checking a support
+// function, and reporting on it.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "Command.h"
+#include "d2vdb/io/SupportFunctionJson.h"
+#include "d2vdb/support/SupportFit.h"
+#include "d2vdb/support/SupportSamples.h"
+#include "d2vdb/support/SupportValidity.h"
+
+namespace d2vdb::cli {
+
+/// What an input file gives a support function.
+struct SupportInput {
+  /// "mesh" (closed), "mesh patch" (open mesh: fitted over its Gauss image), "points", "level set",
+  /// "field" or "support function" (a .json written by `d2vdb support`).
+  std::string kind;
+  OrientedSamples samples;                          ///< empty for a support-function file
+  std::optional<SphericalTriangulation> patch;      ///< the Gauss image of an open mesh
+  std::optional<MeshGaussImage> gaussImage;         ///< meshes: how the Gauss map orients triangles
+  std::optional<SupportFunctionDocument> document;  ///< a support-function file
+  std::vector<std::string> warnings;
+};
+
+/// Loads `path`: .obj/.ply/.stl meshes (vertices with their normals, or area-weighted ones),
+/// .ply point sets with nx ny nz, .vdb level sets and field files (footpoints and normals of the
+/// band voxels within half a voxel of the surface), and support-function .json files. Throws
+/// InputError for anything else or a malformed file.
+SupportInput loadSupportInput(const std::string& path, const GlobalOptions& options);
+
+/// The band footpoints and normals of a level set's approximant field: one sample per active
+/// voxel within half a voxel of the zero level (voxels flagged at the cut locus skipped), in the
+/// grid's deterministic iteration order.
+OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
+                                    const GlobalOptions& options);
+
+/// A fitted (or loaded) support function with its checks.
+struct CheckedSupport {
+  SupportFunctionDocument document;
+  std::optional<SupportFitReport> fit;  ///< when fitted here
+  SupportValidity validity;
+  std::vector<std::string> warnings;
+};
+
+/// Fits `input` at `degree` (regularisation < 0: the default of its domain, sphere or patch), or
+/// takes its support-function document, and analyses the validity over its domain. Unless
+/// `allowSingular`, throws InputError when the function is singular there (not convex, or a patch
+/// whose Gauss map is not injective), explaining why and what to do; with `allowSingular` that
+/// becomes a warning.
+CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source, int degree,
+                           double regularization, bool allowSingular);
+
+/// The validity domain of a document: its patch, or validationSphere(degree).
+SphericalTriangulation validityDomain(const SupportFunctionDocument& document);
+
+/// The report keys shared by `support`, `offset` and `info` (README, "JSON output").
+nlohmann::json supportJson(const CheckedSupport& support);
+
+/// Whether `path` holds a JSON object whose "type" is "support_function" (false for anything
+/// else, invalid JSON included: the reader chosen then reports the problem).
+bool isSupportFunctionFile(const std::string& path);
+
+/// `d2vdb info` on a support-function file: {"file", "kind": "support_function"} plus
+/// supportJson() of the function and its validity over its domain.
+nlohmann::json supportFileReport(const std::string& path);
+
+/// A few indented lines for the text output.
+std::string supportText(const nlohmann::json& report, const std::string& indent);
+
+}  // namespace d2vdb::cli
