@@ -94,12 +94,12 @@ TEST(SupportFit, EllipsoidErrorFallsGeometricallyWithTheDegree) {
   for (const int degree : {4, 8, 12}) {
     errors.push_back(maxSurfaceError(fitSupportFunction(samples, {degree}), ellipsoid, normals));
   }
-  // About ten times per four degrees (the rate); demand at least five.
+  // The error should fall about ten times per four degrees; demand at least five.
   EXPECT_LT(errors[1], errors[0] / 5.0);
   EXPECT_LT(errors[2], errors[1] / 5.0);
 }
 
-// The accuracy goals: 12k random oriented samples of the ellipsoid with semi-axes 2,
+// Accuracy goals: 12k random oriented samples of the ellipsoid with semi-axes 2,
 // 1.5, 1; max surface error <= 5e-5 a at L = 16 and <= 5e-7 a at L = 24, radii at +-e1 within
 // 1e-4 relative at L = 24.
 TEST(SupportFit, EllipsoidMeetsTheAccuracyGoalsAtDegrees16And24) {
