@@ -324,7 +324,14 @@ BENCHMARK(BM_Evaluate)
     ->Iterations(5);
 
 BENCHMARK(BM_OffsetComparison)
-    ->ArgsProduct({{0, 1}, {128, 256, 512}, {0, 1, 2}})
+    ->Apply([](benchmark::internal::Benchmark* b) {
+      // Grouped so that each level set is built once: method, then voxel size, then offset.
+      for (const int method : {0, 1}) {
+        for (const int voxels : {128, 256, 512}) {
+          for (const int offset : {0, 1, 2}) b->Args({method, voxels, offset});
+        }
+      }
+    })
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(1);
