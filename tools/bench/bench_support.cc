@@ -9,6 +9,12 @@
 //    t2_ms (medians) and speedup.
 //  - BM_Evaluate/degree/threads: SupportFunction::evaluate (x_h, radii, directions) at 1M random
 //    normals; items per second.
+//  - BM_FitAccuracy/degree: the fit to 12k exact random oriented samples of the ellipsoid (2, 1.5,
+//    1); counters: max |x_h(n) - x(n)| / a and max |distance to the ellipsoid| / a over 100k random
+//    normals, relative errors of the radii at e1 (c^2 / a and b^2 / a).
+//  - BM_DualPolyhedron/subdivisions: the piecewise-linear support function of the ellipsoid on a
+//    geodesic sphere; counters: folded edges (swallowtails) before and after the edge flips, flips,
+//    Hausdorff distance of the dual polyhedron to the ellipsoid.
 //  - BM_OffsetComparison/method/voxelsPerA/offsetIndex: the ellipsoid with semi-axes 2, 1.5, 1
 //    offset by d = -0.3, 0.25, 1.0: method 0 = support function (fit at L = 24 from 12k exact
 //    random oriented samples, tessellated over a geodesic sphere with about as many vertices as
@@ -27,6 +33,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -34,6 +41,7 @@
 
 #include "d2vdb/contour/IsoSurface.h"
 #include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/support/PiecewiseLinearSupport.h"
 #include "d2vdb/support/SphericalTriangulation.h"
 #include "d2vdb/support/SupportFit.h"
 #include "d2vdb/support/SupportTessellation.h"
@@ -301,8 +309,73 @@ void BM_OffsetComparison(benchmark::State& state) {
   state.counters["total_s"] = setupSeconds + median(perOffset);
 }
 
+// --- Accuracy of the fit and of the piecewise-linear duals --------------------------------------
+
+void BM_FitAccuracy(benchmark::State& state) {
+  const int degree = static_cast<int>(state.range(0));
+  const d2vdb::OrientedSamples samples = ellipsoidSamples(12000, 23);
+  d2vdb::SupportFunction h;
+  for (auto _ : state) {
+    h = d2vdb::fitSupportFunction(samples, {degree});
+    benchmark::DoNotOptimize(h.coefficients().data());
+  }
+  const std::vector<Eigen::Vector3d> normals = randomUnitVectors(100000, 24);
+  const std::vector<d2vdb::SupportPoint> points = h.evaluate(normals);
+  double surface = 0.0;
+  double distance = 0.0;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    surface = std::max(surface, (points[i].point - ellipsoidPoint(normals[i])).norm());
+    distance = std::max(distance, std::abs(signedDistanceToEllipsoid(points[i].point)));
+  }
+  const d2vdb::SupportPoint tip = h.evaluate(Eigen::Vector3d::UnitX());
+  state.counters["surface_error/a"] = surface / kA;
+  state.counters["distance_error/a"] = distance / kA;
+  state.counters["r1_rel_error"] = std::abs(tip.radius1 / (kC * kC / kA) - 1.0);
+  state.counters["r2_rel_error"] = std::abs(tip.radius2 / (kB * kB / kA) - 1.0);
+}
+
+// Hausdorff distance between the dual polyhedron of the ellipsoid's support function sampled on a
+// geodesic sphere and the ellipsoid (circumscribed polyhedron: the far side is at its vertices;
+// an ellipsoid point's distance to the boundary is its distance to the nearest face plane).
+void BM_DualPolyhedron(benchmark::State& state) {
+  const int subdivisions = static_cast<int>(state.range(0));
+  const auto support = [](const Eigen::Vector3d& n) {
+    return Eigen::Vector3d(kA * n.x(), kB * n.y(), kC * n.z()).norm();
+  };
+  std::size_t foldedBefore = 0;
+  std::size_t flips = 0;
+  std::size_t foldedAfter = 0;
+  double hausdorff = 0.0;
+  for (auto _ : state) {
+    d2vdb::PiecewiseLinearSupport pl =
+        d2vdb::PiecewiseLinearSupport::sample(support, d2vdb::geodesicSphere(subdivisions));
+    foldedBefore = pl.foldedEdges();
+    flips = pl.removeSwallowtails();
+    foldedAfter = pl.foldedEdges();
+    hausdorff = 0.0;
+    for (const Eigen::Vector3d& v : pl.dualVertices()) {
+      hausdorff = std::max(hausdorff, signedDistanceToEllipsoid(v));
+    }
+    const auto& planes = pl.triangulation().normals;
+    for (const Eigen::Vector3d& n : randomUnitVectors(2000, 5)) {
+      const Eigen::Vector3d p = ellipsoidPoint(n);
+      double nearest = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < planes.size(); ++i) {
+        nearest = std::min(nearest, pl.values()[i] - planes[i].dot(p));
+      }
+      hausdorff = std::max(hausdorff, nearest);
+    }
+  }
+  state.counters["hausdorff"] = hausdorff;
+  state.counters["folded_before"] = static_cast<double>(foldedBefore);
+  state.counters["flips"] = static_cast<double>(flips);
+  state.counters["folded_after"] = static_cast<double>(foldedAfter);
+}
+
 }  // namespace
 
+BENCHMARK(BM_FitAccuracy)->DenseRange(4, 28, 4)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_DualPolyhedron)->DenseRange(1, 5, 1)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_FitVsDenseProduct)
     ->Args({100000, 16, 1})
     ->Args({100000, 16, 2})
