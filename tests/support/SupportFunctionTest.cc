@@ -182,6 +182,7 @@ TEST(SupportFunction, RejectsBadConstructionAndNormals) {
   EXPECT_THROW(SupportFunction(1, nan), InputError);
   const SupportFunction h = SupportFunction::sphere(Eigen::Vector3d::Zero(), 1.0);
   EXPECT_THROW(h.value(Eigen::Vector3d::Zero()), InputError);
+  EXPECT_NEAR(h.value(Eigen::Vector3d(1e300, 1e300, 0)), 1.0, 1e-15);  // no overflow
   EXPECT_THROW(h.evaluate(Eigen::Vector3d(std::nan(""), 0, 1)), InputError);
   EXPECT_THROW(h.offset(std::numeric_limits<double>::infinity()), InputError);
   EXPECT_THROW(h.withDegree(kMaxSupportDegree + 1), InputError);

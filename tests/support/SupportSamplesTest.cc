@@ -55,6 +55,10 @@ TEST(SupportSamples, CheckNormalisesAndCountsUnnormalisedNormals) {
   EXPECT_NEAR(check.largestDeviation, 1.0, 1e-15);
   EXPECT_NEAR(samples.normals[0].norm(), 1.0, 1e-15);
   EXPECT_NEAR(samples.normals[1].norm(), 1.0, 1e-15);
+  // Huge normals keep their direction (no overflow to infinity in the norm).
+  samples.normals[0] = Eigen::Vector3d(3e200, 4e200, 0);
+  checkOrientedSamples(samples, "two");
+  EXPECT_LT((samples.normals[0] - Eigen::Vector3d(0.6, 0.8, 0)).norm(), 1e-15);
   samples.normals[1] = Eigen::Vector3d::Zero();
   EXPECT_THROW(checkOrientedSamples(samples, "two"), InputError);
 }

@@ -66,17 +66,24 @@ int geodesicSubdivisionsForSpacing(double angle) {
 
 Eigen::Vector3d unitNormalOrThrow(const Eigen::Vector3d& vector, const std::string& what) {
   if (!vector.allFinite()) throw InputError(what + " is not finite");
-  const double length = vector.norm();
-  if (!(length > 1e-150)) throw InputError(what + " is zero (a normal needs a direction)");
-  return vector / length;
+  // Scaled by the largest component first, so that neither tiny nor huge vectors lose their
+  // direction to underflow or overflow in the norm.
+  const double largest = vector.cwiseAbs().maxCoeff();
+  if (!(largest > 1e-150)) throw InputError(what + " is zero (a normal needs a direction)");
+  const Eigen::Vector3d scaled = vector / largest;
+  return scaled / scaled.norm();
 }
 
 void validateSphericalTriangulation(SphericalTriangulation& domain, const std::string& what) {
   if (domain.triangles.empty()) throw InputError(what + " has no triangles");
   for (std::size_t i = 0; i < domain.normals.size(); ++i) {
     Eigen::Vector3d& n = domain.normals[i];
-    const std::string name = what + " normal " + std::to_string(i);
-    n = unitNormalOrThrow(n, name);
+    const double length = n.norm();
+    if (std::isfinite(length) && std::abs(length - 1.0) <= 1e-9) {
+      n /= length;
+    } else {
+      n = unitNormalOrThrow(n, what + " normal " + std::to_string(i));
+    }
   }
   const auto count = domain.normals.size();
   for (std::size_t t = 0; t < domain.triangles.size(); ++t) {

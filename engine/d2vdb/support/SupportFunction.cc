@@ -131,7 +131,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The unit vector of `normal`; the message is only built on failure (this runs per normal).
 Eigen::Vector3d normalised(const Eigen::Vector3d& normal) {
+  const double length = normal.norm();
+  if (std::isfinite(length) && length > 1e-100) return normal / length;
   return unitNormalOrThrow(normal, "the normal (" + std::to_string(normal.x()) + ", " +
                                        std::to_string(normal.y()) + ", " +
                                        std::to_string(normal.z()) + ")");
@@ -140,7 +143,10 @@ Eigen::Vector3d normalised(const Eigen::Vector3d& normal) {
 std::vector<Eigen::Vector3d> normalisedAll(const std::vector<Eigen::Vector3d>& normals) {
   std::vector<Eigen::Vector3d> unit(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) {
-    unit[i] = unitNormalOrThrow(normals[i], "normal " + std::to_string(i));
+    const double length = normals[i].norm();
+    unit[i] = std::isfinite(length) && length > 1e-100
+                  ? Eigen::Vector3d(normals[i] / length)
+                  : unitNormalOrThrow(normals[i], "normal " + std::to_string(i));
   }
   return unit;
 }

@@ -28,14 +28,15 @@ SampleCheck checkOrientedSamples(OrientedSamples& samples, const std::string& so
       throw InputError(sourceName + ": sample " + std::to_string(i) + " has a non-finite normal");
     }
     const double length = n.norm();
-    if (!(length > 1e-150)) {
+    if (!(n.cwiseAbs().maxCoeff() > 1e-150)) {
       throw InputError(sourceName + ": sample " + std::to_string(i) +
                        " has a zero normal (every sample needs a direction)");
     }
     const double deviation = std::abs(length - 1.0);
     if (deviation > 1e-3) ++check.renormalised;
     if (deviation > check.largestDeviation) check.largestDeviation = deviation;
-    n /= length;
+    n = std::isfinite(length) && length > 1e-100 ? Eigen::Vector3d(n / length)
+                                                 : unitNormalOrThrow(n, sourceName);
   }
   return check;
 }
