@@ -44,20 +44,16 @@ OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
                                     const GlobalOptions& options) {
   const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(path);
   const ProgressCallback progress = makeProgressPrinter(options);
-  std::optional<ApproximantField> field;
   isField = isFieldFile(grids);
-  if (isField) {
-    field.emplace(ApproximantField::fromGrids(grids, path, {}, progress));
-  } else {
-    field.emplace(ApproximantField::fromLevelSet(readLevelSet(path), {}, progress));
-  }
-  if (field->kind() != TargetKind::Surface) {
-    throw InputError("'" + path + "' is a field of a " + targetKindName(field->kind()) +
+  // A stored field, or the field of the file's level set, without reading the file twice.
+  const ApproximantField field = fieldFromGrids(grids, path, {}, progress);
+  if (field.kind() != TargetKind::Surface) {
+    throw InputError("'" + path + "' is a field of a " + targetKindName(field.kind()) +
                      ", not of a surface: a support function needs a closed surface");
   }
-  const openvdb::FloatGrid::ConstPtr grid = field->distanceGrid();
-  const double limit = 0.5 * field->voxelSize();
-  ApproximantField::Accessor accessor(*field);
+  const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
+  const double limit = 0.5 * field.voxelSize();
+  ApproximantField::Accessor accessor(field);
   OrientedSamples samples;
   for (auto it = grid->cbeginValueOn(); it; ++it) {
     if (std::abs(static_cast<double>(*it)) > limit) continue;
