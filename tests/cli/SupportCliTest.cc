@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -117,6 +119,48 @@ TEST_F(SupportCliTest, HyperboloidPatchIsFittedOverItsGaussImage) {
   EXPECT_EQ(tooFar.exitCode, 2);
   EXPECT_NE(tooFar.err.find("safe range"), std::string::npos) << tooFar.err;
   EXPECT_FALSE(exists("far.obj"));
+}
+
+// Level sets and fields are fitted from their band's footpoints and normals: a sphere's level
+// set (voxel 0.05) against the exact sphere, and the same level set stored as a field.
+TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
+  const Eigen::Vector3d centre(0.1, -0.2, 0.3);
+  ASSERT_EQ(
+      run("primitive sphere --center 0.1,-0.2,0.3 --radius 1 --voxel-size 0.05 " + path("s.vdb"))
+          .exitCode,
+      0);
+  ASSERT_EQ(run("field " + path("s.vdb") + " " + path("f.vdb")).exitCode, 0);
+  std::vector<double> volumes;
+  for (const auto& [file, kind] :
+       {std::pair<std::string, std::string>{"s.vdb", "level set"}, {"f.vdb", "field"}}) {
+    const CliResult fitted =
+        run("support " + path(file) + " --degree 6 --out " + path(file + ".json") + " --json");
+    ASSERT_EQ(fitted.exitCode, 0) << fitted.err;
+    const nlohmann::json report = nlohmann::json::parse(fitted.out);
+    EXPECT_EQ(report.at("input_kind"), kind);
+    EXPECT_EQ(report.at("signs"), "convex");
+    // The Steiner point of a sphere is its centre; its radii are all R; its volume 4 pi R^3 / 3.
+    const auto& steiner = report.at("steiner_point");
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(steiner.at(axis).get<double>(), centre[axis], 1e-4) << kind;
+    }
+    EXPECT_NEAR(report.at("radii").at("min").get<double>(), 1.0, 5e-3) << kind;  // 0.1 voxel
+    EXPECT_NEAR(report.at("radii").at("max").get<double>(), 1.0, 5e-3) << kind;
+    EXPECT_NEAR(report.at("safe_offset").at("min").get<double>(), -1.0, 5e-3) << kind;
+    EXPECT_NEAR(report.at("volume").get<double>() / (4.0 * d2vdb::test::kPi / 3.0), 1.0, 2e-3);
+    volumes.push_back(report.at("volume").get<double>());
+  }
+  EXPECT_EQ(volumes[0], volumes[1]);  // the stored field answers as the level set's field did
+  // Its offset by 0.5 is the sphere of radius 1.5.
+  ASSERT_EQ(
+      run("offset " + path("s.vdb.json") + " " + path("o.obj") + " --distance 0.5 --subdivisions 3")
+          .exitCode,
+      0);
+  const d2vdb::TriangleMesh offset = d2vdb::readMesh(scratch_ / "o.obj");
+  ASSERT_EQ(offset.vertexCount(), 642u);
+  for (const Eigen::Vector3f& p : offset.positions) {
+    EXPECT_NEAR((p.cast<double>() - centre).norm(), 1.5, 5e-3);
+  }
 }
 
 TEST_F(SupportCliTest, LevelSetMethodOffsetsTheMesh) {
