@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/CliRunner.h"
+#include "d2vdb/io/VdbFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/support/SphericalTriangulation.h"
 #include "support/SupportTestSupport.h"
@@ -161,6 +163,56 @@ TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
   for (const Eigen::Vector3f& p : offset.positions) {
     EXPECT_NEAR((p.cast<double>() - centre).norm(), 1.5, 5e-3);
   }
+}
+
+// A .vdb output gets each offset as a level set: the support-function offset's tessellation
+// converted at the voxel size, or the level-set method's offset grid itself; both against the
+// exact distance to the offset ellipsoid at the band voxels nearest the surface.
+TEST_F(SupportCliTest, OffsetsAsLevelSets) {
+  const std::string mesh = ellipsoidMesh(4);
+  ASSERT_EQ(run("support " + mesh + " --degree 10 --out " + path("e.json")).exitCode, 0);
+  const double d = 0.25;
+  const CliResult bySupport = run("offset " + path("e.json") + " " + path("s.vdb") +
+                                  " --distance 0.25 --subdivisions 5 --voxel-size 0.1 --json");
+  ASSERT_EQ(bySupport.exitCode, 0) << bySupport.err;
+  const nlohmann::json output = nlohmann::json::parse(bySupport.out).at("outputs").at(0);
+  EXPECT_NEAR(output.at("voxel_size").get<double>(), 0.1, 1e-12);
+  const CliResult byLevelSet = run("offset " + mesh + " " + path("l.vdb") +
+                                   " --distance 0.25 --method levelset --voxel-size 0.1");
+  ASSERT_EQ(byLevelSet.exitCode, 0) << byLevelSet.err;
+  const d2vdb::test::Ellipsoid ellipsoid;
+  // Worst |value - exact signed distance to the offset| over voxels within half a voxel of it.
+  const auto worstError = [&](const std::string& name) {
+    const openvdb::FloatGrid::Ptr grid = d2vdb::readLevelSet(scratch_ / name);
+    EXPECT_NEAR(grid->voxelSize()[0], 0.1, 1e-12) << name;
+    double worst = 0.0;
+    std::size_t checked = 0;
+    for (auto it = grid->cbeginValueOn(); it; ++it) {
+      if (std::abs(*it) > 0.05) continue;
+      const openvdb::Vec3d w = grid->indexToWorld(it.getCoord());
+      const double exact =
+          d2vdb::test::signedDistanceToEllipsoid(ellipsoid, Eigen::Vector3d(w.x(), w.y(), w.z())) -
+          d;
+      worst = std::max(worst, std::abs(static_cast<double>(*it) - exact));
+      ++checked;
+    }
+    EXPECT_GT(checked, 500u) << name;
+    return worst;
+  };
+  const double supportError = worstError("s.vdb");
+  const double levelSetError = worstError("l.vdb");
+  std::printf(
+      "offset 0.25 as a level set at voxel 0.1: max error %.3g (support), %.3g (level set)\n",
+      supportError, levelSetError);
+  EXPECT_LT(supportError, 2e-3);   // the fit at L = 10 and the tessellation's chords
+  EXPECT_LT(levelSetError, 0.02);  // a fifth of a voxel
+  // A patch's offsets are open: no signed level set.
+  d2vdb::writeMesh(scratch_ / "hyperboloid.obj", d2vdb::test::hyperboloidPatch(32, 11, 0.5));
+  const CliResult patch =
+      run("offset " + path("hyperboloid.obj") + " " + path("p.vdb") + " --distance 0.1 --degree 8");
+  EXPECT_EQ(patch.exitCode, 2);
+  EXPECT_NE(patch.err.find("open surfaces"), std::string::npos) << patch.err;
+  EXPECT_FALSE(exists("p.vdb"));
 }
 
 TEST_F(SupportCliTest, LevelSetMethodOffsetsTheMesh) {

@@ -1,13 +1,16 @@
 // d2vdb offset: offset surfaces at given distances, either exactly through the support function
 // (h + d, tessellated over a geodesic sphere of normals or a patch's Gauss image) or the OpenVDB
-// way (level set of the input, LevelSetFilter::offset, marching cubes) as the reference.
+// way (level set of the input, LevelSetFilter::offset, marching cubes) as the reference. Each
+// offset is written as a mesh, or as a level set when OUT ends in .vdb.
 #include <openvdb/tools/LevelSetFilter.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Command.h"
@@ -54,32 +57,60 @@ std::filesystem::path outputFor(const std::filesystem::path& output, double dist
   return name;
 }
 
+bool isVdbPath(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".vdb";
+}
+
+// The level-set options of --voxel-size, --resolution (default 256), --half-width, --max-voxels.
+LevelSetOptions levelSetOptionsOf(const Arguments& args) {
+  LevelSetOptions options;
+  options.voxelSize = args.voxelSize;
+  options.resolution =
+      args.voxelSize > 0 ? 0 : (args.resolution > 0 ? args.resolution : kDefaultResolution);
+  options.halfWidth = args.halfWidth;
+  options.maxActiveVoxels = args.maxVoxels;
+  return options;
+}
+
+// One computed offset: a mesh, or a level set for a .vdb output.
 struct Written {
   double distance = 0.0;
   std::string path;
-  std::size_t vertices = 0;
-  std::size_t triangles = 0;
+  TriangleMesh mesh;
+  openvdb::FloatGrid::Ptr grid;
   double seconds = 0.0;
 };
 
 // Writes every offset once all are computed, so a bad input never leaves some of them written.
-void writeAll(const std::vector<TriangleMesh>& meshes, const std::vector<Written>& written,
-              const GlobalOptions& options) {
-  for (std::size_t i = 0; i < meshes.size(); ++i) {
-    writeMesh(written[i].path, meshes[i]);
-    status(options, "wrote " + written[i].path + ": offset " + shortNumber(written[i].distance) +
-                        ", " + std::to_string(written[i].vertices) + " vertices");
+void writeAll(const std::vector<Written>& written, const GlobalOptions& options) {
+  for (const Written& w : written) {
+    if (w.grid) {
+      writeVdb(w.path, {w.grid});
+      status(options, "wrote " + w.path + ": offset " + shortNumber(w.distance) +
+                          ", level set of " + std::to_string(w.grid->activeVoxelCount()) +
+                          " active voxels");
+    } else {
+      writeMesh(w.path, w.mesh);
+      status(options, "wrote " + w.path + ": offset " + shortNumber(w.distance) + ", " +
+                          std::to_string(w.mesh.vertexCount()) + " vertices");
+    }
   }
 }
 
 nlohmann::json writtenJson(const std::vector<Written>& written) {
   nlohmann::json outputs = nlohmann::json::array();
   for (const Written& w : written) {
-    outputs.push_back({{"distance", w.distance},
-                       {"output", w.path},
-                       {"vertices", w.vertices},
-                       {"triangles", w.triangles},
-                       {"seconds", w.seconds}});
+    nlohmann::json entry = {{"distance", w.distance}, {"output", w.path}, {"seconds", w.seconds}};
+    if (w.grid) {
+      entry["voxel_size"] = w.grid->voxelSize()[0];
+      entry["active_voxels"] = w.grid->activeVoxelCount();
+    } else {
+      entry["vertices"] = w.mesh.vertexCount();
+      entry["triangles"] = w.mesh.triangleCount();
+    }
+    outputs.push_back(entry);
   }
   return outputs;
 }
@@ -111,15 +142,29 @@ nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& optio
   }
   const SphericalTriangulation domain =
       support.document.patch ? *support.document.patch : geodesicSphere(args.subdivisions);
-  std::vector<TriangleMesh> meshes;
+  const bool toLevelSet = isVdbPath(args.output);
+  if (toLevelSet && support.document.patch) {
+    throw InputError("'" + args.input +
+                     "' is fitted over a patch's Gauss image: its offsets are open surfaces, which "
+                     "have no inside for a signed level set; write a mesh (.obj, .ply, .stl)");
+  }
   for (const double d : args.distances) {
     const Stopwatch clock;
-    meshes.push_back(tessellateSupport(support.document.function, domain, d));
-    written.push_back({d, outputFor(args.output, d, args.distances.size()).string(),
-                       meshes.back().vertexCount(), meshes.back().triangleCount(),
-                       clock.seconds()});
+    Written w;
+    w.distance = d;
+    w.path = outputFor(args.output, d, args.distances.size()).string();
+    w.mesh = tessellateSupport(support.document.function, domain, d);
+    if (toLevelSet) {
+      LevelSetResult result =
+          meshToLevelSet(w.mesh, levelSetOptionsOf(args), makeProgressPrinter(options));
+      warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
+      w.grid = result.grid;
+      w.mesh = TriangleMesh();
+    }
+    w.seconds = clock.seconds();
+    written.push_back(std::move(w));
   }
-  writeAll(meshes, written, options);
+  writeAll(written, options);
   nlohmann::json report = supportJson(support);
   report["input_kind"] = input.kind;
   report["tessellation"] =
@@ -150,13 +195,7 @@ nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& opti
                        "' has no triangles: the level-set method needs a closed mesh or a level "
                        "set");
     }
-    LevelSetOptions levelSetOptions;
-    levelSetOptions.voxelSize = args.voxelSize;
-    levelSetOptions.resolution =
-        args.voxelSize > 0 ? 0 : (args.resolution > 0 ? args.resolution : kDefaultResolution);
-    levelSetOptions.halfWidth = args.halfWidth;
-    levelSetOptions.maxActiveVoxels = args.maxVoxels;
-    LevelSetResult result = meshToLevelSet(mesh, levelSetOptions, progress);
+    LevelSetResult result = meshToLevelSet(mesh, levelSetOptionsOf(args), progress);
     warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
     levelSet = result.grid;
     kind = "mesh";
@@ -184,23 +223,29 @@ nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& opti
                        "; use a larger --voxel-size");
     }
   }
-  std::vector<TriangleMesh> meshes;
   for (const double d : args.distances) {
     const Stopwatch clock;
-    openvdb::FloatGrid::Ptr grid = levelSet->deepCopy();
-    openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+    Written w;
+    w.distance = d;
+    w.path = outputFor(args.output, d, args.distances.size()).string();
+    w.grid = levelSet->deepCopy();
+    openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*w.grid);
     filter.offset(static_cast<float>(-d));  // OpenVDB adds its argument to the distances
     IsoSurfaceOptions iso;
-    const TriangleMesh mesh = extractIsoSurface(*grid, iso, progress);
-    if (mesh.triangles.empty()) {
+    w.mesh = extractIsoSurface(*w.grid, iso, progress);
+    if (w.mesh.triangles.empty()) {
       throw InputError("the offset at distance " + shortNumber(d) + " of '" + args.input +
                        "' is empty (the body is thinner than 2 |d|)");
     }
-    written.push_back({d, outputFor(args.output, d, args.distances.size()).string(),
-                       mesh.vertexCount(), mesh.triangleCount(), clock.seconds()});
-    meshes.push_back(mesh);
+    if (isVdbPath(args.output)) {
+      w.mesh = TriangleMesh();  // the offset level set itself is the output
+    } else {
+      w.grid.reset();
+    }
+    w.seconds = clock.seconds();
+    written.push_back(std::move(w));
   }
-  writeAll(meshes, written, options);
+  writeAll(written, options);
   return {{"input_kind", kind},
           {"voxel_size", voxel},
           {"half_width", args.halfWidth},
@@ -222,13 +267,18 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
       "r + d would change sign: cusps, swallowtails) is refused unless --allow-singular, and so\n"
       "is a non-convex closed input. --method levelset: the OpenVDB way, as a reference: level\n"
       "set of the input, LevelSetFilter::offset, marching cubes. Several --distance values give\n"
-      "OUT's name with _d<distance> inserted before the extension.\n"
+      "OUT's name with _d<distance> inserted before the extension. An OUT ending in .vdb gets\n"
+      "each offset as a level set (--method levelset: the offset grid itself; support: the\n"
+      "tessellation converted at --voxel-size or --resolution, so choose --subdivisions fine\n"
+      "enough for that voxel size).\n"
       "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
       "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset");
   command
       ->add_option("input", args->input, "Mesh, point set (.ply), .vdb or support-function .json")
       ->required();
-  command->add_option("output", args->output, "Output mesh (.obj, .ply, .stl; written atomically)")
+  command
+      ->add_option("output", args->output,
+                   "Output mesh (.obj, .ply, .stl) or level set (.vdb); written atomically")
       ->required();
   command->add_option("--distance", args->distances, "Signed offset distance (repeatable)")
       ->required()
@@ -251,25 +301,38 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
       ->check(CLI::Range(0, 9));
   command->add_flag("--allow-singular", args->allowSingular,
                     "support: write offsets outside the safe range or of a singular function");
-  auto* voxelSize = command->add_option("--voxel-size", args->voxelSize,
-                                        "levelset: voxel edge length in world units");
+  auto* voxelSize =
+      command->add_option("--voxel-size", args->voxelSize,
+                          "levelset and .vdb outputs: voxel edge length in world units");
   auto* resolution = command->add_option(
       "--resolution", args->resolution,
-      "levelset: voxels along the longest side of a mesh's bounding box (default 256)");
+      "levelset and .vdb outputs: voxels along the longest side of the mesh's bounding box "
+      "(default 256)");
   voxelSize->excludes(resolution)->check(CLI::PositiveNumber);
   resolution->excludes(voxelSize)->check(CLI::PositiveNumber);
-  command->add_option("--half-width", args->halfWidth, "levelset: band half-width in voxels")
+  command
+      ->add_option("--half-width", args->halfWidth,
+                   "levelset and .vdb outputs: band half-width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1000.0));
   command
       ->add_option("--max-voxels", args->maxVoxels,
-                   "levelset: refuse when the estimated number of active voxels exceeds this")
+                   "levelset and .vdb outputs: refuse when the estimated number of active voxels "
+                   "exceeds this")
       ->capture_default_str();
   command->add_flag("--json", options.json, "Print the report as JSON on stdout");
 
   registry.add(command, [args, &options]() {
     const Stopwatch clock;
-    meshFormatFromPath(args->output);  // an unsupported extension fails before any work
+    // An unsupported extension fails before any work.
+    if (!isVdbPath(args->output)) {
+      try {
+        meshFormatFromPath(args->output);
+      } catch (const InputError&) {
+        throw InputError("the output '" + args->output +
+                         "' must be a mesh (.obj, .ply, .stl) or a level set (.vdb)");
+      }
+    }
     for (const double d : args->distances) {
       if (!std::isfinite(d)) throw InputError("--distance must be a finite number");
     }
