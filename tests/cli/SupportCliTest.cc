@@ -2,7 +2,6 @@
 // an ellipsoid mesh fitted and offset against the exact ellipsoid, a hyperboloid patch, the
 // level-set method, and the error paths (exit code 2, nothing written).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -24,23 +23,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using d2vdb::test::CliResult;
-using d2vdb::test::runCli;
 
-class SupportCliTest : public ::testing::Test {
+class SupportCliTest : public d2vdb::test::CliFixture {
  protected:
-  void SetUp() override {
-    scratch_ = fs::temp_directory_path() /
-               (std::string("d2vdb-support-cli-") +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" +
-                std::to_string(::getpid()));
-    fs::remove_all(scratch_);
-    fs::create_directories(scratch_);
-  }
-  void TearDown() override { fs::remove_all(scratch_); }
-
-  CliResult run(const std::string& arguments) const { return runCli(arguments, scratch_); }
-  std::string path(const std::string& name) const { return "'" + (scratch_ / name).string() + "'"; }
-  bool exists(const std::string& name) const { return fs::exists(scratch_ / name); }
+  bool exists(const std::string& name) const { return fs::exists(file(name)); }
 
   // The ellipsoid (2, 1.5, 1) as a mesh: a geodesic sphere mapped through x_h with exact normals.
   std::string ellipsoidMesh(int subdivisions = 4) const {
@@ -52,11 +38,9 @@ class SupportCliTest : public ::testing::Test {
       mesh.normals.push_back(n.cast<float>());
     }
     for (const auto& t : sphere.triangles) mesh.triangles.push_back({t[0], t[1], t[2]});
-    d2vdb::writeMesh(scratch_ / "ellipsoid.obj", mesh);
+    d2vdb::writeMesh(file("ellipsoid.obj"), mesh);
     return path("ellipsoid.obj");
   }
-
-  fs::path scratch_;
 };
 
 TEST_F(SupportCliTest, FitsAnEllipsoidAndOffsetsItExactly) {
@@ -83,7 +67,7 @@ TEST_F(SupportCliTest, FitsAnEllipsoidAndOffsetsItExactly) {
   for (const auto& [name, d] :
        {std::pair<std::string, double>{"o_d-0.3.obj", -0.3}, {"o_d0.25.obj", 0.25}}) {
     ASSERT_TRUE(exists(name)) << name;
-    const d2vdb::TriangleMesh mesh = d2vdb::readMesh(scratch_ / name);
+    const d2vdb::TriangleMesh mesh = d2vdb::readMesh(file(name));
     EXPECT_EQ(mesh.vertexCount(), 2562u);
     double worst = 0.0;
     for (const Eigen::Vector3f& p : mesh.positions) {
@@ -102,7 +86,7 @@ TEST_F(SupportCliTest, FitsAnEllipsoidAndOffsetsItExactly) {
 }
 
 TEST_F(SupportCliTest, HyperboloidPatchIsFittedOverItsGaussImage) {
-  d2vdb::writeMesh(scratch_ / "hyperboloid.obj", d2vdb::test::hyperboloidPatch(64, 21, 0.5));
+  d2vdb::writeMesh(file("hyperboloid.obj"), d2vdb::test::hyperboloidPatch(64, 21, 0.5));
   const CliResult fitted = run("support " + path("hyperboloid.obj") + " --degree 16 --out " +
                                path("h.json") + " --json");
   ASSERT_EQ(fitted.exitCode, 0) << fitted.err;
@@ -158,7 +142,7 @@ TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
       run("offset " + path("s.vdb.json") + " " + path("o.obj") + " --distance 0.5 --subdivisions 3")
           .exitCode,
       0);
-  const d2vdb::TriangleMesh offset = d2vdb::readMesh(scratch_ / "o.obj");
+  const d2vdb::TriangleMesh offset = d2vdb::readMesh(file("o.obj"));
   ASSERT_EQ(offset.vertexCount(), 642u);
   for (const Eigen::Vector3f& p : offset.positions) {
     EXPECT_NEAR((p.cast<double>() - centre).norm(), 1.5, 5e-3);
@@ -183,7 +167,7 @@ TEST_F(SupportCliTest, OffsetsAsLevelSets) {
   const d2vdb::test::Ellipsoid ellipsoid;
   // Worst |value - exact signed distance to the offset| over voxels within half a voxel of it.
   const auto worstError = [&](const std::string& name) {
-    const openvdb::FloatGrid::Ptr grid = d2vdb::readLevelSet(scratch_ / name);
+    const openvdb::FloatGrid::Ptr grid = d2vdb::readLevelSet(file(name));
     EXPECT_NEAR(grid->voxelSize()[0], 0.1, 1e-12) << name;
     double worst = 0.0;
     std::size_t checked = 0;
@@ -207,7 +191,7 @@ TEST_F(SupportCliTest, OffsetsAsLevelSets) {
   EXPECT_LT(supportError, 2e-3);   // the fit at L = 10 and the tessellation's chords
   EXPECT_LT(levelSetError, 0.02);  // a fifth of a voxel
   // A patch's offsets are open: no signed level set.
-  d2vdb::writeMesh(scratch_ / "hyperboloid.obj", d2vdb::test::hyperboloidPatch(32, 11, 0.5));
+  d2vdb::writeMesh(file("hyperboloid.obj"), d2vdb::test::hyperboloidPatch(32, 11, 0.5));
   const CliResult patch =
       run("offset " + path("hyperboloid.obj") + " " + path("p.vdb") + " --distance 0.1 --degree 8");
   EXPECT_EQ(patch.exitCode, 2);
@@ -222,7 +206,7 @@ TEST_F(SupportCliTest, LevelSetMethodOffsetsTheMesh) {
   const nlohmann::json report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report.at("method"), "levelset");
   EXPECT_NEAR(report.at("voxel_size").get<double>(), 4.0 / 48.0, 1e-3);
-  const d2vdb::TriangleMesh mesh = d2vdb::readMesh(scratch_ / "ls.obj");
+  const d2vdb::TriangleMesh mesh = d2vdb::readMesh(file("ls.obj"));
   const d2vdb::test::Ellipsoid ellipsoid;
   // The level-set offset of a coarse mesh at a coarse voxel: within a voxel of the exact offset.
   for (std::size_t i = 0; i < mesh.positions.size(); i += 101) {
@@ -246,7 +230,7 @@ TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
   EXPECT_FALSE(exists("a.json"));
   // A point set with a zero normal.
   {
-    std::ofstream ply(scratch_ / "points.ply");
+    std::ofstream ply(file("points.ply"));
     ply << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
            "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
            "end_header\n1 0 0 1 0 0\n0 1 0 0 0 0\n0 0 1 0 0 1\n";
@@ -257,7 +241,7 @@ TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
   EXPECT_FALSE(exists("p.json"));
   // A NaN normal (rejected by the PLY reader with the line).
   {
-    std::ofstream ply(scratch_ / "nan.ply");
+    std::ofstream ply(file("nan.ply"));
     ply << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
            "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
            "end_header\n1 0 0 nan 0 0\n";
@@ -284,10 +268,10 @@ TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
   EXPECT_FALSE(exists("o_d0.1.obj"));
   EXPECT_FALSE(exists("o_d-0.7.obj"));
   {
-    std::ifstream in(scratch_ / "e.json");
+    std::ifstream in(file("e.json"));
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     text.replace(text.find("\"degree\""), 0, "\"colour\": \"red\", ");
-    std::ofstream(scratch_ / "bad.json") << text;
+    std::ofstream(file("bad.json")) << text;
   }
   result = run("offset " + path("bad.json") + " " + path("o.obj") + " --distance 0.1");
   EXPECT_EQ(result.exitCode, 2);

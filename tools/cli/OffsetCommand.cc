@@ -6,7 +6,6 @@
 
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -17,8 +16,10 @@
 #include "SupportInputs.h"
 #include "d2vdb/contour/IsoSurface.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/VoxelBudget.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/VdbFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/support/SupportTessellation.h"
@@ -42,9 +43,7 @@ struct Arguments {
 };
 
 std::string shortNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
+  return formatNumber(value, 6);
 }
 
 // OUT itself for one distance; OUT's stem + "_d<distance>" + extension for several.
@@ -178,18 +177,18 @@ nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& optio
 // of at most half a voxel with renormalisation, marching cubes.
 nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& options,
                                 std::vector<Written>& written, std::vector<std::string>& warnings) {
-  const std::filesystem::path input(args.input);
-  std::string extension = input.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const ProgressCallback progress = makeProgressPrinter(options);
   const Stopwatch setup;
+  LoadOptions load;
+  load.purpose = "the input of 'd2vdb offset --method levelset' (a closed mesh or a level set)";
+  LoadedInput loaded = loadInput(args.input, {InputKind::Mesh, InputKind::LevelSet}, load);
   openvdb::FloatGrid::Ptr levelSet;
   std::string kind;
-  if (extension == ".vdb") {
-    levelSet = readLevelSet(input);
+  if (loaded.kind() == InputKind::LevelSet) {
+    levelSet = std::move(loaded).take<LevelSetInput>().floatGrid();
     kind = "level set";
-  } else if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
-    const TriangleMesh mesh = readMesh(input);
+  } else {
+    const TriangleMesh mesh = std::move(loaded).take<MeshInput>().mesh;
     if (mesh.triangles.empty()) {
       throw InputError("'" + args.input +
                        "' has no triangles: the level-set method needs a closed mesh or a level "
@@ -199,11 +198,6 @@ nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& opti
     warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
     levelSet = result.grid;
     kind = "mesh";
-  } else {
-    throw InputError(
-        "the level-set method offsets meshes (.obj, .ply, .stl) and level sets "
-        "(.vdb), not '" +
-        args.input + "'");
   }
   const double voxel = levelSet->voxelSize()[0];
   const double setupSeconds = setup.seconds();

@@ -2,36 +2,21 @@
 
 #include <openvdb/openvdb.h>
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/ApproximantField.h"
-#include "d2vdb/io/FieldFile.h"
-#include "d2vdb/io/VdbFile.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/support/SupportMeasures.h"
 
 namespace d2vdb::cli {
 namespace {
-
-std::string lowerExtension(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
-std::string formatNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
 
 // A number for JSON, with null for +-infinity (JSON has none): an unbounded side of a range.
 nlohmann::json finiteOrNull(double value) {
@@ -40,15 +25,9 @@ nlohmann::json finiteOrNull(double value) {
 
 }  // namespace
 
-OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
-                                    const GlobalOptions& options) {
-  const std::vector<openvdb::GridBase::Ptr> grids = readAllGrids(path);
-  const ProgressCallback progress = makeProgressPrinter(options);
-  isField = isFieldFile(grids);
-  // A stored field, or the field of the file's level set, without reading the file twice.
-  const ApproximantField field = fieldFromGrids(grids, path, {}, progress);
+OrientedSamples samplesFromField(const ApproximantField& field, const std::string& source) {
   if (field.kind() != TargetKind::Surface) {
-    throw InputError("'" + path + "' is a field of a " + targetKindName(field.kind()) +
+    throw InputError("'" + source + "' is a field of a " + targetKindName(field.kind()) +
                      ", not of a surface: a support function needs a closed surface");
   }
   const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
@@ -64,49 +43,49 @@ OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
     samples.normals.push_back(a.normal);
   }
   if (samples.points.empty()) {
-    throw InputError("'" + path + "' has no band voxels within half a voxel of its surface");
+    throw InputError("'" + source + "' has no band voxels within half a voxel of its surface");
   }
   return samples;
 }
 
 SupportInput loadSupportInput(const std::string& path, const GlobalOptions& options) {
-  const std::filesystem::path file(path);
-  const std::string extension = lowerExtension(file);
   SupportInput input;
-  if (extension == ".json") {
+  if (isSupportFunctionFile(path)) {
     input.kind = "support function";
-    input.document = readSupportFunctionJson(file);
+    input.document = readSupportFunctionJson(path);
     return input;
   }
-  if (extension == ".vdb") {
-    bool isField = false;
-    input.samples = samplesFromLevelSet(path, isField, options);
-    input.kind = isField ? "field" : "level set";
+  LoadOptions load;
+  load.purpose =
+      "a support function's input (a mesh, a point set with normals as a .ply, a level set, a "
+      "field, or a support-function .json)";
+  load.progress = makeProgressPrinter(options);
+  // Without PointSet among the accepted kinds, a PLY without faces comes as a mesh of its
+  // vertices, normals included.
+  LoadedInput loaded = loadInput(path, {InputKind::Mesh, InputKind::Field}, load);
+  if (loaded.kind() == InputKind::Field) {
+    const FieldInput field = std::move(loaded).take<FieldInput>();
+    input.samples = samplesFromField(field.field, path);
+    input.kind = field.stored ? "field" : "level set";
     return input;
   }
-  if (extension == ".obj" || extension == ".ply" || extension == ".stl") {
-    const TriangleMesh mesh = readMesh(file);
-    if (mesh.triangles.empty()) {
-      input.kind = "points";
-      input.samples = samplesFromMesh(mesh, "'" + path + "'");
-      return input;
-    }
-    MeshGaussImage image = meshGaussImage(mesh, "'" + path + "'");
-    input.samples = image.samples;
-    input.kind = image.closed ? "mesh" : "mesh patch";
-    if (!image.closed) input.patch = image.gaussImage;
-    if (!mesh.hasNormals()) {
-      input.warnings.push_back("'" + path +
-                               "' has no vertex normals: using area-weighted normals of its "
-                               "triangles, which limit the fit's accuracy to the facets' size");
-    }
-    input.gaussImage = std::move(image);
+  const TriangleMesh mesh = std::move(loaded).take<MeshInput>().mesh;
+  if (mesh.triangles.empty()) {
+    input.kind = "points";
+    input.samples = samplesFromMesh(mesh, "'" + path + "'");
     return input;
   }
-  throw InputError("cannot tell what '" + path + "' is from its extension '" + extension +
-                   "'; a support function is fitted to meshes (.obj, .ply, .stl), point sets "
-                   "with normals (.ply with nx ny nz), level sets and fields (.vdb), or read "
-                   "from a support-function file (.json)");
+  MeshGaussImage image = meshGaussImage(mesh, "'" + path + "'");
+  input.samples = image.samples;
+  input.kind = image.closed ? "mesh" : "mesh patch";
+  if (!image.closed) input.patch = image.gaussImage;
+  if (!mesh.hasNormals()) {
+    input.warnings.push_back("'" + path +
+                             "' has no vertex normals: using area-weighted normals of its "
+                             "triangles, which limit the fit's accuracy to the facets' size");
+  }
+  input.gaussImage = std::move(image);
+  return input;
 }
 
 SphericalTriangulation validityDomain(const SupportFunctionDocument& document) {
@@ -134,7 +113,7 @@ CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source,
     if (report.renormalisedNormals > 0) {
       checked.warnings.push_back(std::to_string(report.renormalisedNormals) +
                                  " sample normals were not unit length (off by up to " +
-                                 formatNumber(report.largestNormalDeviation) +
+                                 formatNumber(report.largestNormalDeviation, 6) +
                                  ") and were normalised");
     }
     checked.fit = report;
@@ -254,17 +233,17 @@ std::string supportText(const nlohmann::json& report, const std::string& indent)
   if (report.contains("fit")) {
     const auto& fit = report["fit"];
     text += indent + "fit: " + fit["samples"].dump() + " samples, residual rms " +
-            formatNumber(fit["rms_residual"].get<double>()) + ", max " +
-            formatNumber(fit["max_residual"].get<double>());
+            formatNumber(fit["rms_residual"].get<double>(), 6) + ", max " +
+            formatNumber(fit["max_residual"].get<double>(), 6);
     if (fit.contains("relative_max_residual")) {
-      text += " (" + formatNumber(fit["relative_max_residual"].get<double>()) + " of the size)";
+      text += " (" + formatNumber(fit["relative_max_residual"].get<double>(), 6) + " of the size)";
     }
-    text += ", regularisation " + formatNumber(fit["regularization"].get<double>()) + "\n";
+    text += ", regularisation " + formatNumber(fit["regularization"].get<double>(), 6) + "\n";
   }
   text += indent + (report["regular"].get<bool>() ? "regular, " : "SINGULAR, ") +
           report["signs"].get<std::string>() + ": principal radii " +
-          formatNumber(report["radii"]["min"].get<double>()) + " .. " +
-          formatNumber(report["radii"]["max"].get<double>()) + " on " +
+          formatNumber(report["radii"]["min"].get<double>(), 6) + " .. " +
+          formatNumber(report["radii"]["max"].get<double>(), 6) + " on " +
           report["normals_checked"].dump() + " normals";
   if (report["parabolic_crossings"].get<std::size_t>() > 0) {
     text += ", " + report["parabolic_crossings"].dump() + " parabolic crossings";
@@ -272,14 +251,14 @@ std::string supportText(const nlohmann::json& report, const std::string& indent)
   text += "\n";
   if (!report["safe_offset"].is_null()) {
     const auto side = [](const nlohmann::json& value, const char* infinite) {
-      return value.is_null() ? std::string(infinite) : formatNumber(value.get<double>());
+      return value.is_null() ? std::string(infinite) : formatNumber(value.get<double>(), 6);
     };
     text += indent + "safe offsets: (" + side(report["safe_offset"]["min"], "-inf") + ", " +
             side(report["safe_offset"]["max"], "inf") + ")\n";
   }
   if (report.contains("volume")) {
-    text += indent + "volume " + formatNumber(report["volume"].get<double>()) + ", area " +
-            formatNumber(report["area"].get<double>()) + "\n";
+    text += indent + "volume " + formatNumber(report["volume"].get<double>(), 6) + ", area " +
+            formatNumber(report["area"].get<double>(), 6) + "\n";
   }
   return text;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "Command.h"
+#include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/io/SupportFunctionJson.h"
 #include "d2vdb/support/SupportFit.h"
 #include "d2vdb/support/SupportSamples.h"
@@ -29,17 +30,17 @@ struct SupportInput {
   std::vector<std::string> warnings;
 };
 
-/// Loads `path`: .obj/.ply/.stl meshes (vertices with their normals, or area-weighted ones),
-/// .ply point sets with nx ny nz, .vdb level sets and field files (footpoints and normals of the
-/// band voxels within half a voxel of the surface), and support-function .json files. Throws
-/// InputError for anything else or a malformed file.
+/// Loads `path` through loadInput() (recognised by content): meshes (vertices with their
+/// normals, or area-weighted ones), .ply point sets with nx ny nz, .vdb level sets and field
+/// files (samplesFromField()), and support-function .json files (isSupportFunctionFile()).
+/// Throws InputError for anything else or a malformed file.
 SupportInput loadSupportInput(const std::string& path, const GlobalOptions& options);
 
-/// The band footpoints and normals of a level set's approximant field: one sample per active
-/// voxel within half a voxel of the zero level (voxels flagged at the cut locus skipped), in the
-/// grid's deterministic iteration order.
-OrientedSamples samplesFromLevelSet(const std::string& path, bool& isField,
-                                    const GlobalOptions& options);
+/// The band footpoints and normals of a surface's approximant field: one sample per active voxel
+/// within half a voxel of the zero level (voxels flagged at the cut locus skipped), in the grid's
+/// deterministic iteration order. Throws InputError (naming `source`) for a field of a curve or
+/// points, or one without such voxels.
+OrientedSamples samplesFromField(const ApproximantField& field, const std::string& source);
 
 /// A fitted (or loaded) support function with its checks.
 struct CheckedSupport {

@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 
 namespace d2vdb {
 namespace {
@@ -23,16 +23,9 @@ RadiusSigns classify(double radius1, double radius2) {
   return RadiusSigns::Parabolic;
 }
 
-std::string formatNumber(double value) {
-  if (value == kInfinity) return "inf";
-  if (value == -kInfinity) return "-inf";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
-
-std::string formatNormal(const Eigen::Vector3d& n) {
-  return "(" + formatNumber(n.x()) + ", " + formatNumber(n.y()) + ", " + formatNumber(n.z()) + ")";
+// Six significant digits: enough to read a radius or a range in a message.
+std::string shortNumber(double value) {
+  return formatNumber(value, 6);
 }
 
 // Unit vector at angle t from n along the unit tangent e.
@@ -91,16 +84,16 @@ const char* radiusSignsName(RadiusSigns signs) {
 std::string SupportValidity::describe() const {
   std::string text;
   if (regular()) {
-    text = std::string("regular, ") + radiusSignsName(signs) + ": radii " +
-           formatNumber(minRadius) + " .. " + formatNumber(maxRadius) + ", safe offsets (" +
-           formatNumber(safeOffsetMin) + ", " + formatNumber(safeOffsetMax) + ")";
+    text = std::string("regular, ") + radiusSignsName(signs) + ": radii " + shortNumber(minRadius) +
+           " .. " + shortNumber(maxRadius) + ", safe offsets (" + shortNumber(safeOffsetMin) +
+           ", " + shortNumber(safeOffsetMax) + ")";
   } else {
     text = "singular: " + std::to_string(parabolicCrossings) +
            " crossings of the parabolic set (det(Hess_S h + h I) = 0) on " +
            std::to_string(normalsChecked) + " sampled normals (" + std::to_string(convexNormals) +
            " convex, " + std::to_string(saddleNormals) + " saddle, " +
            std::to_string(concaveNormals) + " concave, " + std::to_string(parabolicNormals) +
-           " parabolic), radii " + formatNumber(minRadius) + " .. " + formatNumber(maxRadius);
+           " parabolic), radii " + shortNumber(minRadius) + " .. " + shortNumber(maxRadius);
   }
   return text;
 }
@@ -247,21 +240,21 @@ void requireRegularOffset(const SupportValidity& validity, double distance) {
                      "offset of it is a regular surface");
   }
   if (distance <= validity.safeOffsetMin) {
-    throw InputError("offset distance " + formatNumber(distance) + " is outside the safe range (" +
-                     formatNumber(validity.safeOffsetMin) + ", " +
-                     formatNumber(validity.safeOffsetMax) + "): at the normal " +
-                     formatNormal(validity.safeOffsetMinNormal) + " the principal radius " +
-                     formatNumber(-validity.safeOffsetMin) + " would become " +
-                     formatNumber(distance - validity.safeOffsetMin) +
+    throw InputError("offset distance " + shortNumber(distance) + " is outside the safe range (" +
+                     shortNumber(validity.safeOffsetMin) + ", " +
+                     shortNumber(validity.safeOffsetMax) + "): at the normal " +
+                     formatPoint(validity.safeOffsetMinNormal, 6) + " the principal radius " +
+                     shortNumber(-validity.safeOffsetMin) + " would become " +
+                     shortNumber(distance - validity.safeOffsetMin) +
                      " <= 0, so the offset surface would have a cusp and fold over itself");
   }
   if (distance >= validity.safeOffsetMax) {
-    throw InputError("offset distance " + formatNumber(distance) + " is outside the safe range (" +
-                     formatNumber(validity.safeOffsetMin) + ", " +
-                     formatNumber(validity.safeOffsetMax) + "): at the normal " +
-                     formatNormal(validity.safeOffsetMaxNormal) + " the principal radius " +
-                     formatNumber(-validity.safeOffsetMax) + " would become " +
-                     formatNumber(distance - validity.safeOffsetMax) +
+    throw InputError("offset distance " + shortNumber(distance) + " is outside the safe range (" +
+                     shortNumber(validity.safeOffsetMin) + ", " +
+                     shortNumber(validity.safeOffsetMax) + "): at the normal " +
+                     formatPoint(validity.safeOffsetMaxNormal, 6) + " the principal radius " +
+                     shortNumber(-validity.safeOffsetMax) + " would become " +
+                     shortNumber(distance - validity.safeOffsetMax) +
                      " >= 0, so the offset surface would have a cusp and fold over itself");
   }
 }
