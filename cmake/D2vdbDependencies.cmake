@@ -36,6 +36,10 @@ find_package(OpenVDB QUIET)
 if(NOT TARGET OpenVDB::openvdb)
   d2vdb_missing("OpenVDB" libopenvdb-dev)
 endif()
+# The .vdb reader checks compressed chunks itself before OpenVDB decompresses them.
+if(NOT TARGET Blosc::blosc OR NOT TARGET ZLIB::ZLIB)
+  d2vdb_missing("Blosc and zlib as found by OpenVDB's find module" "libblosc-dev zlib1g-dev")
+endif()
 
 find_package(nlohmann_json 3.9 QUIET)
 if(NOT TARGET nlohmann_json::nlohmann_json)

@@ -15,86 +15,21 @@
 #include "d2vdb/core/Version.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/io/GridSelection.h"
+#include "d2vdb/io/detail/VdbFormatCheck.h"
+#include "d2vdb/io/detail/VdbStream.h"
 
 namespace d2vdb {
 
+using detail::checkVdbStream;
 using detail::ensureOpenVdbInitialized;
 namespace {
 
 // The first 8 bytes of every .vdb file: OPENVDB_MAGIC as a little-endian int64.
 constexpr std::int64_t kVdbMagic = openvdb::OPENVDB_MAGIC;
-// Oldest file format whose layout checkFileStructure() walks (OpenVDB 3.0, 2014).
-constexpr std::uint32_t kOldestWalkedFormat = openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION;
-constexpr std::size_t kUuidLength = 36;
 
 std::string quoted(const std::filesystem::path& path) {
   return "'" + path.string() + "'";
 }
-
-// Sequential little-endian reads from a file of known size; every read is bounds-checked so that
-// a truncated or corrupt header is reported with its byte offset instead of being trusted.
-class CheckedReader {
- public:
-  CheckedReader(const std::filesystem::path& path, std::uint64_t size)
-      : path_(path), size_(size), in_(path, std::ios::binary) {
-    if (!in_) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
-  }
-
-  std::uint64_t offset() const { return offset_; }
-  std::uint64_t size() const { return size_; }
-
-  template <typename T>
-  T read(const char* what) {
-    T value{};
-    readBytes(reinterpret_cast<char*>(&value), sizeof(T), what);
-    return value;
-  }
-
-  std::string readString(const char* what) {
-    const auto length = read<std::uint32_t>(what);
-    requireAvailable(length, what);
-    std::string text(length, '\0');
-    readBytes(text.data(), length, what);
-    return text;
-  }
-
-  void skip(std::uint64_t count, const char* what) {
-    requireAvailable(count, what);
-    seek(offset_ + count, what);
-  }
-
-  void seek(std::uint64_t position, const char* what) {
-    if (position > size_) fail(std::string(what) + " lies beyond the end of the file");
-    in_.seekg(static_cast<std::streamoff>(position));
-    if (!in_) fail(std::string("cannot seek to ") + what);
-    offset_ = position;
-  }
-
-  [[noreturn]] void fail(const std::string& problem) const {
-    throw InputError(quoted(path_) + " is truncated or corrupt: " + problem + " (at byte " +
-                     std::to_string(offset_) + " of " + std::to_string(size_) + ")");
-  }
-
- private:
-  void requireAvailable(std::uint64_t count, const char* what) const {
-    if (count > size_ - offset_) {
-      fail(std::string(what) + " needs " + std::to_string(count) + " bytes but only " +
-           std::to_string(size_ - offset_) + " remain");
-    }
-  }
-
-  void readBytes(char* destination, std::uint64_t count, const char* what) {
-    requireAvailable(count, what);
-    in_.read(destination, static_cast<std::streamsize>(count));
-    if (!in_) fail(std::string("read error in ") + what);
-    offset_ += count;
-  }
-
-  std::filesystem::path path_;
-  std::uint64_t size_;
-  std::uint64_t offset_ = 0;
-  std::ifstream in_;
-};
 
 // Checks that `path` names a non-empty regular file starting with the VDB magic number; returns
 // its size.
@@ -123,58 +58,6 @@ std::uint64_t checkIsVdbFile(const std::filesystem::path& path) {
   return size;
 }
 
-// Walks the file header, the file metadata and the chain of grid descriptors, checking every
-// length and offset against the file size, so that OpenVDB never reads past the end of a
-// truncated file (it would act on garbage sizes). Grid contents are left to OpenVDB.
-void checkFileStructure(const std::filesystem::path& path, std::uint64_t size) {
-  CheckedReader reader(path, size);
-  reader.skip(sizeof(std::int64_t), "the magic number");
-  const auto formatVersion = reader.read<std::uint32_t>("the file format version");
-  if (formatVersion > openvdb::OPENVDB_FILE_VERSION) {
-    throw InputError(quoted(path) + " uses .vdb file format " + std::to_string(formatVersion) +
-                     ", newer than the " + std::to_string(openvdb::OPENVDB_FILE_VERSION) +
-                     " this OpenVDB reads; re-save it with OpenVDB " +
-                     std::to_string(openvdb::OPENVDB_LIBRARY_MAJOR_VERSION) + " or older");
-  }
-  if (formatVersion < kOldestWalkedFormat) return;  // older layouts are left to OpenVDB
-
-  reader.skip(2 * sizeof(std::uint32_t), "the library version");
-  const auto hasGridOffsets = reader.read<std::uint8_t>("the grid-offsets flag");
-  reader.skip(kUuidLength, "the file UUID");
-
-  const auto metadataCount = reader.read<std::uint32_t>("the file metadata count");
-  for (std::uint32_t i = 0; i < metadataCount; ++i) {
-    reader.readString("a file metadata name");
-    reader.readString("a file metadata type");
-    reader.skip(reader.read<std::uint32_t>("a file metadata size"), "a file metadata value");
-  }
-
-  const auto gridCount = reader.read<std::int32_t>("the grid count");
-  if (gridCount < 0) reader.fail("negative grid count " + std::to_string(gridCount));
-  if (hasGridOffsets == 0) return;  // a stream-format file: no offsets to check
-
-  for (std::int32_t grid = 0; grid < gridCount; ++grid) {
-    const std::string name = reader.readString("a grid name");
-    reader.readString("a grid type");
-    reader.readString("a grid instance parent");
-    const auto gridStart = reader.read<std::int64_t>("a grid start offset");
-    const auto blockStart = reader.read<std::int64_t>("a grid data offset");
-    const auto gridEnd = reader.read<std::int64_t>("a grid end offset");
-    const auto descriptorEnd = static_cast<std::int64_t>(reader.offset());
-    const auto fileSize = static_cast<std::int64_t>(size);
-    if (gridStart != descriptorEnd || gridEnd < gridStart ||
-        (blockStart != 0 && (blockStart < gridStart || blockStart > gridEnd))) {
-      reader.fail("grid '" + name + "' has inconsistent offsets");
-    }
-    if (gridEnd > fileSize) {
-      reader.fail("grid '" + name + "' (" + std::to_string(grid + 1) + " of " +
-                  std::to_string(gridCount) + ") ends at byte " + std::to_string(gridEnd) +
-                  ", beyond the end of the file");
-    }
-    reader.seek(static_cast<std::uint64_t>(gridEnd), "the next grid");
-  }
-}
-
 bool isFiniteValue(float value) {
   return std::isfinite(value);
 }
@@ -191,7 +74,7 @@ bool isFiniteValue(const openvdb::Vec3d& value) {
 // Throws InputError when any value of the grid (background, tiles, voxels, active or not) is NaN
 // or infinite, with the count and one location.
 template <typename GridT>
-void rejectNonFiniteValues(const GridT& grid, const std::filesystem::path& path) {
+void rejectNonFiniteValues(const GridT& grid, const std::string& name) {
   using TreeT = typename GridT::TreeType;
   std::uint64_t count = 0;
   std::string example;
@@ -224,21 +107,44 @@ void rejectNonFiniteValues(const GridT& grid, const std::filesystem::path& path)
     if (!isFiniteValue(*tile)) record(*tile, tile.getCoord(), "the tile starting at index");
   }
   if (count > 0) {
-    throw InputError("grid '" + grid.getName() + "' in " + quoted(path) + " holds " +
+    throw InputError("grid '" + grid.getName() + "' in '" + name + "' holds " +
                      std::to_string(count) + " non-finite value" + (count > 1 ? "s" : "") +
                      ", e.g. " + example + "; the file is corrupt or was written from bad data");
   }
 }
 
-void rejectNonFiniteValues(const openvdb::GridBase& grid, const std::filesystem::path& path) {
+// Throws InputError when the grid's transform cannot map between index and world space: a voxel
+// size that is not finite and positive, or a map whose stored inverse does not undo it.
+void rejectUnusableTransform(const openvdb::GridBase& grid, const std::string& name) {
+  const openvdb::math::Transform& transform = grid.transform();
+  const openvdb::Vec3d voxelSize = transform.voxelSize();
+  bool usable = voxelSize.isFinite() && voxelSize.x() > 0 && voxelSize.y() > 0 && voxelSize.z() > 0;
+  if (usable && transform.isLinear()) {
+    // The scale maps store their inverse separately; it must undo the map.
+    for (const openvdb::Vec3d& index :
+         {openvdb::Vec3d(0, 0, 0), openvdb::Vec3d(1, 2, 3), openvdb::Vec3d(-100, 50, 7)}) {
+      const openvdb::Vec3d back = transform.worldToIndex(transform.indexToWorld(index));
+      usable = usable && back.isFinite() && (back - index).length() <= 1e-6 * (1 + index.length());
+    }
+  }
+  if (!usable) {
+    std::ostringstream text;
+    text << "grid '" << grid.getName() << "' in '" << name << "' has an unusable transform ("
+         << transform.mapType() << ", voxel size " << voxelSize
+         << "): its voxels must have a finite positive size and the map an exact inverse";
+    throw InputError(text.str());
+  }
+}
+
+void rejectNonFiniteValues(const openvdb::GridBase& grid, const std::string& name) {
   if (const auto* floatGrid = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {
-    rejectNonFiniteValues(*floatGrid, path);
+    rejectNonFiniteValues(*floatGrid, name);
   } else if (const auto* doubleGrid = dynamic_cast<const openvdb::DoubleGrid*>(&grid)) {
-    rejectNonFiniteValues(*doubleGrid, path);
+    rejectNonFiniteValues(*doubleGrid, name);
   } else if (const auto* vec3sGrid = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) {
-    rejectNonFiniteValues(*vec3sGrid, path);
+    rejectNonFiniteValues(*vec3sGrid, name);
   } else if (const auto* vec3dGrid = dynamic_cast<const openvdb::Vec3DGrid*>(&grid)) {
-    rejectNonFiniteValues(*vec3dGrid, path);
+    rejectNonFiniteValues(*vec3dGrid, name);
   }
 }
 
@@ -316,33 +222,47 @@ openvdb::GridPtrVec prepareGridsForWriting(const openvdb::GridPtrVec& grids,
 
 }  // namespace
 
-std::vector<openvdb::GridBase::Ptr> readAllGrids(const std::filesystem::path& path) {
-  ensureOpenVdbInitialized();
-  const std::uint64_t size = checkIsVdbFile(path);
-  checkFileStructure(path, size);
+std::vector<openvdb::GridBase::Ptr> detail::readVdbStream(std::istream& in, std::uint64_t size,
+                                                          const std::string& name) {
+  const std::streampos start = in.tellg();
+  // OpenVDB trusts every size in the stream; the walk makes sure each of them is consistent.
+  checkVdbStream(in, size, name);
+  in.clear();
+  in.seekg(start);
 
   openvdb::GridPtrVecPtr grids;
+  const std::ios::iostate exceptions = in.exceptions();
   try {
-    // The whole file is read through a stream that throws on any short read: no delayed
-    // loading, no memory mapping, no garbage values after an unexpected end of file.
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+    // Read through a stream that throws on any short read: no delayed loading, no memory
+    // mapping, no garbage values after an unexpected end of file.
     in.exceptions(std::ios::failbit | std::ios::badbit | std::ios::eofbit);
     openvdb::io::Stream stream(in, /*delayLoad=*/false);
     grids = stream.getGrids();
-  } catch (const InputError&) {
-    throw;
+    in.exceptions(exceptions);
   } catch (const std::ios_base::failure&) {
-    throw InputError("cannot read " + quoted(path) +
-                     ": unexpected end of file or read error (the file is truncated or corrupt)");
+    in.exceptions(exceptions);
+    throw InputError("cannot read '" + name +
+                     "': unexpected end of file or read error (the file is truncated or corrupt)");
   } catch (const std::exception& error) {
-    throw InputError("cannot read " + quoted(path) + ": " + error.what() +
+    in.exceptions(exceptions);
+    throw InputError("cannot read '" + name + "': " + error.what() +
                      " (the file is corrupt or not a grid file this OpenVDB understands)");
   }
-  if (!grids || grids->empty()) throw InputError(quoted(path) + " contains no grids");
+  if (!grids || grids->empty()) throw InputError("'" + name + "' contains no grids");
   std::vector<openvdb::GridBase::Ptr> result(grids->begin(), grids->end());
-  for (const openvdb::GridBase::Ptr& grid : result) rejectNonFiniteValues(*grid, path);
+  for (const openvdb::GridBase::Ptr& grid : result) {
+    rejectUnusableTransform(*grid, name);
+    rejectNonFiniteValues(*grid, name);
+  }
   return result;
+}
+
+std::vector<openvdb::GridBase::Ptr> readAllGrids(const std::filesystem::path& path) {
+  ensureOpenVdbInitialized();
+  const std::uint64_t size = checkIsVdbFile(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+  return detail::readVdbStream(in, size, path.string());
 }
 
 openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path,
