@@ -227,6 +227,8 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
   budget.subject =
       "the level set of a mesh of " + std::to_string(mesh.triangles.size()) + " triangles";
   budget.surfaceArea = surfaceArea(mesh);
+  budget.boxSides = {bounds.extent().x(), bounds.extent().y(), bounds.extent().z()};
+  budget.pieces = surfacePieces(mesh);
   budget.voxelSize = voxelSize;
   budget.halfWidth = options.halfWidth;
   budget.longestSide = longestSide;

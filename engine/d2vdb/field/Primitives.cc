@@ -132,6 +132,8 @@ openvdb::FloatGrid::Ptr primitiveLevelSet(const AnalyticShape& shape,
   VoxelBudgetRequest budget;
   budget.subject = "the level set of " + shape.describe();
   budget.surfaceArea = shape.surfaceArea();
+  const Eigen::Vector3d sides = shape.bounds().sizes();
+  budget.boxSides = {sides.x(), sides.y(), sides.z()};
   budget.voxelSize = options.voxelSize;
   budget.halfWidth = options.halfWidth;
   budget.longestSide = shape.bounds().sizes().maxCoeff();

@@ -2,8 +2,12 @@
 // would exhaust memory.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb {
 
@@ -18,38 +22,62 @@ namespace d2vdb {
 /// That is a surface of about 2e7 voxel faces (a sphere of radius ~1260 voxels) at half-width 3.
 inline constexpr std::uint64_t kDefaultMaxActiveVoxels = 150'000'000;
 
-/// Factor applied to the flat-band voxel count. The band of a flat surface of area A holds exactly
-/// A / voxelSize^2 * 2 * halfWidth voxel centres; curvature adds a relative
-/// (halfWidth * voxelSize * k)^2 / 3 for a sphere of curvature k, convex edges and corners add a
-/// wedge of relative size ~halfWidth * voxelSize / (feature size), and OpenVDB's mesh band can be
-/// a fraction of a voxel wider than asked. 1.25 covers features down to ~1.2 band widths; thinner
-/// or overlapping features have overlapping bands and fewer voxels than estimated.
+/// Factor applied to the band volume estimate below: voxel centres of a band of width 2r fill
+/// slightly more than its volume (OpenVDB's mesh band can be a fraction of a voxel wider than
+/// asked), and sharp features add wedges the per-piece box terms only approximate.
 inline constexpr double kActiveVoxelSafetyFactor = 1.25;
 
-/// Estimated active voxel count of a narrow band of `halfWidth` voxels on each side of a surface
-/// of `surfaceArea` world units squared, at `voxelSize` world units:
-/// area / voxelSize^2 * 2 * halfWidth * kActiveVoxelSafetyFactor. A double because absurd requests
-/// exceed 2^64; returns +inf for a non-positive voxel size.
-double estimateActiveVoxels(double surfaceArea, double voxelSize, double halfWidth);
+/// One connected piece of a surface: its area (world units squared) and the side lengths of its
+/// axis-aligned bounding box (world units).
+struct SurfacePiece {
+  double area = 0.0;
+  std::array<double, 3> boxSides{0.0, 0.0, 0.0};
+};
 
-/// The smallest voxel size whose estimate stays within `maxActiveVoxels` (world units);
-/// the inverse of estimateActiveVoxels.
-double smallestVoxelSizeWithinBudget(double surfaceArea, double halfWidth,
-                                     std::uint64_t maxActiveVoxels);
+/// The connected pieces (triangles sharing a vertex) of `mesh`, with their areas and boxes.
+/// Indices must be in range (validateMesh's contract). O(V + F).
+std::vector<SurfacePiece> surfacePieces(const TriangleMesh& mesh);
 
 /// What a level-set builder is about to allocate; see enforceVoxelBudget().
 struct VoxelBudgetRequest {
   std::string subject;     ///< what is converted, for the message, e.g. "mesh (12 triangles)"
-  double surfaceArea = 0;  ///< world units squared
+  double surfaceArea = 0;  ///< world units squared (used when `pieces` is empty)
+  /// Bounding box of the whole surface (world); all zero = unknown (no box bound).
+  std::array<double, 3> boxSides{0.0, 0.0, 0.0};
+  /// The surface's connected pieces; empty = one piece of `surfaceArea` in `boxSides`.
+  std::vector<SurfacePiece> pieces;
   double voxelSize = 0;    ///< world units
   double halfWidth = 3;    ///< voxels on each side of the surface
   double longestSide = 0;  ///< longest bounding-box side (world); 0 = unknown (no resolution hint)
   std::uint64_t maxActiveVoxels = kDefaultMaxActiveVoxels;
 };
 
+/// Estimated active voxel count of the request's band: the volume within r = halfWidth *
+/// voxelSize of the surface, over voxelSize^3, times kActiveVoxelSafetyFactor. A piece of area A
+/// whose box B has volume V_B, area A_B and mean width term M_B = pi (a + b + c) contributes
+///   min(2 A r + M_B r^2 + 4/3 pi r^3,  V_B + A_B g + M_B g^2 + 4/3 pi g^3),  g = r + voxelSize /
+///   2;
+/// the first is the band of a flat sheet with the edge and corner terms of Steiner's formula for
+/// B, the second is Steiner's formula itself: the volume of B grown by g, which holds the voxel
+/// centres of the piece's band (a slab of width w holds up to w / voxelSize + 1 layers of them),
+/// and which takes over once the band fills the box. The sum over pieces is capped by the same
+/// bound for the whole surface's box. A double because absurd requests exceed 2^64; +inf for
+/// a non-positive voxel size.
+double estimateActiveVoxels(const VoxelBudgetRequest& request);
+
+/// The smallest voxel size (world units) whose estimate stays within request.maxActiveVoxels, or
+/// +inf when none does: as the voxel size grows the estimate falls towards
+/// minimumActiveVoxels(halfWidth), a ball of halfWidth voxels.
+double smallestVoxelSizeWithinBudget(const VoxelBudgetRequest& request);
+
+/// The estimate's limit for large voxels, whatever the surface: kActiveVoxelSafetyFactor * 4/3 pi
+/// halfWidth^3.
+double minimumActiveVoxels(double halfWidth);
+
 /// Throws InputError when the estimate exceeds the limit, before anything is allocated. The
 /// message states the estimate, the limit, and the smallest voxel size (and, when the longest side
-/// is known, the largest resolution along it) that would fit.
+/// is known, the largest resolution along it) that would fit, or, when no voxel size fits, the
+/// largest half-width that would.
 void enforceVoxelBudget(const VoxelBudgetRequest& request);
 
 }  // namespace d2vdb
