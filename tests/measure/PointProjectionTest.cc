@@ -236,4 +236,33 @@ TEST(PointProjection, NearestWithCandidatesAndHint) {
   EXPECT_THROW(projector.nearest(point, {}, std::nullopt), d2vdb::InputError);
 }
 
+TEST(PointProjection, SegmentsNearAreTheBoxesWithinTheRadiusInOrder) {
+  // A random 300-span cubic: the tree query must list exactly what a scan of all boxes finds.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Eigen::Vector3d> points(303);
+  for (Eigen::Vector3d& p : points) p = {unit(random) * 10, unit(random), unit(random)};
+  const BSplineCurve curve = BSplineCurve::clamped(3, points, 3);
+  const CurveProjector projector(curve);
+  const int count = static_cast<int>(projector.segments().size());
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Vector3d corner(unit(random) * 10, unit(random), unit(random));
+    const Eigen::AlignedBox3d box(corner, corner + Eigen::Vector3d(0.3, 0.1, 0.1));
+    const double squaredRadius = 0.05 * trial * trial;
+    std::vector<int> expected;
+    for (int i = 0; i < count; ++i) {
+      if (projector.segmentBounds(i).squaredExteriorDistance(box) <= squaredRadius) {
+        expected.push_back(i);
+      }
+    }
+    std::vector<int> found;
+    EXPECT_TRUE(projector.segmentsNear(box, squaredRadius, expected.size(), found));
+    EXPECT_EQ(found, expected);
+    if (!expected.empty()) {
+      found.clear();
+      EXPECT_FALSE(projector.segmentsNear(box, squaredRadius, expected.size() - 1, found));
+    }
+  }
+}
+
 }  // namespace

@@ -306,20 +306,43 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
   return outcome;
 }
 
-// The `to` segments that can hold a nearest point for some u in the item, given the item's
-// upper bound of max d^2: box distance, then the tensor-product Bernstein bound of S.
-CandidateList filterCandidates(const Problem& problem, const WorkItem& item, double bound) {
+// The `to` segments that can hold a nearest point for some u in the item: those whose box lies
+// within the reach of the piece, then those the tensor-product Bernstein bound of S keeps. The
+// reach is the smaller of the item's upper bound of max d^2 and (d(centre) + radius)^2, where
+// the radius bounds |from(u) - from(centre)| over the item (the control points' farthest from
+// the centre): d is 1-Lipschitz, so d(u) <= d(centre) + radius. Without a list yet, the segments
+// are found through `to`'s box tree; when more than kMaxExplicitCandidates are near, the item
+// keeps searching the whole tree (null list), so a large piece costs O(log n) per query rather
+// than a scan of the whole curve, and the work follows the pieces the pruning cannot separate.
+constexpr std::size_t kMaxExplicitCandidates = 64;
+
+CandidateList filterCandidates(const Problem& problem, const WorkItem& item, double bound,
+                               const Sample& centre) {
   // Filtering pays only for longer lists; a short one is pruned cheaply inside nearest().
   if (item.candidates && item.candidates->size() <= 2) return item.candidates;
   const CurveProjector::Segment& fromSegment =
       problem.from.segments()[static_cast<std::size_t>(item.segment)];
   const BezierCurve piece = pieceOf(fromSegment, item.start, item.end);
   const Eigen::AlignedBox3d pieceBounds = piece.controlPointBounds();
+  if (centre.fromSegment == item.segment && centre.squaredDistance >= 0.0) {
+    const Eigen::Vector3d centrePoint = fromSegment.curve.evaluate(centre.fromLocal);
+    double radius = 0.0;
+    for (int i = 0; i <= piece.degree(); ++i) {
+      radius = std::max(radius, (piece.controlPoint(i) - centrePoint).norm());
+    }
+    const double reach = std::sqrt(centre.squaredDistance) + radius;
+    bound = std::min(bound, reach * reach * (1.0 + 1e-12));
+  }
+  std::vector<int> near;
+  if (!item.candidates &&
+      !problem.to.segmentsNear(pieceBounds, bound * (1.0 + 1e-12), kMaxExplicitCandidates, near)) {
+    return item.candidates;  // too many to list: keep searching the tree
+  }
+  const std::vector<int>& listed = item.candidates ? *item.candidates : near;
   auto kept = std::make_shared<std::vector<int>>();
-  const int count = item.candidates ? static_cast<int>(item.candidates->size())
-                                    : static_cast<int>(problem.to.segments().size());
+  const int count = static_cast<int>(listed.size());
   for (int k = 0; k < count; ++k) {
-    const int index = item.candidates ? (*item.candidates)[static_cast<std::size_t>(k)] : k;
+    const int index = listed[static_cast<std::size_t>(k)];
     const CurveProjector::Segment& target = problem.to.segments()[static_cast<std::size_t>(index)];
     const double boxDistance = pieceBounds.squaredExteriorDistance(problem.to.segmentBounds(index));
     if (boxDistance > bound * (1.0 + 1e-12)) continue;
@@ -479,7 +502,7 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
                           const WorkItem& parent = items[toSplit[k]];
                           const ItemOutcome& outcome = outcomes[toSplit[k]];
                           const CandidateList candidates =
-                              filterCandidates(problem, parent, outcome.upperBound);
+                              filterCandidates(problem, parent, outcome.upperBound, outcome.centre);
                           const Sample& split = splitPoints[toSplit[k]];
                           const double middle = split.fromLocal;
                           for (int side = 0; side < 2; ++side) {

@@ -158,6 +158,28 @@ NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
   return best;
 }
 
+bool CurveProjector::segmentsNear(const Eigen::AlignedBox3d& box, double squaredRadius,
+                                  std::size_t limit, std::vector<int>& out) const {
+  // Depth-first, left child first: leaves come out in segment order.
+  std::array<int, 2 * 64> stack{};
+  std::size_t size = 0;
+  std::size_t found = 0;
+  stack[size++] = 1;
+  while (size > 0) {
+    const int node = stack[--size];
+    const Eigen::AlignedBox3d& nodeBox = boxTree_[static_cast<std::size_t>(node)];
+    if (nodeBox.isEmpty() || nodeBox.squaredExteriorDistance(box) > squaredRadius) continue;
+    if (node >= leafCount_) {
+      if (++found > limit) return false;
+      out.push_back(node - leafCount_);
+      continue;
+    }
+    stack[size++] = 2 * node + 1;
+    stack[size++] = 2 * node;
+  }
+  return true;
+}
+
 NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
                                      const std::vector<int>& candidateSegments,
                                      const std::optional<SegmentPoint>& hint) const {

@@ -123,6 +123,12 @@ class CurveProjector {
   NearestPoint nearest(const Eigen::Vector3d& point, const std::vector<int>& candidateSegments,
                        const std::optional<SegmentPoint>& hint) const;
 
+  /// Appends to `out`, in increasing order, the segments whose bounding box lies within
+  /// sqrt(`squaredRadius`) of `box`, found through the box tree in O(log n + found) box tests.
+  /// Stops and returns false as soon as more than `limit` are found (`out` is then incomplete);
+  /// returns true otherwise.
+  bool segmentsNear(const Eigen::AlignedBox3d& box, double squaredRadius, std::size_t limit,
+                    std::vector<int>& out) const;
   /// The curve point at `location` (no bounds check on the segment index), with its parameter
   /// and its squared distance to `from`.
   NearestPoint pointAt(const SegmentPoint& location, const Eigen::Vector3d& from) const;
