@@ -4,7 +4,26 @@ target_compile_options(d2vdb_build_flags INTERFACE -Wall -Wextra -Wpedantic)
 if(D2VDB_WERROR)
   target_compile_options(d2vdb_build_flags INTERFACE -Werror)
 endif()
-if(D2VDB_SANITIZE)
+if(D2VDB_FUZZ)
+  # libFuzzer: coverage instrumentation on every d2vdb object, the fuzzer's main only in the
+  # fuzz_* programs (tests/CMakeLists.txt); sanitizers as in the ASan build.
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "D2VDB_FUZZ needs clang: configure with -DCMAKE_CXX_COMPILER=clang++")
+  endif()
+  if(D2VDB_SANITIZE)
+    message(FATAL_ERROR "D2VDB_FUZZ brings its own sanitizers; leave D2VDB_SANITIZE off")
+  endif()
+  target_compile_options(d2vdb_build_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+    -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+    -fsanitize-ignorelist=${PROJECT_SOURCE_DIR}/tests/fuzz/sanitizer-ignorelist.txt)
+  target_link_options(d2vdb_build_flags INTERFACE -fsanitize=address,undefined)
+elseif(D2VDB_SANITIZE STREQUAL "thread")
+  # ThreadSanitizer: data races in d2vdb's parallel code (TBB itself is not instrumented; see
+  # tools/tsan-suppressions.txt). -O1 -g1 as for ASan below: compile time dominates this stage.
+  target_compile_options(d2vdb_build_flags INTERFACE -O1 -g1 -fsanitize=thread
+    -fno-omit-frame-pointer)
+  target_link_options(d2vdb_build_flags INTERFACE -fsanitize=thread)
+elseif(D2VDB_SANITIZE)
   # -O1 -g1 come after the build type's flags and override them: with -O2 -g, ASan + UBSan made the
   # heaviest OpenVDB translation unit 8.6x slower to compile than the Release build (419 s against
   # 48.5 s of CPU); -O1 -g1 takes 189 s and still gives stack traces with line numbers.

@@ -3,6 +3,7 @@
 #   tools/setup.sh demo   runs the main job on the bundled default volume, results in out/
 #   tools/setup.sh test   runs the whole test suite with ctest
 #   tools/setup.sh build  only installs and builds
+#   tools/setup.sh deps   only installs (EXTRA_PACKAGES: more Debian packages, e.g. clang)
 # Both are idempotent: a second run installs nothing and rebuilds only what changed.
 # Environment: D2VDB_BUILD_DIR (default build), D2VDB_CMAKE_ARGS (extra configure flags),
 #              D2VDB_JOBS (parallel build jobs, default: number of cores).
@@ -11,8 +12,8 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here"
 mode=${1:-demo}
-case "$mode" in demo|test|build) ;; *)
-  echo "usage: tools/setup.sh [demo|test|build]" >&2; exit 1 ;;
+case "$mode" in demo|test|build|deps) ;; *)
+  echo "usage: tools/setup.sh [demo|test|build|deps]" >&2; exit 1 ;;
 esac
 
 build_dir=${D2VDB_BUILD_DIR:-build}
@@ -21,6 +22,8 @@ packages=(g++ cmake ninja-build pkg-config
           libopenvdb-dev libboost-iostreams-dev libtbb-dev libeigen3-dev libblosc-dev zlib1g-dev
           libcli11-dev nlohmann-json3-dev libnanoflann-dev
           libgtest-dev libbenchmark-dev libopenvdb-tools)
+# shellcheck disable=SC2206  # a list of package names
+packages+=(${EXTRA_PACKAGES:-})
 
 missing=()
 for package in "${packages[@]}"; do
@@ -39,6 +42,8 @@ if ((${#missing[@]})); then
   "${sudo_cmd[@]}" apt-get update -q
   "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+
+[ "$mode" = deps ] && exit 0
 
 echo "== configuring and building (Release) in $build_dir"
 # shellcheck disable=SC2086  # D2VDB_CMAKE_ARGS is a list of flags
