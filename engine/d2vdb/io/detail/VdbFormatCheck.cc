@@ -14,6 +14,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <utility>
 
 #include "d2vdb/core/Error.h"
@@ -220,6 +221,16 @@ class Walker {
   }
 
   void readMask(NodeMask& mask, const std::string& what) { read(mask.data(), mask.bytes(), what); }
+
+  // The bytes from `start` to the current offset, read again (the walk continues from here).
+  std::string bytesSince(std::uint64_t start) {
+    std::string bytes(offset_ - start, '\0');
+    in_.seekg(static_cast<std::streamoff>(start));
+    in_.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    in_.seekg(static_cast<std::streamoff>(offset_));
+    if (!in_) fail("cannot read the stream again");
+    return bytes;
+  }
 
   // A C++ bool as OpenVDB reads it: one byte that must be 0 or 1.
   void checkBoolBytes(const char* data, std::size_t count, const std::string& what) const {
@@ -586,6 +597,15 @@ void walkTransform(Walker& walker, const std::string& owner) {
   walkDoubles(walker, *bytes, "the second map of " + what);
 }
 
+// GridBase::saveFloatAsHalf() of a grid of `type` whose metadata are `metadata` (a MetaMap as
+// stored, already checked by walkMetaMap, so OpenVDB can read it safely).
+bool savedAsHalf(const std::string& metadata, const std::string& type) {
+  const openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(type);
+  std::istringstream in(metadata);
+  grid->readMeta(in);
+  return grid->saveFloatAsHalf();
+}
+
 const TreeLayout* layoutFor(const std::string& type) {
   for (const TreeLayout& layout : treeLayouts()) {
     if (layout.typeName == type) return &layout;
@@ -634,11 +654,11 @@ std::vector<VdbGridLayout> checkVdbStream(std::istream& in, std::uint64_t size,
     grid.name = walker.string("the grid name");
     walker.setContext("grid '" + grid.name + "'");
     std::string type = walker.string("the grid type");
-    const std::string halfSuffix = "_HalfFloat";
-    const bool fromHalf =
-        type.size() > halfSuffix.size() &&
-        type.compare(type.size() - halfSuffix.size(), halfSuffix.size(), halfSuffix) == 0;
-    if (fromHalf) type.resize(type.size() - halfSuffix.size());
+    const std::string halfSuffix = "_HalfFloat";  // GridDescriptor::read strips it
+    if (type.size() > halfSuffix.size() &&
+        type.compare(type.size() - halfSuffix.size(), halfSuffix.size(), halfSuffix) == 0) {
+      type.resize(type.size() - halfSuffix.size());
+    }
     grid.type = type;
     const std::string instanceParent = walker.string("the instance parent name");
     const TreeLayout* layout = layoutFor(type);
@@ -664,7 +684,12 @@ std::vector<VdbGridLayout> checkVdbStream(std::istream& in, std::uint64_t size,
 
     // Archive::readGrid.
     const auto compression = walker.value<std::uint32_t>("the grid's compression flags");
+    const std::uint64_t metadataStart = walker.offset();
     walkMetaMap(walker, "the grid");
+    // Half-float storage is whatever the grid's own metadata says once read (GridBase::readMeta
+    // replaces the flag the descriptor's "_HalfFloat" suffix set): ask OpenVDB, on the metadata
+    // just checked.
+    const bool fromHalf = savedAsHalf(walker.bytesSince(metadataStart), type);
     walkTransform(walker, "the grid");
     grid.instance = !instanceParent.empty();
     if (grid.instance) {
