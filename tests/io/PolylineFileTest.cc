@@ -157,6 +157,24 @@ TEST_F(PolylineFileTest, MalformedFilesNameFileAndField) {
         parse(R"({"axis": "w", "offset": 0, "iso": 0, "plane_axes": ["x", "y"], "polylines": []})");
       },
       {"field 'axis'", "\"w\""});
+  // Plane axes must be two distinct axis names other than the slice's axis.
+  for (const char* axes : {R"(["x", "1"])", R"(["x", "x"])", R"(["z", "y"])"}) {
+    expectInputError(
+        [&] {
+          parse(std::string(R"({"axis": "z", "offset": 0, "iso": 0, "plane_axes": )") + axes +
+                R"(, "polylines": []})");
+        },
+        {"field 'plane_axes[", "two other axes"});
+  }
+  // Duplicate keys anywhere, named by their path (the element index inside arrays too).
+  expectInputError([&] { parse(head + R"("dimension": 2, "dimension": 3, "points": []})"); },
+                   {"field 'dimension'", "appears twice"});
+  expectInputError(
+      [&] {
+        parse(slice + R"("polylines": [{"closed": true, "points": [[0, 0], [1, 0], [1, 1]]}, )" +
+              R"({"closed": false, "points": [[0, 0], [1, 0]], "closed": true}]})");
+      },
+      {"field 'polylines[1].closed'", "appears twice"});
   expectInputError([&] { d2vdb::readPolylines(file("absent.json")); },
                    {"polyline file", "does not exist"});
 }

@@ -215,6 +215,9 @@ TEST(SplineJson, MalformedCurvesAreRejectedNamingTheField) {
   expectRejected(curveWith(", [3, 0]]", "]"), {"field 'control_points'", "has 3 points", "need 4"});
   expectRejected(curveWith("\"control_points\"", "\"points\""),
                  {"field 'points'", "is not a field"});
+  // Duplicate keys: nlohmann would keep the last one silently.
+  expectRejected(curveWith(R"("degree": 2)", R"("degree": 2, "degree": 3)"),
+                 {"field 'degree'", "appears twice"});
 }
 
 TEST(SplineJson, MalformedClosedCurvesAreRejected) {

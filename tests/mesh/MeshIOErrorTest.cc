@@ -2,6 +2,7 @@
 // byte offset (binary) of the problem, never a crash or a partial mesh.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -49,6 +50,9 @@ TEST_F(MeshIOErrorTest, MalformedObj) {
       {"comments_only.obj", "# nothing here\n\n", {"no vertices"}},
       {"zero_index.obj", kTriangleObj + "f 0 1 2\n", {"line 4:", "index 0"}},
       {"index_too_big.obj", kTriangleObj + "f 1 2 4\n", {"line 4:", "vertex index 4", "range"}},
+      {"forward_index.obj",
+       "f 1 2 9\n" + kTriangleObj,
+       {"line 1:", "vertex index 9", "defines 3 vertices)"}},
       {"relative_too_far.obj", kTriangleObj + "f -4 -2 -1\n", {"line 4:", "-4"}},
       {"normal_index_too_big.obj",
        kTriangleObj + "vn 0 0 1\nf 1//2 2//2 3//2\n",
@@ -228,6 +232,8 @@ TEST_F(MeshIOErrorTest, MalformedAsciiStl) {
       {"two_vertices.stl", asciiStl({"", "", "", "", "", "-"}), {"line 6:", "2 vertices"}},
       {"bad_keyword.stl", asciiStl({"", "", "outer lop"}), {"line 3:", "'loop'", "'lop'"}},
       {"bad_normal.stl", asciiStl({"", "facet normal 0 zero 1"}), {"line 2:", "'zero'"}},
+      {"nan_normal.stl", asciiStl({"", "facet normal nan 0 1"}), {"line 2:", "not finite"}},
+      {"inf_normal.stl", asciiStl({"", "facet normal 0 -inf 1"}), {"line 2:", "not finite"}},
       {"no_facets.stl", "solid nothing\nendsolid nothing\n", {"line 2:", "no facets"}},
       {"garbage_after.stl", asciiStl() + "hello\n", {"line 10:", "'hello'"}},
   });
@@ -264,6 +270,12 @@ TEST_F(MeshIOErrorTest, MalformedBinaryStl) {
       {"zero_triangles.stl", binaryStl("binary", 0, {}), {"byte 80:", "no triangles"}},
       {"nan.stl", binaryStl("binary", 1, withNan), {"byte 112:", "triangle 0", "not finite"}},
   });
+  // A non-finite facet normal (the first 12 bytes of a facet) is rejected as well.
+  std::string nanNormal =
+      binaryStl("binary", 2, {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1});
+  const float infinity = std::numeric_limits<float>::infinity();
+  std::memcpy(nanNormal.data() + 84 + 50 + 4, &infinity, 4);  // facet 1, normal y
+  expectAllRejected({{"inf_normal.stl", nanNormal, {"byte 138:", "normal of triangle 1"}}});
 }
 
 }  // namespace

@@ -184,7 +184,7 @@ TEST_F(MeshIOTest, AsciiStlWithSeveralSolidsAndMixedCase) {
       "solid first part\n"
       "  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 0\n"
       "      vertex 0 1 0\n    endloop\n  endfacet\nendsolid first part\n"
-      "SOLID second\r\n FACET NORMAL nan nan nan\r\n OUTER LOOP\r\n VERTEX 1 0 0\r\n"
+      "SOLID second\r\n FACET NORMAL 0 0 -1E0\r\n OUTER LOOP\r\n VERTEX 1 0 0\r\n"
       " VERTEX -0 1 0\r\n VERTEX 1e0 1 0\r\n ENDLOOP\r\n ENDFACET\r\nENDSOLID second\r\n";
   const TriangleMesh mesh = d2vdb::detail::parseStl(text, "two.stl");
   ASSERT_EQ(mesh.vertexCount(), 4u);  // -0 welds with 0; 1e0 with 1

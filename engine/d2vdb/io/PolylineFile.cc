@@ -65,6 +65,16 @@ class Reader : public detail::JsonFieldReader {
     if (planeAxes.size() != 2 || !planeAxes[0].is_string() || !planeAxes[1].is_string()) {
       fail("plane_axes", "expected two axis names such as [\"x\", \"y\"], got " + planeAxes.dump());
     }
+    // The two axes spanning the slice plane: distinct axis names other than the slice's axis.
+    for (std::size_t i = 0; i < 2; ++i) {
+      const std::string name = planeAxes[i].get<std::string>();
+      if ((name != "x" && name != "y" && name != "z") || name == axis ||
+          (i == 1 && name == planeAxes[0].get<std::string>())) {
+        fail(elementPath("plane_axes", i),
+             "is " + planeAxes[i].dump() + "; the plane of a slice along \"" + axis +
+                 "\" is spanned by the two other axes, each named once");
+      }
+    }
     const Json& lines = array(field(root, "polylines", "an array of polylines"), "polylines");
     std::vector<Polyline> result;
     for (std::size_t i = 0; i < lines.size(); ++i) {

@@ -1,5 +1,7 @@
 #include <cmath>
+#include <set>
 #include <utility>
+#include <vector>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/io/detail/JsonReader.h"
@@ -48,8 +50,55 @@ void JsonFieldReader::fail(const std::string& path, const std::string& problem) 
 }
 
 Json JsonFieldReader::parse(const std::string& text) const {
+  // nlohmann keeps the last of duplicate keys; the formats forbid them (which value was meant?).
+  // The callback tracks the path of every object and array to name the duplicate.
+  struct Frame {
+    bool isObject;
+    std::string key;        // objects: the current member
+    std::size_t index = 0;  // arrays: the current element
+    std::set<std::string> keys;
+  };
+  std::vector<Frame> frames;
+  const auto pathOf = [&frames](std::size_t depth) {
+    std::string path;
+    for (std::size_t i = 0; i < depth; ++i) {
+      path =
+          frames[i].isObject ? memberPath(path, frames[i].key) : elementPath(path, frames[i].index);
+    }
+    return path;
+  };
+  const auto elementDone = [&frames] {
+    if (!frames.empty() && !frames.back().isObject) ++frames.back().index;
+  };
+  const Json::parser_callback_t callback = [&](int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start:
+        frames.push_back({true, "", 0, {}});
+        break;
+      case Json::parse_event_t::array_start:
+        frames.push_back({false, "", 0, {}});
+        break;
+      case Json::parse_event_t::key: {
+        Frame& frame = frames.back();
+        frame.key = parsed.get<std::string>();
+        if (!frame.keys.insert(frame.key).second) {
+          fail(pathOf(frames.size()), "appears twice in the same object (duplicate key)");
+        }
+        break;
+      }
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        frames.pop_back();
+        elementDone();
+        break;
+      case Json::parse_event_t::value:
+        elementDone();
+        break;
+    }
+    return true;
+  };
   try {
-    return Json::parse(text);
+    return Json::parse(text, callback);
   } catch (const Json::parse_error& error) {
     fail("", "invalid JSON at byte " + std::to_string(error.byte) + ": " + error.what());
   } catch (const Json::exception& error) {

@@ -38,7 +38,8 @@ class JsonFieldReader {
   /// Throws InputError for the field at `path` ("" = the document as a whole).
   [[noreturn]] void fail(const std::string& path, const std::string& problem) const;
 
-  /// Parses `text`; invalid JSON fails with nlohmann's byte offset.
+  /// Parses `text`; invalid JSON fails with nlohmann's byte offset, a key that appears twice in
+  /// one object fails naming its path.
   Json parse(const std::string& text) const;
 
   /// `value` itself when it is an object, else fails at `path`.

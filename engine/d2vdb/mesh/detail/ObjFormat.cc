@@ -90,12 +90,18 @@ class IndexResolver {
     if (largestForward_ > total) {
       throwAtLine(fileName, largestForwardLine_,
                   std::string(kind_) + " index " + std::to_string(largestForward_) +
-                      " is out of range (the file defines " + std::to_string(total) + " " + kind_ +
-                      (total == 1 ? "" : "s") + ")");
+                      " is out of range (the file defines " + std::to_string(total) + " " +
+                      (total == 1 ? std::string(kind_) : plural()) + ")");
     }
   }
 
  private:
+  // "vertices", "normals", "texture coordinates".
+  std::string plural() const {
+    const std::string kind = kind_;
+    return kind == "vertex" ? "vertices" : kind + "s";
+  }
+
   const char* kind_;
   std::uint64_t largestForward_ = 0;
   std::size_t largestForwardLine_ = 0;

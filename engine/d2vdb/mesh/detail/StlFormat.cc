@@ -108,6 +108,13 @@ TriangleMesh parseBinary(std::string_view contents, const std::string& fileName)
   mesh.triangles.reserve(triangleCount);
   for (std::size_t t = 0; t < triangleCount; ++t) {
     const std::size_t facetStart = kBinaryPreambleSize + kBinaryFacetSize * t;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const std::size_t offset = facetStart + 4 * axis;
+      if (!std::isfinite(detail::loadScalar<float>(contents.data() + offset, ByteOrder::Little))) {
+        throwAtByte(fileName, offset,
+                    "the facet normal of triangle " + std::to_string(t) + " is not finite");
+      }
+    }
     TriangleMesh::Triangle triangle{};
     for (std::size_t corner = 0; corner < 3; ++corner) {
       Eigen::Vector3f position;
@@ -209,13 +216,10 @@ class AsciiStlParser {
   void parseFacet() {
     expectKeyword("normal");
     for (int axis = 0; axis < 3; ++axis) {
-      // Facet normals are recomputed from the corners when needed, so their values (even NaN,
-      // which some exporters write for degenerate facets) are only checked to be numbers.
+      // Facet normals are recomputed from the corners when needed, but like every number of a
+      // mesh file they must be finite: a NaN or infinite normal marks a broken export.
       const std::string_view token = nextToken("a facet normal component");
-      double ignored = 0.0;
-      if (detail::parseDouble(token, ignored) == NumberStatus::NotANumber) {
-        fail("facet normal component " + inQuotes(token) + " is not a number");
-      }
+      detail::parseFiniteFloat(token, fileName_, tokens_.lineNumber(), "facet normal component");
     }
     expectKeyword("outer");
     expectKeyword("loop");

@@ -21,12 +21,14 @@ StlEncoding detectStlEncoding(std::string_view contents);
 /// Parses an STL file held in memory (either encoding, see detectStlEncoding). STL stores every
 /// triangle's three corners separately; corners with exactly equal positions (0 and -0 are equal)
 /// are welded into one vertex, numbered in order of first occurrence, so the result is an indexed
-/// mesh. Facet normals in the file are ignored (the mesh gets no normals). ASCII files may hold
+/// mesh. Facet normals in the file must be finite numbers but are otherwise ignored (the mesh gets
+/// no normals). ASCII files may hold
 /// several solids; keywords are matched without regard to letter case.
 /// Throws InputError "<nameForMessages>, line <n>: ..." (ASCII) or "<nameForMessages>, byte
 /// <offset>: ..." (binary) for anything malformed: an empty file, a size that does not match the
 /// binary triangle count, no facets at all, an unexpected keyword, a missing `endsolid`, a facet
-/// without exactly three vertices, a non-numeric, NaN/Inf or out-of-range vertex coordinate.
+/// without exactly three vertices, a non-numeric, NaN/Inf or out-of-range vertex coordinate or
+/// facet normal component.
 TriangleMesh parseStl(std::string_view contents, const std::string& nameForMessages);
 
 /// Reads the rest of `in` (opened in binary mode) and parses it with parseStl.
