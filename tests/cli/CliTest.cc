@@ -12,6 +12,9 @@
 
 #include "cli/CliRunner.h"
 #include "d2vdb/core/Version.h"
+#include "d2vdb/field/AnalyticShapes.h"
+#include "d2vdb/field/Primitives.h"
+#include "d2vdb/io/VdbFile.h"
 
 namespace {
 
@@ -117,6 +120,44 @@ TEST_F(CliTest, AbsurdResolutionIsRefusedQuicklyWithAdvice) {
   EXPECT_NE(result.err.find("resolution"), std::string::npos) << result.err;
   EXPECT_LT(seconds, 10.0);
   EXPECT_EQ(readWholeFile(existing), "precious contents");
+}
+
+TEST_F(CliTest, WideBandsHugeVoxelsAndZeroResolutionAreRefusedClearly) {
+  write("cube.obj", cubeObj());
+  // A band of 1000 voxels holds ~5e9 voxels at any voxel size: refused at once, saying so.
+  CliResult result = run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb") +
+                         " --resolution 200 --half-width 1000");
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("no voxel size fits"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("a half-width of at most"), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("inf"), std::string::npos) << result.err;
+  // A voxel far larger than the cube would give an empty level set: refused, nothing written.
+  result = run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb") + " --voxel-size 1e300");
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("the level set is empty"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "out.vdb"));
+  result = run("primitive sphere --radius 1 --voxel-size 1e300 " + path("out.vdb"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "out.vdb"));
+  // Zero resolution: a usage error that names the value, not the range of a double.
+  result = run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb") + " --resolution 0");
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("must be a positive number, got 0"), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("1.79"), std::string::npos) << result.err;
+}
+
+TEST_F(CliTest, InfoJsonWithNonUtf8MetadataIsValidJson) {
+  // Metadata text comes from files and need not be UTF-8: the JSON report replaces bad bytes.
+  d2vdb::VdbWriteOptions options;
+  options.source = std::string("caf\xe9 \xff.obj");
+  d2vdb::writeVdb(scratch_ / "latin1.vdb",
+                  {d2vdb::primitiveLevelSet(d2vdb::Sphere({0, 0, 0}, 1.0), {0.25, 3.0})}, options);
+  const CliResult result = run("info --json " + path("latin1.vdb"));
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  const std::string source = report.at("grids").at(0).at("metadata").at("d2vdb_source");
+  EXPECT_EQ(source, "caf\xef\xbf\xbd \xef\xbf\xbd.obj");  // U+FFFD twice
+  EXPECT_EQ(run("info " + path("latin1.vdb")).exitCode, 0);
 }
 
 TEST_F(CliTest, MeshToLevelSetThenInfoAsJson) {

@@ -138,4 +138,36 @@ TEST_F(FitCurveCliTest, BadInputAndUsageErrors) {
   EXPECT_FALSE(fs::exists(scratch_ / "o.json"));
 }
 
+TEST_F(FitCurveCliTest, RefusesWhatTheDataCannotDetermineAndOddTypes) {
+  // Five points cannot determine a thousand control points (this used to take gigabytes).
+  write("five.xyz", "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 1.5 0\n");
+  CliResult result =
+      run("fit-curve --target " + path("five.xyz") + " --ctrl 1000 --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("--ctrl 1000"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("--ctrl 5 or fewer"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(scratch_ / "o.json"));
+  // A polyline target: 100 control points per vertex at most (here 2000 vertices: the limit is
+  // not reached by reasonable requests, and a million is refused at once).
+  result =
+      run("fit-curve --target " + path("ellipse.json") + " --ctrl 1000000 --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("--ctrl 200000 or fewer"), std::string::npos) << result.err;
+
+  // A "type" that is not a string is bad input (exit 2) naming the field, not a JSON library
+  // exception (exit 3).
+  write("odd_type.json",
+        R"({"type": 1.5, "version": 1, "dimension": 2, "points": [[0, 0], [1, 1]]})");
+  result = run("fit-curve --target " + path("odd_type.json") + " --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 2) << result.err;
+  EXPECT_NE(result.err.find("'type'"), std::string::npos) << result.err;
+
+  // Validators name the value, not the range of a double.
+  result =
+      run("fit-curve --target " + path("ellipse.json") + " --tolerance -1 --out " + path("o.json"));
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("must be a number >= 0, got -1"), std::string::npos) << result.err;
+  EXPECT_EQ(result.err.find("1.79"), std::string::npos) << result.err;
+}
+
 }  // namespace

@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <iostream>
 #include <mutex>
+#include <sstream>
+
+#include "d2vdb/core/Error.h"
 
 namespace d2vdb::cli {
 
@@ -52,7 +55,52 @@ ProgressCallback makeProgressPrinter(const GlobalOptions& options) {
 }
 
 void printJson(const nlohmann::json& report) {
-  std::cout << report.dump(2) << std::endl;
+  // Strings from files (e.g. .vdb metadata) need not be UTF-8: invalid bytes become U+FFFD.
+  std::cout << report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << std::endl;
+}
+
+namespace {
+
+CLI::Validator numberValidator(bool allowZero) {
+  const std::string expected = allowZero ? "a number >= 0" : "a positive number";
+  return CLI::Validator(
+      [allowZero, expected](std::string& input) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(input, value) || !std::isfinite(value) ||
+            (allowZero ? value < 0.0 : !(value > 0.0))) {
+          return "must be " + expected + ", got " + input;
+        }
+        return {};
+      },
+      allowZero ? "NONNEGATIVE" : "POSITIVE");
+}
+
+}  // namespace
+
+void checkResolvesShape(const openvdb::FloatGrid& grid, double longestSide,
+                        const std::string& what) {
+  const double voxelSize = grid.voxelSize()[0];
+  std::ostringstream sizes;
+  sizes.precision(6);
+  sizes << "voxel size " << voxelSize << " for " << what << " whose longest side is "
+        << longestSide;
+  if (grid.activeVoxelCount() == 0) {
+    throw InputError("the level set is empty (" + sizes.str() +
+                     "): nothing was written; use a voxel size well below the longest side, e.g. "
+                     "--resolution 64");
+  }
+  if (voxelSize > longestSide / 4.0) {
+    warning("the level set barely resolves " + what + " (" + sizes.str() +
+            "); use a smaller voxel size or a larger --resolution");
+  }
+}
+
+CLI::Validator positiveNumber() {
+  return numberValidator(false);
+}
+
+CLI::Validator nonNegativeNumber() {
+  return numberValidator(true);
 }
 
 CLI::Option* addVector3Option(CLI::App& app, const std::string& name, std::array<double, 3>& value,

@@ -1,6 +1,7 @@
 // Shared plumbing of the d2vdb command: global options, exit codes, progress and report output.
 #pragma once
 
+#include <openvdb/openvdb.h>
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -65,8 +66,21 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_;
 };
 
-/// Writes `report` to stdout as one pretty-printed JSON document.
+/// Writes `report` to stdout as one pretty-printed JSON document; bytes of its strings that are
+/// not valid UTF-8 are written as U+FFFD.
 void printJson(const nlohmann::json& report);
+
+/// Throws InputError when the level set `grid` of a shape whose longest side is `longestSide`
+/// (world units) has no active voxel, so that a voxel size far beyond the shape never writes an
+/// empty file; warns when the shape spans fewer than four voxels. `what` names the shape.
+void checkResolvesShape(const openvdb::FloatGrid& grid, double longestSide,
+                        const std::string& what);
+
+/// Validators for numeric options that must be finite and positive (or at least zero). Unlike
+/// CLI::PositiveNumber they do not quote the double range in their message: "--resolution: must
+/// be a positive number, got 0".
+CLI::Validator positiveNumber();
+CLI::Validator nonNegativeNumber();
 
 /// Adds an option that reads exactly three comma- or space-separated numbers (e.g. "1,2,3").
 CLI::Option* addVector3Option(CLI::App& app, const std::string& name, std::array<double, 3>& value,

@@ -203,8 +203,8 @@ void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
       "--resolution", args->resolution,
       "Voxels along the longest side of the target's bounding box (default 256; meshes, "
       "curves, points)");
-  voxelSize->excludes(resolution)->check(CLI::PositiveNumber);
-  resolution->excludes(voxelSize)->check(CLI::PositiveNumber);
+  voxelSize->excludes(resolution)->check(positiveNumber());
+  resolution->excludes(voxelSize)->check(positiveNumber());
   command->add_option("--half-width", args->halfWidth, "Narrow-band half-width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1000.0));

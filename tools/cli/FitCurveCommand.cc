@@ -34,6 +34,7 @@ struct LoadedTarget {
   std::vector<Eigen::Vector3d> points;            // point cloud, or samples of a curve
   bool closed = false;                            // closed curve or polyline
   int dimension = 3;
+  std::size_t pieces = 0;  // vertices of a polyline, control points of a B-spline target
 
   const SquaredDistanceTarget& fitTarget() const {
     return offset ? static_cast<const SquaredDistanceTarget&>(*offset) : *target;
@@ -52,12 +53,14 @@ LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOpti
     if (input.kind() == InputKind::Curve) {
       const BSplineCurve spline = std::move(input).take<BSplineCurve>();
       loaded.kind = "curve";
+      loaded.pieces = static_cast<std::size_t>(spline.controlPointCount());
       loaded.closed = spline.isClosed();
       loaded.dimension = spline.dimension();
       curve = std::make_unique<CurveTarget>(spline);
     } else {
       Polyline polyline = onlyPolyline(std::move(input).take<PolylinesInput>().polylines, file);
       loaded.kind = "polyline";
+      loaded.pieces = polyline.points.size();
       loaded.closed = polyline.closed;
       loaded.dimension = polyline.dimension;
       curve = std::make_unique<CurveTarget>(std::move(polyline));
@@ -98,6 +101,29 @@ struct Arguments {
   bool plainSdm = false;
   CurveFitOptions fit;
 };
+
+// Refuses more control points than the target can determine, before any work: a point cloud's
+// points each give one equation; a curve target is resolved once the fitted curve has 100 spans
+// per vertex or control point of it (at least 1000 control points); a field, 100000.
+void checkControlPointCount(int controlPoints, const LoadedTarget& target) {
+  std::size_t limit = 100000;
+  std::string why = "a field target";
+  if (target.kind == "points") {
+    limit = target.points.size();
+    why = "the " + std::to_string(limit) + " points of the target, which cannot determine more";
+  } else if (target.kind == "curve" || target.kind == "polyline") {
+    limit = std::max<std::size_t>(1000, 100 * target.pieces);
+    why = "100 per " + std::string(target.kind == "curve" ? "control point" : "vertex") +
+          " of the target (" + std::to_string(target.pieces) +
+          "), beyond which spans are finer than anything it describes";
+  }
+  if (static_cast<std::size_t>(controlPoints) > limit) {
+    throw InputError("--ctrl " + std::to_string(controlPoints) +
+                     " asks for more control points "
+                     "than " +
+                     why + "; use --ctrl " + std::to_string(limit) + " or fewer");
+  }
+}
 
 BSplineCurve initialCurve(const Arguments& args, const LoadedTarget& target) {
   const std::string& init = args.init;
@@ -232,7 +258,7 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       ->check(CLI::Range(2, 1000000));
   command->add_flag("--closed", args->closed, "With --init polyline: fit a closed curve");
   command->add_option("--offset", args->offset, "Fit the offset at this distance (curve targets)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   command->add_option("--out", args->out, "Write the fitted curve (.json)")->required();
   command->add_option("--iterations", args->fit.maxIterations, "Iteration cap")
       ->capture_default_str()
@@ -245,41 +271,41 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
                    "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
                    "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
                    "field target)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
                    "Automatic smoothness: its shift of the fit as a fraction of the fit's "
                    "resolution RMS x sqrt(control points / terms)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   command
       ->add_option("--step-smoothness", args->fit.stepSmoothness,
                    "Damping of rough and tangential control-point moves (relative; no bias)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_option("--stretch", args->fit.stretch, "Weight of int |x'|^2 (dimensionless)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--tolerance", args->fit.distanceTolerance,
                    "Stop when the RMS distance reaches this (world units; 0 = off)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--step-tolerance", args->fit.stepTolerance,
                    "Converged when the curve moves by less than this fraction of its size")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--move-tolerance", args->fit.moveTolerance,
                    "Converged when the curve's move across the target and its RMS change, "
                    "extrapolated at their rate of convergence, are below this fraction of the "
                    "fit's resolution")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_flag("--plain-sdm", args->plainSdm,
                     "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
                     "Liu 2006 as published; for comparison)");
@@ -296,6 +322,7 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
     const Stopwatch clock;
     const FitMethod method = parseFitMethod(args->method);
     const LoadedTarget target = loadTarget(args->target, args->offset, options);
+    checkControlPointCount(args->controlPoints, target);
     const BSplineCurve initial = initialCurve(*args, target);
     CurveFitOptions fit = args->fit;
     fit.method = method;

@@ -363,43 +363,43 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
   command
       ->add_option("--smoothness", args->fit.smoothness,
                    "Thin-plate weight (dimensionless; default: automatic, see README)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_option("--stretch", args->fit.stretch, "Membrane weight (dimensionless)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--step-smoothness", args->fit.stepSmoothness,
                    "Damping of rough and tangential control-point moves (relative; no bias)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--tolerance", args->fit.distanceTolerance,
                    "Stop when the RMS distance reaches this (world units; 0 = off)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command
       ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
                    "Automatic smoothness: its shift of the fit as a fraction of the fit's "
                    "resolution RMS x sqrt(control points / terms)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   command
       ->add_option("--move-tolerance", args->fit.moveTolerance,
                    "Converged when the surface's move across the target and its RMS change, "
                    "extrapolated at their rate of convergence, are below this fraction of the "
                    "fit's resolution")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_flag("--plain-sdm", args->plainSdm,
                     "SDM without the exact second-order terms (for comparison)");
   command
       ->add_option("--step-tolerance", args->fit.stepTolerance,
                    "Stop when no control point moves more than this fraction of the size")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   command->add_flag("--json", options.json, "Print one JSON document on stdout");
 
   registry.add(command, [args, &options]() {

@@ -221,7 +221,9 @@ int runInfo(const std::string& file, const GlobalOptions& options) {
     } else {
       std::cout << file << ":\n";
       for (const auto& [key, value] : report.items()) {
-        if (key != "file") std::cout << "  " << key << " " << value.dump() << '\n';
+        if (key != "file")
+          std::cout << "  " << key << " "
+                    << value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
       }
     }
     return kSuccess;

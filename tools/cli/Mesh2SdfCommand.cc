@@ -7,6 +7,7 @@
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/VdbFile.h"
+#include "d2vdb/mesh/MeshMeasures.h"
 
 namespace d2vdb::cli {
 
@@ -32,8 +33,8 @@ void addMesh2SdfCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
   auto* resolution = command->add_option(
       "--resolution", args->levelSet.resolution,
       "Voxels along the longest side of the mesh's bounding box (instead of --voxel-size)");
-  voxelSize->excludes(resolution)->check(CLI::PositiveNumber);
-  resolution->excludes(voxelSize)->check(CLI::PositiveNumber);
+  voxelSize->excludes(resolution)->check(positiveNumber());
+  resolution->excludes(voxelSize)->check(positiveNumber());
   command->add_option("--half-width", args->levelSet.halfWidth, "Narrow-band half-width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1000.0));
@@ -66,6 +67,7 @@ void addMesh2SdfCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
     const LevelSetResult result =
         meshToLevelSet(mesh, args->levelSet, makeProgressPrinter(options));
     for (const std::string& message : result.warnings) warning(message);
+    checkResolvesShape(*result.grid, boundingBox(mesh).extent().maxCoeff(), "the mesh");
     if (!args->gridName.empty()) result.grid->setName(args->gridName);
 
     VdbWriteOptions writeOptions;

@@ -80,8 +80,8 @@ void addPrimitiveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions
   auto* resolution = command->add_option(
       "--resolution", args->resolution,
       "Voxels along the longest side of the shape's bounding box (used without --voxel-size)");
-  resolution->capture_default_str()->check(CLI::PositiveNumber);
-  voxelSize->check(CLI::PositiveNumber)->excludes(resolution);
+  resolution->capture_default_str()->check(positiveNumber());
+  voxelSize->check(positiveNumber())->excludes(resolution);
   command->add_option("--half-width", args->levelSet.halfWidth, "Narrow-band half-width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 1000.0));
@@ -100,6 +100,7 @@ void addPrimitiveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions
                                    ? args->voxelSize
                                    : shape->bounds().sizes().maxCoeff() / args->resolution;
     const openvdb::FloatGrid::Ptr grid = primitiveLevelSet(*shape, args->levelSet);
+    checkResolvesShape(*grid, shape->bounds().sizes().maxCoeff(), "the shape");
     grid->setName(args->gridName);
     VdbWriteOptions writeOptions;
     writeOptions.blosc = !args->noCompression;

@@ -6,10 +6,36 @@
 #include <iostream>
 #include <memory>
 #include <new>
+#include <string>
 
 #include "Command.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
+
+namespace {
+
+// What to try when a sub-command runs out of memory: the option that sizes its work.
+std::string outOfMemoryAdvice(const std::string& subcommand) {
+  if (subcommand == "mesh2sdf" || subcommand == "primitive") {
+    return "use a coarser --voxel-size or --resolution, a smaller --half-width, or a lower "
+           "--max-voxels to be refused early";
+  }
+  if (subcommand == "field") {
+    return "use a coarser --voxel-size or --resolution, or a smaller --half-width";
+  }
+  if (subcommand == "fit-curve") {
+    return "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target";
+  }
+  if (subcommand == "hausdorff") {
+    return "compare curves with fewer control points, or raise --tolerance";
+  }
+  if (subcommand == "mesh" || subcommand == "slice") {
+    return "the level set is too large for this machine; mesh a coarser one";
+  }
+  return "the input is too large for this machine";
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace d2vdb::cli;
@@ -77,7 +103,11 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << error.what() << '\n';
     return kBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory; try a coarser voxel size or --max-voxels\n";
+    const std::string name = app.get_subcommands().empty()
+                                 ? std::string("d2vdb")
+                                 : app.get_subcommands().front()->get_name();
+    std::cerr << "error: out of memory in 'd2vdb " << name << "'; " << outOfMemoryAdvice(name)
+              << '\n';
     return kRunFailure;
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << '\n';

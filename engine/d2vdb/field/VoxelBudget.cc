@@ -34,34 +34,37 @@ bool known(const std::array<double, 3>& sides) {
   return sides[0] > 0.0 || sides[1] > 0.0 || sides[2] > 0.0;
 }
 
-// World volume of the band of half-width r (see estimateActiveVoxels). The grown boxes take half a
-// voxel more: a slab of width w holds up to w / h + 1 layers of voxel centres.
-double bandVolume(const VoxelBudgetRequest& request, double r, double voxelSize) {
-  const double grown = r + 0.5 * voxelSize;
-  const auto pieceVolume = [r, grown](double area, const std::array<double, 3>& sides) {
-    const BoxTerms box = boxTerms(sides);
-    const double sheet = 2.0 * area * r + box.meanWidth * r * r + 4.0 / 3.0 * kPi * r * r * r;
-    return known(sides) ? std::min(sheet, grownBoxVolume(box, grown)) : sheet;
+// The band's volume in voxels (see estimateActiveVoxels), computed in voxel units so that neither
+// tiny nor huge voxels overflow: lengths are divided by the voxel size h, the half-width w is
+// already in voxels. The grown boxes take half a voxel more: a slab of width w holds up to w + 1
+// layers of voxel centres.
+double bandVoxels(const VoxelBudgetRequest& request, double h, double w) {
+  const double g = w + 0.5;
+  const auto scaled = [h](const std::array<double, 3>& sides) {
+    return std::array<double, 3>{sides[0] / h, sides[1] / h, sides[2] / h};
   };
-  double volume = 0.0;
+  const auto pieceVoxels = [&](double area, const std::array<double, 3>& sides) {
+    const BoxTerms box = boxTerms(scaled(sides));
+    const double sheet =
+        2.0 * (area / h / h) * w + box.meanWidth * w * w + 4.0 / 3.0 * kPi * w * w * w;
+    return known(sides) ? std::min(sheet, grownBoxVolume(box, g)) : sheet;
+  };
+  double voxels = 0.0;
   if (request.pieces.empty()) {
-    volume = pieceVolume(request.surfaceArea, request.boxSides);
+    voxels = pieceVoxels(request.surfaceArea, request.boxSides);
   } else {
     for (const SurfacePiece& piece : request.pieces)
-      volume += pieceVolume(piece.area, piece.boxSides);
+      voxels += pieceVoxels(piece.area, piece.boxSides);
   }
   if (known(request.boxSides)) {
-    volume = std::min(volume, grownBoxVolume(boxTerms(request.boxSides), grown));
+    voxels = std::min(voxels, grownBoxVolume(boxTerms(scaled(request.boxSides)), g));
   }
-  return volume;
+  return voxels;
 }
 
 double estimateAt(const VoxelBudgetRequest& request, double voxelSize, double halfWidth) {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) return kInfinity;
-  const double r = halfWidth * voxelSize;
-  // Divide term by term: voxelSize^3 underflows for tiny voxels.
-  const double volume = bandVolume(request, r, voxelSize);
-  return volume / voxelSize / voxelSize / voxelSize * kActiveVoxelSafetyFactor;
+  return bandVoxels(request, voxelSize, halfWidth) * kActiveVoxelSafetyFactor;
 }
 
 // The largest half-width (voxels) whose estimate at the request's voxel size fits, or 0.

@@ -32,6 +32,14 @@ CurveFitResult fitCurveToPoints(const BSplineCurve& initial,
                        " has z != 0 but the curve is 2D; fit a 3D curve or project the data");
     }
   }
+  if (static_cast<std::size_t>(initial.controlPointCount()) > points.size()) {
+    // Each data point gives one equation (its distance to the curve): fewer cannot determine the
+    // control points, and the work would be spent on nothing the data says.
+    throw InputError("the curve has " + std::to_string(initial.controlPointCount()) +
+                     " control points but the point cloud only " + std::to_string(points.size()) +
+                     " points, which cannot determine them; use at most " +
+                     std::to_string(points.size()) + " control points");
+  }
   detail::validateFitOptions(options);
   detail::requireNonDegenerate(initial, "the initial curve");
   detail::PointCloudProblem problem(initial, points, options);

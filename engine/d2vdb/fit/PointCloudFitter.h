@@ -41,8 +41,9 @@ Approximant curveApproximantAt(const BSplineCurve& curve, double t,
 /// hold it. A 2D curve keeps z = 0 and uses the xy coordinates of the data (z must then be 0).
 /// Deterministic for any thread count.
 ///
-/// Throws InputError for an empty cloud, non-finite coordinates, 2D data with z != 0, invalid
-/// options, or an initial curve whose control points all coincide.
+/// Throws InputError for an empty cloud, non-finite coordinates, 2D data with z != 0, more
+/// control points than data points (which cannot determine them), invalid options, or an initial
+/// curve whose control points all coincide.
 CurveFitResult fitCurveToPoints(const BSplineCurve& initial,
                                 const std::vector<Eigen::Vector3d>& points,
                                 const CurveFitOptions& options = {});
