@@ -53,6 +53,11 @@ TEST_F(MeshIOErrorTest, MalformedObj) {
       {"forward_index.obj",
        "f 1 2 9\n" + kTriangleObj,
        {"line 1:", "vertex index 9", "defines 3 vertices)"}},
+      // A face naming a vertex far beyond what the file defines, with a normal: refused without
+      // allocating by the index (found by fuzzing: 400 MB for this 20-byte file).
+      {"forward_index_with_normal.obj",
+       "f 103666610//1 3 7\n" + kTriangleObj + "vn 0 0 1\n",
+       {"line 1:", "vertex index 103666610", "defines 3 vertices)"}},
       {"relative_too_far.obj", kTriangleObj + "f -4 -2 -1\n", {"line 4:", "-4"}},
       {"normal_index_too_big.obj",
        kTriangleObj + "vn 0 0 1\nf 1//2 2//2 3//2\n",

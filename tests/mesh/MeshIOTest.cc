@@ -251,6 +251,24 @@ TEST_F(MeshIOTest, ObjNormalsFollowTheFaceCorners) {
   EXPECT_EQ(conflicting.triangleCount(), 2u);
 }
 
+TEST_F(MeshIOTest, ObjNormalsOfFacesBeforeTheirVertices) {
+  // OBJ lets a face name vertices defined further down; their normals are checked the same way.
+  const TriangleMesh mesh = d2vdb::detail::parseObj(
+      "vn 0 0 1\nf 1//1 2//1 3//1\nf 2//1 4//1 3//1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n",
+      "forward.obj");
+  ASSERT_TRUE(mesh.hasNormals());
+  EXPECT_EQ(mesh.normals.size(), 4u);
+  for (const Eigen::Vector3f& normal : mesh.normals) EXPECT_EQ(normal, Eigen::Vector3f(0, 0, 1));
+
+  // Vertex 2 is defined between its two faces, which give it different normals.
+  const TriangleMesh conflicting = d2vdb::detail::parseObj(
+      "vn 0 0 1\nvn 1 0 0\nv 0 0 0\nf 1//1 2//1 3//1\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+      "f 2//2 4//2 3//2\n",
+      "forward_conflict.obj");
+  EXPECT_TRUE(conflicting.normals.empty());
+  EXPECT_EQ(conflicting.triangleCount(), 2u);
+}
+
 TEST_F(MeshIOTest, ByteOrderMarkIsSkipped) {
   const TriangleMesh obj =
       d2vdb::detail::parseObj("\xEF\xBB\xBFv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bom.obj");

@@ -124,6 +124,8 @@ class ObjParser {
     vertices_.checkAgainstTotal(mesh_.positions.size(), fileName_);
     textureCoordinates_.checkAgainstTotal(textureCoordinateCount_, fileName_);
     normalIndices_.checkAgainstTotal(fileNormals_.size(), fileName_);
+    // Every vertex now exists; the order corners are compared in does not change the outcome.
+    for (const Corner& corner : forwardCorners_) recordCornerNormal(corner);
     assignNormals();
     return std::move(mesh_);
   }
@@ -248,9 +250,14 @@ class ObjParser {
       normalsConsistent_ = false;
       return;
     }
+    if (corner.vertex >= mesh_.positions.size()) {
+      // A vertex defined further down (or never: checkAgainstTotal refuses that at the end).
+      // Sizing the table by such an index would let a few bytes allocate gigabytes.
+      forwardCorners_.push_back(corner);
+      return;
+    }
     if (corner.vertex >= normalOfVertex_.size()) {
-      normalOfVertex_.resize(
-          std::max<std::size_t>(corner.vertex + std::size_t{1}, mesh_.positions.size()), kNoNormal);
+      normalOfVertex_.resize(mesh_.positions.size(), kNoNormal);
     }
     std::uint32_t& assigned = normalOfVertex_[corner.vertex];
     if (assigned == kNoNormal || assigned == corner.normal) {
@@ -286,6 +293,7 @@ class ObjParser {
   IndexResolver normalIndices_{"normal"};
   std::vector<Corner> corners_;
   std::vector<std::uint32_t> normalOfVertex_;
+  std::vector<Corner> forwardCorners_;  // corners naming a vertex not yet defined when read
   bool normalsConsistent_ = true;
 };
 
