@@ -545,6 +545,8 @@ void walkMetaMap(Walker& walker, const std::string& owner) {
     const std::string item =
         "metadata item " + std::to_string(i + 1) + " of " + std::to_string(count) + " of " + owner;
     const std::string name = walker.string("the name of " + item);
+    // MetaMap::insertMeta throws on an empty name (openvdb::ValueError, not an I/O error).
+    if (name.empty()) walker.fail(item + " has an empty name");
     const std::string what = "metadata '" + name + "' of " + owner;
     const std::string type = walker.string("the type of " + what);
     const auto declared = walker.value<std::uint32_t>("the size of " + what);
@@ -598,11 +600,16 @@ void walkTransform(Walker& walker, const std::string& owner) {
 }
 
 // GridBase::saveFloatAsHalf() of a grid of `type` whose metadata are `metadata` (a MetaMap as
-// stored, already checked by walkMetaMap, so OpenVDB can read it safely).
-bool savedAsHalf(const std::string& metadata, const std::string& type) {
+// stored, already checked by walkMetaMap, so OpenVDB can read it safely). Anything OpenVDB still
+// refuses in them is reported through `walker`.
+bool savedAsHalf(const Walker& walker, const std::string& metadata, const std::string& type) {
   const openvdb::GridBase::Ptr grid = openvdb::GridBase::createGrid(type);
   std::istringstream in(metadata);
-  grid->readMeta(in);
+  try {
+    grid->readMeta(in);
+  } catch (const openvdb::Exception& error) {
+    walker.fail(std::string("OpenVDB refuses the grid's metadata: ") + error.what());
+  }
   return grid->saveFloatAsHalf();
 }
 
@@ -689,7 +696,7 @@ std::vector<VdbGridLayout> checkVdbStream(std::istream& in, std::uint64_t size,
     // Half-float storage is whatever the grid's own metadata says once read (GridBase::readMeta
     // replaces the flag the descriptor's "_HalfFloat" suffix set): ask OpenVDB, on the metadata
     // just checked.
-    const bool fromHalf = savedAsHalf(walker.bytesSince(metadataStart), type);
+    const bool fromHalf = savedAsHalf(walker, walker.bytesSince(metadataStart), type);
     walkTransform(walker, "the grid");
     grid.instance = !instanceParent.empty();
     if (grid.instance) {
