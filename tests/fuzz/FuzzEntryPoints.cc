@@ -12,6 +12,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/io/FieldGrids.h"
 #include "d2vdb/io/PointSetFile.h"
 #include "d2vdb/io/PolylineFile.h"
 #include "d2vdb/io/SplineJson.h"
@@ -95,7 +96,7 @@ void runVdb(const std::uint8_t* data, std::size_t size) {
 void runField(const std::uint8_t* data, std::size_t size) {
   const std::vector<openvdb::GridBase::Ptr> grids = readVdb(data, size);
   const ApproximantField field =
-      ApproximantField::fromGrids(openvdb::GridPtrVec(grids.begin(), grids.end()), "fuzz.vdb");
+      fieldFromGrids(openvdb::GridPtrVec(grids.begin(), grids.end()), "fuzz.vdb");
   field.buildCoarseLevels();
   static_cast<void>(field.statistics());
   static_cast<void>(field.approximantAt(field.domain().center()));
@@ -113,7 +114,7 @@ const std::vector<Target>& targets() {
       {"polyline_json", "polyline and slice JSON (io/PolylineFile)", runPolylineJson},
       {"xyz", "point sets in .xyz text (io/PointSetFile)", runXyz},
       {"vdb", ".vdb files (io/VdbFile), then what `info` reports", runVdb},
-      {"field", ".vdb files as approximant fields (io/FieldFile), coarse levels, a query",
+      {"field", ".vdb files as approximant fields (io/FieldGrids), coarse levels, a query",
        runField},
   };
   return all;
