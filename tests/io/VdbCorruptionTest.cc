@@ -23,7 +23,7 @@ namespace {
 
 using test::expectInputError;
 
-class VdbCorruptionTest : public test::TemporaryDirectoryTest {
+class VdbCorruptionTest : public test::ScratchDirectoryTest {
  protected:
   // A small sphere level set written by writeVdb (Blosc unless `blosc` is false), as bytes.
   std::string sphereFile(bool blosc = true, bool half = false) {
