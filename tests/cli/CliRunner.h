@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <string>
 
-#include "support/ScratchDirectory.h"
+#include "common/ScratchDirectory.h"
 
 namespace d2vdb::test {
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
-#include "support/ScratchDirectory.h"
+#include "common/ScratchDirectory.h"
 
 namespace {
 

@@ -4,8 +4,8 @@
 
 #include <cstring>
 
-#include "support/ExpectInputError.h"
-#include "support/ScratchDirectory.h"
+#include "common/ExpectInputError.h"
+#include "common/ScratchDirectory.h"
 
 namespace d2vdb::test {
 

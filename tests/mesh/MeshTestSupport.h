@@ -17,8 +17,8 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/mesh/TriangleMesh.h"
-#include "support/ExpectInputError.h"
-#include "support/ScratchDirectory.h"
+#include "common/ExpectInputError.h"
+#include "common/ScratchDirectory.h"
 
 namespace d2vdb::test {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "d2vdb/plot/LogPlot.h"
-#include "support/ScratchDirectory.h"
+#include "common/ScratchDirectory.h"
 
 namespace d2vdb {
 namespace {

@@ -302,8 +302,8 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
       "--resolution", args->resolution,
       "levelset and .vdb outputs: voxels along the longest side of the mesh's bounding box "
       "(default 256)");
-  voxelSize->excludes(resolution)->check(CLI::PositiveNumber);
-  resolution->excludes(voxelSize)->check(CLI::PositiveNumber);
+  voxelSize->excludes(resolution)->check(positiveNumber());
+  resolution->excludes(voxelSize)->check(positiveNumber());
   command
       ->add_option("--half-width", args->halfWidth,
                    "levelset and .vdb outputs: band half-width in voxels")

@@ -11,15 +11,9 @@
 
 namespace d2vdb {
 
-/// Default limit on the active voxels of one level set, sized for a 24 GiB machine.
-/// Measured (getrusage peak-RSS increase during meshToLevelSet of an 81920-triangle icosphere,
-/// half-width 3, 2 threads, 7.5e5 to 4.8e7 active voxels): 37 bytes per active voxel at every
-/// size; the finished FloatGrid keeps 12 bytes per active voxel (4-byte values in 8^3 leaves that
-/// are about a third full). The pipeline then adds approximant grids sharing the level set's
-/// topology (normal or footpoint, k1, k2, e1: 8 float channels, about 96 bytes per voxel at the
-/// same fill ratio). At 1.5e8 voxels: conversion peak 5.2 GiB, level set plus approximants
-/// 1.5e8 * 108 B = 15 GiB, leaving the rest of 24 GiB to the OS, the input and output buffers.
-/// That is a surface of about 2e7 voxel faces (a sphere of radius ~1260 voxels) at half-width 3.
+/// Default limit on the active voxels of one level set, sized for a 24 GiB machine: the mesh
+/// conversion's peak memory per active voxel and the approximant grids that later share the level
+/// set's topology must fit beside each other (the measured figures are in the README, "mesh2sdf").
 inline constexpr std::uint64_t kDefaultMaxActiveVoxels = 150'000'000;
 
 /// Factor applied to the band volume estimate below: voxel centres of a band of width 2r fill
