@@ -160,7 +160,7 @@ TEST_F(FitCurveCliTest, RefusesWhatTheDataCannotDetermineAndOddTypes) {
         R"({"type": 1.5, "version": 1, "dimension": 2, "points": [[0, 0], [1, 1]]})");
   result = run("fit-curve --target " + path("odd_type.json") + " --out " + path("o.json"));
   EXPECT_EQ(result.exitCode, 2) << result.err;
-  EXPECT_NE(result.err.find("'type'"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("\"type\" is 1.5"), std::string::npos) << result.err;
 
   // Validators name the value, not the range of a double.
   result =
