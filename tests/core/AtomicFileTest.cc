@@ -7,8 +7,8 @@
 #include <sstream>
 #include <string>
 
-#include "d2vdb/core/Error.h"
 #include "common/ScratchDirectory.h"
+#include "d2vdb/core/Error.h"
 
 namespace {
 

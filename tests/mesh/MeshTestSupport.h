@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "d2vdb/core/Error.h"
-#include "d2vdb/mesh/TriangleMesh.h"
 #include "common/ExpectInputError.h"
 #include "common/ScratchDirectory.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::test {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "d2vdb/plot/LogPlot.h"
 #include "common/ScratchDirectory.h"
+#include "d2vdb/plot/LogPlot.h"
 
 namespace d2vdb {
 namespace {

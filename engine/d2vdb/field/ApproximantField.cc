@@ -526,9 +526,10 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
   if (!point.allFinite()) throw InputError("field query: the point is not finite");
   if (!storage.domain().contains(point)) {
     const double outside = std::sqrt(storage.domain().squaredExteriorDistance(point));
-    throw InputError("the point " + formatPoint(point, kDigits) + " lies " + formatNumber(outside, kDigits) +
-                     " outside the field's working domain " + formatPoint(storage.domain().min(), kDigits) +
-                     " to " + formatPoint(storage.domain().max(), kDigits));
+    throw InputError("the point " + formatPoint(point, kDigits) + " lies " +
+                     formatNumber(outside, kDigits) + " outside the field's working domain " +
+                     formatPoint(storage.domain().min(), kDigits) + " to " +
+                     formatPoint(storage.domain().max(), kDigits));
   }
   const Eigen::Vector3d index = storage.frame().worldToIndex(point);
   const auto lookup = [&](int level, const LeafTable& table,
