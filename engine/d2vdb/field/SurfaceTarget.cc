@@ -18,6 +18,30 @@ constexpr int kDigits = 9;
 
 }  // namespace
 
+Approximant surfaceApproximantFromFrame(const SurfaceFrame& frame, bool onBoundary,
+                                        const Eigen::Vector3d& point) {
+  Approximant result;
+  result.kind = TargetKind::Surface;
+  result.origin = point;
+  result.footpoint = frame.point;
+  if (onBoundary || !frame.regular) {
+    // A point distance: toward the query point, or along the normal when it lies on the edge.
+    const Eigen::Vector3d offset = point - frame.point;
+    result.flags |= kFlagEndPoint;
+    result.distance = offset.norm();
+    result.normal =
+        result.distance > 0.0 ? Eigen::Vector3d(offset / result.distance) : frame.normal;
+    result.tangent = result.normal.unitOrthogonal();
+    return result;
+  }
+  result.normal = frame.normal;
+  result.tangent = frame.e1;
+  result.k1 = frame.k1;
+  result.k2 = frame.k2;
+  result.distance = (point - frame.point).dot(frame.normal);
+  return result;
+}
+
 SurfaceTarget::SurfaceTarget(const BSplineSurface& surface, double domainPadding) {
   if (!(domainPadding >= 0.0) || !std::isfinite(domainPadding)) {
     throw InputError("surface target: the domain padding must be a finite number >= 0");
@@ -70,27 +94,9 @@ Approximant SurfaceTarget::approximantAt(const Eigen::Vector3d& point) const {
 Approximant SurfaceTarget::approximantAtAnyPoint(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("surface target: the query point is not finite");
   const SurfaceFootpoint footpoint = projector_->nearest(point);
-  const SurfaceFrame frame = surfaceFrame(surface(), footpoint.u, footpoint.v);
-  Approximant result;
-  result.kind = TargetKind::Surface;
-  result.origin = point;
-  result.footpoint = footpoint.point;
-  if (footpoint.onBoundary || !frame.regular) {
-    // A point distance: toward the query point, or along the normal when it lies on the edge.
-    const Eigen::Vector3d offset = point - footpoint.point;
-    result.flags |= kFlagEndPoint;
-    result.distance = offset.norm();
-    result.normal =
-        result.distance > 0.0 ? Eigen::Vector3d(offset / result.distance) : frame.normal;
-    result.tangent = result.normal.unitOrthogonal();
-    return result;
-  }
-  result.normal = frame.normal;
-  result.tangent = frame.e1;
-  result.k1 = frame.k1;
-  result.k2 = frame.k2;
-  result.distance = (point - footpoint.point).dot(frame.normal);
-  return result;
+  SurfaceFrame frame = surfaceFrame(surface(), footpoint.u, footpoint.v);
+  frame.point = footpoint.point;  // the projector's evaluation of the same point
+  return surfaceApproximantFromFrame(frame, footpoint.onBoundary, point);
 }
 
 std::vector<Eigen::Vector3d> SurfaceTarget::samplePoints(int samplesU, int samplesV) const {

@@ -15,6 +15,16 @@
 namespace d2vdb {
 
 class SurfaceProjector;
+struct SurfaceFrame;  // d2vdb/spline/SurfaceGeometry.h
+
+/// The approximant of the squared distance from `point` to a surface at a footpoint with frame
+/// `frame` (surfaceFrame()), as SurfaceTarget describes it: kind Surface, the frame's normal,
+/// tangent e1 and curvatures, signed distance (point - footpoint) . normal; a point distance
+/// (kFlagEndPoint, normal toward `point`) when `onBoundary` (the footpoint lies on the boundary of
+/// an open direction) or the frame is not regular. Used by SurfaceTarget and by the surface
+/// fitters (surfaceApproximantAt(), SurfaceFitter.h).
+Approximant surfaceApproximantFromFrame(const SurfaceFrame& frame, bool onBoundary,
+                                        const Eigen::Vector3d& point);
 
 /// Exact approximants of a tensor-product B-spline surface (TargetKind::Surface), answered
 /// anywhere in its domain.

@@ -1,6 +1,10 @@
 // Why a squared-distance fit stopped and what each of its iterations did: shared by the fitters
-// of curves (CurveFit.h) and of any other control net run by the same iteration.
+// of curves (CurveFit.h), surfaces (SurfaceFit.h) and any other control net run by the same
+// iteration.
 #pragma once
+
+#include <string>
+#include <vector>
 
 namespace d2vdb {
 
@@ -34,6 +38,16 @@ struct FitIteration {
   double smoothness = 0.0;   ///< bending weight lambda2 of the iteration (automatic or fixed)
   double secondOrderWeight = 0.0;  ///< share (0..1) of the fitter's exact second-order terms in
                                    ///< the step's model (SDM II; 0 = the plain SDM form)
+};
+
+/// Why a fit stopped and what each iteration did; CurveFitResult and SurfaceFitResult add the
+/// fitted spline and its iterates.
+struct FitReport {
+  FitStatus status = FitStatus::IterationCap;
+  std::string reason;                 ///< one line saying why it stopped
+  std::vector<FitIteration> history;  ///< row 0 = initial control net, then one row per iteration
+  /// Number of iterations run (history rows after the initial one).
+  int iterations() const { return static_cast<int>(history.size()) - 1; }
 };
 
 }  // namespace d2vdb

@@ -40,8 +40,7 @@ CurveFitResult fitCurveToPoints(const BSplineCurve& initial,
                      " points, which cannot determine them; use at most " +
                      std::to_string(points.size()) + " control points");
   }
-  detail::validateFitOptions(options);
-  detail::requireNonDegenerate(initial, "the initial curve");
+  detail::validateCurveFit(initial, options);
   detail::PointCloudProblem problem(initial, points, options);
   return detail::runCurveFit(initial, options, problem);
 }

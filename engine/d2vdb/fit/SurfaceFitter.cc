@@ -6,53 +6,22 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
+#include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/core/NumberFormat.h"
+#include "d2vdb/field/SurfaceTarget.h"
 #include "d2vdb/fit/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
+#include "d2vdb/fit/detail/TargetProblem.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/BasisFunctions.h"
 #include "d2vdb/spline/SurfaceGeometry.h"
 
 namespace d2vdb {
 namespace {
-
-// Messages show points with 9 significant digits.
-std::string pointText(const Eigen::Vector3d& p) {
-  return formatPoint(p, 9);
-}
-
-/// The approximant of the squared distance from `dataPoint` to the surface at a footpoint with
-/// frame `frame` (surfaceApproximantAt()); `onBoundary`: the footpoint lies on the boundary of an
-/// open direction.
-Approximant approximantFromFrame(const SurfaceFrame& frame, bool onBoundary,
-                                 const Eigen::Vector3d& dataPoint) {
-  Approximant approximant;
-  approximant.kind = TargetKind::Surface;
-  approximant.origin = dataPoint;
-  approximant.footpoint = frame.point;
-  if (onBoundary || !frame.regular) {
-    const Eigen::Vector3d offset = dataPoint - frame.point;
-    approximant.flags |= kFlagEndPoint;
-    approximant.distance = offset.norm();
-    approximant.normal =
-        approximant.distance > 0.0 ? Eigen::Vector3d(offset / approximant.distance) : frame.normal;
-    approximant.tangent = approximant.normal.unitOrthogonal();
-    return approximant;
-  }
-  approximant.normal = frame.normal;
-  approximant.tangent = frame.e1;
-  approximant.k1 = frame.k1;
-  approximant.k2 = frame.k2;
-  approximant.distance = (dataPoint - frame.point).dot(frame.normal);
-  return approximant;
-}
 
 bool onOpenBoundary(const BSplineSurface& surface, double u, double v) {
   const ParameterInterval domainU = surface.domainU();
@@ -71,43 +40,33 @@ constexpr double kMinimumCurvatureFactor = 0.1;
 // where that is negative (on the concave side), and those negative rank-one terms
 // (d k_i / (1 + d k_i)) ((B (x) t_i) . c)^2 let the loop's trust-region steps follow the
 // surface's sliding along the target like Newton's method, where the clamped form over-damps it.
-class TargetProblem final : public detail::FitProblem {
+class SurfaceTargetProblem final : public detail::TargetProblem {
  public:
-  TargetProblem(const BSplineSurface& initial, const SquaredDistanceTarget& target,
-                const SurfaceFitOptions& options)
-      : target_(target),
-        domain_(target.domain()),
-        basis_(initial, uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
-        method_(options.method),
-        pdmWeight_(options.pdmWeight),
+  SurfaceTargetProblem(const BSplineSurface& initial, const SquaredDistanceTarget& target,
+                       const SurfaceFitOptions& options)
+      : TargetProblem(target,
+                      std::make_unique<SurfaceSensorBasis>(
+                          initial, uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
+                      options.method, options.pdmWeight),
         exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
-
-  const SurfaceSensorBasis& basis() const { return basis_; }
-  double resolution() const override { return target_.resolution(); }
 
   void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
                  detail::FitLinearization& linearization) override {
-    linearization.basis = &basis_;
-    // The loop linearises the net it last accepted, whose approximants measure() found.
-    if (!(controlPoints == acceptedControlPoints_ && acceptedValid_)) {
-      acceptedApproximants_ = target_.approximantsAt(basis_.positions(controlPoints));
-    }
-    acceptedValid_ = false;
-    const std::vector<Approximant>& approximants = acceptedApproximants_;
+    const std::vector<Approximant>& approximants = approximantsAt(controlPoints);
+    setForms(approximants, linearization);
     const std::size_t count = approximants.size();
-    std::vector<QuadraticForm>& forms = linearization.forms;
-    forms.resize(count);
-    const int order = basis_.order();
+    const SensorMap& basis = sensors();
+    const int order = basis.order();
     const int length = 3 * order;
     RankOneTerms& secondOrder = linearization.secondOrder;
     secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? length : 0);
-    std::vector<double> weights(exactSecondOrder_ ? 2 * count : 0, 0.0);
+    if (!exactSecondOrder_) return;
+    std::vector<double> weights(2 * count, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t k = range.begin(); k != range.end(); ++k) {
                           const Approximant& approximant = approximants[k];
-                          forms[k] = fitForm(approximant, method_, pdmWeight_);
-                          if (weights.empty() || (approximant.flags & kFlagEndPoint) != 0 ||
+                          if ((approximant.flags & kFlagEndPoint) != 0 ||
                               approximant.kind != TargetKind::Surface) {
                             continue;
                           }
@@ -121,7 +80,6 @@ class TargetProblem final : public detail::FitProblem {
                           }
                         }
                       });
-    if (!exactSecondOrder_) return;
     // Sensors with terms, in index order (deterministic layout).
     for (std::size_t k = 0; k < count; ++k) {
       int terms = 0;
@@ -133,7 +91,7 @@ class TargetProblem final : public detail::FitProblem {
             i == 0 ? approximant.tangent : Eigen::Vector3d(approximant.bitangent());
         secondOrder.coefficients.push_back(alpha);
         for (int j = 0; j < order; ++j) {
-          const double w = basis_.weight(static_cast<int>(k), j);
+          const double w = basis.weight(static_cast<int>(k), j);
           for (int c = 0; c < 3; ++c) secondOrder.vectors.push_back(w * direction[c]);
         }
         ++terms;
@@ -142,59 +100,8 @@ class TargetProblem final : public detail::FitProblem {
     }
   }
 
-  // One parallel pass: sensor positions, the domain check, the approximants there and the
-  // squared distances they give (the approximants kept for linearize() should this net be
-  // accepted).
-  detail::DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override {
-    const int count = basis_.sensorCount();
-    measuredApproximants_.resize(static_cast<std::size_t>(count));
-    squared_.resize(static_cast<std::size_t>(count));
-    std::atomic<bool> outside{false};
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, count, 32), [&](const tbb::blocked_range<int>& range) {
-          for (int k = range.begin(); k != range.end(); ++k) {
-            const Eigen::Vector3d x = basis_.position(k, controlPoints);
-            if (!domain_.contains(x) || !x.allFinite()) {
-              outside = true;
-              return;
-            }
-            const Approximant approximant = target_.approximantAt(x);
-            squared_[static_cast<std::size_t>(k)] = approximant.form(ErrorTerm::SDM)(x);
-            measuredApproximants_[static_cast<std::size_t>(k)] = approximant;
-          }
-        });
-    detail::DataError error;
-    error.count = count;
-    if (outside) {
-      error.valid = false;
-      measuredControlPoints_.clear();
-      return error;
-    }
-    for (const double value : squared_) {  // fixed order: deterministic sum
-      error.sum += value;
-      error.maxSquared = std::max(error.maxSquared, value);
-    }
-    measuredControlPoints_ = controlPoints;
-    return error;
-  }
-
-  void accept() override {
-    acceptedControlPoints_.swap(measuredControlPoints_);
-    acceptedApproximants_.swap(measuredApproximants_);
-    acceptedValid_ = !acceptedControlPoints_.empty();
-  }
-
  private:
-  const SquaredDistanceTarget& target_;
-  Eigen::AlignedBox3d domain_;
-  SurfaceSensorBasis basis_;
-  FitMethod method_;
-  double pdmWeight_;
   bool exactSecondOrder_;
-  std::vector<Eigen::Vector3d> measuredControlPoints_, acceptedControlPoints_;
-  std::vector<Approximant> measuredApproximants_, acceptedApproximants_;
-  bool acceptedValid_ = false;
-  std::vector<double> squared_;
 };
 
 /// Smallest eigenvalue of the footpoint's parameter Hessian M relative to the first fundamental
@@ -294,7 +201,7 @@ class PointProblem final : public detail::FitProblem {
             const bool boundaryV =
                 !surface.isClosedV() && (uv.y() <= domainV.start || uv.y() >= domainV.end);
             const Approximant approximant =
-                approximantFromFrame(frame, boundaryU || boundaryV, points_[k]);
+                surfaceApproximantFromFrame(frame, boundaryU || boundaryV, points_[k]);
             // The form measures the surface point against the data point: same matrix, centred
             // at the data point.
             QuadraticForm form = fitForm(approximant, method_, pdmWeight_);
@@ -413,31 +320,16 @@ class PointProblem final : public detail::FitProblem {
 
 SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                             const SurfaceFitOptions& options) {
-  detail::validateFitOptions(options);
-  detail::requireNonDegenerate(initial, "the initial surface");
-  TargetProblem problem(initial, target, options);
-  const Eigen::AlignedBox3d domain = target.domain();
-  const std::vector<Eigen::Vector3d> sensors = problem.basis().positions(initial.controlPoints());
-  for (std::size_t k = 0; k < sensors.size(); ++k) {
-    if (!domain.contains(sensors[k])) {
-      const Eigen::Vector3d outside =
-          (sensors[k] - sensors[k].cwiseMax(domain.min()).cwiseMin(domain.max())).cwiseAbs();
-      throw InputError("the target (" + target.describe() +
-                       ") does not cover the initial surface: sensor " + std::to_string(k) +
-                       " at " + pointText(sensors[k]) + " lies " + std::to_string(outside.norm()) +
-                       " outside its working domain " + pointText(domain.min()) + " - " +
-                       pointText(domain.max()) +
-                       "; start from a surface inside the domain or build the target with more "
-                       "padding");
-    }
-  }
+  detail::validateSurfaceFit(initial, options);
+  SurfaceTargetProblem problem(initial, target, options);
+  problem.requireCovered(initial.controlPoints(), "surface");
   return detail::runSurfaceFit(initial, options, problem);
 }
 
 Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double v,
                                  const Eigen::Vector3d& dataPoint) {
-  return approximantFromFrame(surfaceFrame(surface, u, v), onOpenBoundary(surface, u, v),
-                              dataPoint);
+  return surfaceApproximantFromFrame(surfaceFrame(surface, u, v), onOpenBoundary(surface, u, v),
+                                     dataPoint);
 }
 
 SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
@@ -459,8 +351,7 @@ SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
                      std::to_string(initial.countV()) +
                      " control points; use fewer control points or more data");
   }
-  detail::validateFitOptions(options);
-  detail::requireNonDegenerate(initial, "the initial surface");
+  detail::validateSurfaceFit(initial, options);
   PointProblem problem(initial, points, options);
   return detail::runSurfaceFit(initial, options, problem);
 }

@@ -1,5 +1,5 @@
-// Internal: the curve fitters' side of the shared fit loop (detail/FitLoop.h): option checks,
-// the loop settings of a curve (its smoothing matrices) and the curve result.
+// Internal: the curve fitters' side of the shared fit loop (detail/FitLoop.h): the checks and the
+// loop settings of a curve (its smoothing matrices) and the curve result.
 #pragma once
 
 #include "d2vdb/fit/CurveFit.h"
@@ -8,11 +8,9 @@
 
 namespace d2vdb::detail {
 
-/// Throws InputError when the options are out of range (negative weights, no iterations, ...).
-void validateFitOptions(const CurveFitOptions& options);
-
-/// Throws InputError when all control points of `curve` coincide (to 1e-12 of their magnitude).
-void requireNonDegenerate(const BSplineCurve& curve, const char* what);
+/// Throws InputError when the options are out of range (validateFitOptions(), SplineFit.h) or
+/// all control points of `initial` coincide.
+void validateCurveFit(const BSplineCurve& initial, const CurveFitOptions& options);
 
 /// The loop settings for fitting `initial` with `options`: the bending Gram matrix G2 (none for
 /// degree 1), the stretch term, the step regulariser (Gram matrix of order min(p, 2)),

@@ -1,98 +1,35 @@
 // The surface fitters' side of the shared fit loop (detail/SurfaceFitLoop.h).
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
 
-#include <Eigen/Geometry>
-
-#include <algorithm>
-#include <cmath>
-#include <string>
-
-#include "d2vdb/core/Error.h"
 #include "d2vdb/fit/ThinPlateMatrix.h"
+#include "d2vdb/fit/detail/SplineFit.h"
 
 namespace d2vdb::detail {
 
-void validateFitOptions(const SurfaceFitOptions& options) {
-  const auto require = [](bool ok, const std::string& message) {
-    if (!ok) throw InputError(message);
-  };
-  require(options.sensorsPerSpan >= 1, "sensors per knot span must be at least 1");
-  require(options.maxIterations >= 0, "the iteration cap must not be negative");
-  require(std::isfinite(options.smoothness),
-          "the smoothness weight must be finite (negative = automatic)");
-  require(std::isfinite(options.automaticSmoothingBias) && options.automaticSmoothingBias > 0.0,
-          "the automatic smoothing bias must be finite and positive");
-  require(std::isfinite(options.stretch) && options.stretch >= 0.0,
-          "the stretch weight must be finite and non-negative");
-  require(std::isfinite(options.pdmWeight) && options.pdmWeight >= 0.0,
-          "the PDM weight of tdm+pdm must be finite and non-negative");
-  require(std::isfinite(options.distanceTolerance) && options.distanceTolerance >= 0.0,
-          "the distance tolerance must be finite and non-negative");
-  require(std::isfinite(options.stepTolerance) && options.stepTolerance >= 0.0,
-          "the step tolerance must be finite and non-negative");
-  require(std::isfinite(options.moveTolerance) && options.moveTolerance >= 0.0,
-          "the move tolerance must be finite and non-negative");
-  require(std::isfinite(options.objectiveTolerance) && options.objectiveTolerance >= 0.0,
-          "the objective tolerance must be finite and non-negative");
-  require(std::isfinite(options.stepSmoothness) && options.stepSmoothness >= 0.0,
-          "the step smoothness must be finite and non-negative");
-  require(std::isfinite(options.initialDamping) && options.initialDamping >= 0.0,
-          "the initial damping must be finite and non-negative");
-}
-
-void requireNonDegenerate(const BSplineSurface& surface, const char* what) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& point : surface.controlPoints()) box.extend(point);
-  const double magnitude =
-      std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
-  if (box.sizes().maxCoeff() <= 1e-12 * std::max(magnitude, 1e-300)) {
-    throw InputError(std::string(what) +
-                     " is degenerate: all its control points coincide; give one with distinct "
-                     "control points (or let d2vdb generate one)");
-  }
+void validateSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options) {
+  validateFitOptions(options, options.sensorsPerSpan);
+  requireNonDegenerate(initial.controlPoints(), "the initial surface");
 }
 
 FitLoopSettings surfaceLoopSettings(const BSplineSurface& initial,
                                     const SurfaceFitOptions& options) {
   const bool bilinear = initial.degreeU() < 2 && initial.degreeV() < 2;
-  FitLoopSettings settings;
+  FitLoopSettings settings = loopSettingsFrom(options);
   settings.dimension = 3;
   settings.splineName = "surface";
   if (!bilinear) settings.bending = thinPlateMatrix(initial);
-  settings.bendingWeight = options.smoothness;
   if (options.stretch > 0.0) settings.fixedSmoothing = options.stretch * membraneMatrix(initial);
   if (options.stepSmoothness > 0.0) {
     settings.stepRegularizer = bilinear ? membraneMatrix(initial) : thinPlateMatrix(initial);
     settings.stepSmoothness = options.stepSmoothness;
   }
-  settings.levenbergMarquardt = options.method == FitMethod::TDM;
-  settings.initialDamping = options.initialDamping;
-  settings.automaticBias = options.automaticSmoothingBias;
-  settings.maxIterations = options.maxIterations;
-  settings.distanceTolerance = options.distanceTolerance;
-  settings.stepTolerance = options.stepTolerance;
-  settings.moveTolerance = options.moveTolerance;
-  settings.objectiveTolerance = options.objectiveTolerance;
-  settings.keepIterates = options.keepIterates;
-  settings.progress = options.progress;
   return settings;
 }
 
 SurfaceFitResult runSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options,
                                FitProblem& problem) {
-  validateFitOptions(options);
-  requireNonDegenerate(initial, "the initial surface");
-  FitLoopResult loop =
-      runFitLoop(initial.controlPoints(), surfaceLoopSettings(initial, options), problem);
-  SurfaceFitResult result{
-      initial, loop.status, std::move(loop.reason), std::move(loop.history), {}};
-  result.surface.setControlPoints(std::move(loop.controlPoints));
-  for (std::vector<Eigen::Vector3d>& points : loop.iterates) {
-    BSplineSurface iterate = initial;
-    iterate.setControlPoints(std::move(points));
-    result.iterates.push_back(std::move(iterate));
-  }
-  return result;
+  validateSurfaceFit(initial, options);
+  return runSplineFit<SurfaceFitResult>(initial, surfaceLoopSettings(initial, options), problem);
 }
 
 }  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-// Internal: the surface fitters' side of the shared fit loop (detail/FitLoop.h): option checks,
+// Internal: the surface fitters' side of the shared fit loop (detail/FitLoop.h): the checks and
 // the loop settings of a surface (its thin-plate and membrane matrices) and the surface result.
 #pragma once
 
@@ -8,11 +8,9 @@
 
 namespace d2vdb::detail {
 
-/// Throws InputError when the options are out of range (negative weights, no iterations, ...).
-void validateFitOptions(const SurfaceFitOptions& options);
-
-/// Throws InputError when all control points of `surface` coincide (to 1e-12 of their magnitude).
-void requireNonDegenerate(const BSplineSurface& surface, const char* what);
+/// Throws InputError when the options are out of range (validateFitOptions(), SplineFit.h) or
+/// all control points of `initial` coincide.
+void validateSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options);
 
 /// The loop settings for fitting `initial` with `options`: the thin-plate matrix as the bending
 /// term (none for degree (1, 1), which has no thin-plate energy of its own but the twist), the
