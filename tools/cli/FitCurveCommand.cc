@@ -11,6 +11,7 @@
 
 #include "Command.h"
 #include "ConvergencePlot.h"
+#include "FitReports.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
@@ -155,46 +156,6 @@ CurveFitResult runFit(const BSplineCurve& initial, const LoadedTarget& target,
   return fitCurve(initial, target.fitTarget(), options);
 }
 
-nlohmann::json historyJson(const CurveFitResult& result) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const FitIteration& row : result.history) {
-    rows.push_back({{"iteration", row.iteration},
-                    {"objective", row.objective},
-                    {"rms_distance", row.rmsDistance},
-                    {"max_distance", row.maxDistance},
-                    {"step_length", row.stepLength},
-                    {"step_scale", row.stepScale},
-                    {"damping", row.damping},
-                    {"target_move", row.targetMove},
-                    {"smoothness", row.smoothness},
-                    {"second_order_weight", row.secondOrderWeight}});
-  }
-  return rows;
-}
-
-nlohmann::json resultJson(const CurveFitResult& result, FitMethod method) {
-  return {{"method", fitMethodName(method)},
-          {"status", fitStatusName(result.status)},
-          {"reason", result.reason},
-          {"iterations", result.iterations()},
-          {"rms_distance", result.history.back().rmsDistance},
-          {"max_distance", result.history.back().maxDistance},
-          {"smoothness", result.history.back().smoothness},
-          {"history", historyJson(result)}};
-}
-
-void printHistory(const CurveFitResult& result, FitMethod method) {
-  std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
-              fitStatusName(result.status), result.iterations(), result.reason.c_str());
-  std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
-              "step", "move", "scale", "damping", "smooth", "newton");
-  for (const FitIteration& row : result.history) {
-    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
-                row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
-                row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
-  }
-}
-
 // Target (grey), initial curve (dashed blue), every k-th iterate (light), final curve (red),
 // projected onto the xy plane, y up.
 void writeIterationSvg(const std::string& file, const LoadedTarget& target,
@@ -260,55 +221,17 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
   command->add_option("--offset", args->offset, "Fit the offset at this distance (curve targets)")
       ->check(positiveNumber());
   command->add_option("--out", args->out, "Write the fitted curve (.json)")->required();
-  command->add_option("--iterations", args->fit.maxIterations, "Iteration cap")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000000));
   command->add_option("--sensors", args->fit.sensorsPerSpan, "Sensors per knot span (SDM I)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));
-  command
-      ->add_option("--smoothness", args->fit.smoothness,
-                   "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
-                   "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
-                   "field target)")
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
-                   "Automatic smoothness: its shift of the fit as a fraction of the fit's "
-                   "resolution RMS x sqrt(control points / terms)")
-      ->capture_default_str()
-      ->check(positiveNumber());
-  command
-      ->add_option("--step-smoothness", args->fit.stepSmoothness,
-                   "Damping of rough and tangential control-point moves (relative; no bias)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command->add_option("--stretch", args->fit.stretch, "Weight of int |x'|^2 (dimensionless)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--tolerance", args->fit.distanceTolerance,
-                   "Stop when the RMS distance reaches this (world units; 0 = off)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--step-tolerance", args->fit.stepTolerance,
-                   "Converged when the curve moves by less than this fraction of its size")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--move-tolerance", args->fit.moveTolerance,
-                   "Converged when the curve's move across the target and its RMS change, "
-                   "extrapolated at their rate of convergence, are below this fraction of the "
-                   "fit's resolution")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command->add_flag("--plain-sdm", args->plainSdm,
-                    "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
-                    "Liu 2006 as published; for comparison)");
+  addFitOptions(*command, args->fit, args->plainSdm,
+                {"curve",
+                 "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
+                 "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
+                 "field target)",
+                 "Weight of int |x'|^2 (dimensionless)",
+                 "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
+                 "Liu 2006 as published; for comparison)"});
   command->add_option("--svg", args->svg, "Draw target, initial, iterates and final curve (SVG)");
   command->add_option("--every", args->every, "With --svg: draw every k-th iterate")
       ->capture_default_str()
@@ -352,7 +275,7 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       writeConvergencePlot(args->plot, runs, "fit-curve");
     }
 
-    nlohmann::json report = resultJson(result, method);
+    nlohmann::json report = fitReportJson(result, method);
     report["target"] = args->target;
     report["target_kind"] = target.kind;
     report["offset"] = args->offset;
@@ -364,9 +287,9 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
     if (!args->svg.empty()) report["svg"] = args->svg;
     if (!args->plot.empty()) report["plot"] = args->plot;
     if (args->compare) {
-      nlohmann::json compare = {{fitMethodName(method), resultJson(result, method)}};
+      nlohmann::json compare = {{fitMethodName(method), fitReportJson(result, method)}};
       for (const auto& [other, otherResult] : extra) {
-        compare[fitMethodName(other)] = resultJson(otherResult, other);
+        compare[fitMethodName(other)] = fitReportJson(otherResult, other);
       }
       report["compare"] = compare;
     }
@@ -375,8 +298,8 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
       printJson(report);
       return kSuccess;
     }
-    printHistory(result, method);
-    for (const auto& [other, otherResult] : extra) printHistory(otherResult, other);
+    printFitReport(result, method);
+    for (const auto& [other, otherResult] : extra) printFitReport(otherResult, other);
     status(options, "wrote " + args->out);
     return kSuccess;
   });

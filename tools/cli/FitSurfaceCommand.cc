@@ -18,6 +18,7 @@
 
 #include "Command.h"
 #include "ConvergencePlot.h"
+#include "FitReports.h"
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/ApproximantField.h"
@@ -204,23 +205,6 @@ BSplineSurface initialSurface(const Arguments& args, const LoadedTarget& target,
   return initialSurfaceAround(target.points, placement);
 }
 
-nlohmann::json historyJson(const SurfaceFitResult& result) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const FitIteration& row : result.history) {
-    rows.push_back({{"iteration", row.iteration},
-                    {"objective", row.objective},
-                    {"rms_distance", row.rmsDistance},
-                    {"max_distance", row.maxDistance},
-                    {"step_length", row.stepLength},
-                    {"step_scale", row.stepScale},
-                    {"damping", row.damping},
-                    {"target_move", row.targetMove},
-                    {"smoothness", row.smoothness},
-                    {"second_order_weight", row.secondOrderWeight}});
-  }
-  return rows;
-}
-
 /// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings.
 std::function<double(const Eigen::Vector3d&)> distanceFunction(
     const LoadedTarget& target, std::unique_ptr<CloudDistance>& cloud) {
@@ -352,54 +336,15 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
       ->capture_default_str()
       ->check(CLI::Range(0, 1000));
   command->add_option("--plot", args->plot, "Plot the RMS distance per iteration (SVG)");
-  command->add_option("--iterations", args->fit.maxIterations, "Iteration cap")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000000));
   command
       ->add_option("--sensors", args->fit.sensorsPerSpan,
                    "Sensors per knot span and direction (SDM I)")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
-  command
-      ->add_option("--smoothness", args->fit.smoothness,
-                   "Thin-plate weight (dimensionless; default: automatic, see README)")
-      ->check(nonNegativeNumber());
-  command->add_option("--stretch", args->fit.stretch, "Membrane weight (dimensionless)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--step-smoothness", args->fit.stepSmoothness,
-                   "Damping of rough and tangential control-point moves (relative; no bias)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command->add_option("--pdm-weight", args->fit.pdmWeight, "PDM weight of tdm+pdm")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--tolerance", args->fit.distanceTolerance,
-                   "Stop when the RMS distance reaches this (world units; 0 = off)")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command
-      ->add_option("--smoothing-bias", args->fit.automaticSmoothingBias,
-                   "Automatic smoothness: its shift of the fit as a fraction of the fit's "
-                   "resolution RMS x sqrt(control points / terms)")
-      ->capture_default_str()
-      ->check(positiveNumber());
-  command
-      ->add_option("--move-tolerance", args->fit.moveTolerance,
-                   "Converged when the surface's move across the target and its RMS change, "
-                   "extrapolated at their rate of convergence, are below this fraction of the "
-                   "fit's resolution")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
-  command->add_flag("--plain-sdm", args->plainSdm,
-                    "SDM without the exact second-order terms (for comparison)");
-  command
-      ->add_option("--step-tolerance", args->fit.stepTolerance,
-                   "Stop when no control point moves more than this fraction of the size")
-      ->capture_default_str()
-      ->check(nonNegativeNumber());
+  addFitOptions(*command, args->fit, args->plainSdm,
+                {"surface", "Thin-plate weight (dimensionless; default: automatic, see README)",
+                 "Membrane weight (dimensionless)",
+                 "SDM without the exact second-order terms (for comparison)"});
   command->add_flag("--json", options.json, "Print one JSON document on stdout");
 
   registry.add(command, [args, &options]() {
@@ -425,23 +370,16 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
     const auto distance = distanceFunction(target, cloud);
     writeSurfaceJson(args->out, result.surface);
 
-    nlohmann::json report = {{"method", fitMethodName(method)},
-                             {"status", fitStatusName(result.status)},
-                             {"reason", result.reason},
-                             {"iterations", result.iterations()},
-                             {"rms_distance", result.history.back().rmsDistance},
-                             {"max_distance", result.history.back().maxDistance},
-                             {"smoothness", result.history.back().smoothness},
-                             {"history", historyJson(result)},
-                             {"target", args->target},
-                             {"target_kind", target.kind},
-                             {"offset", args->offset},
-                             {"dimension", 3},
-                             {"degree", {initial.degreeU(), initial.degreeV()}},
-                             {"control_points", {initial.countU(), initial.countV()}},
-                             {"closed", {initial.isClosedU(), initial.isClosedV()}},
-                             {"ruled", ruled},
-                             {"output", args->out}};
+    nlohmann::json report = fitReportJson(result, method);
+    report.update({{"target", args->target},
+                   {"target_kind", target.kind},
+                   {"offset", args->offset},
+                   {"dimension", 3},
+                   {"degree", {initial.degreeU(), initial.degreeV()}},
+                   {"control_points", {initial.countU(), initial.countV()}},
+                   {"closed", {initial.isClosedU(), initial.isClosedV()}},
+                   {"ruled", ruled},
+                   {"output", args->out}});
     if (!args->mesh.empty()) {
       report["mesh"] = writeSurfaceMesh(args->mesh, result.surface, args->meshSamples, distance);
     }
@@ -460,15 +398,7 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
       printJson(report);
       return kSuccess;
     }
-    std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
-                fitStatusName(result.status), result.iterations(), result.reason.c_str());
-    std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
-                "step", "move", "scale", "damping", "smooth", "newton");
-    for (const FitIteration& row : result.history) {
-      std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
-                  row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
-                  row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
-    }
+    printFitReport(result, method);
     status(options, "wrote " + args->out);
     return kSuccess;
   });

@@ -1,0 +1,89 @@
+// What the fit commands share (FitReports.h).
+#include "FitReports.h"
+
+#include <cstdio>
+
+#include "Command.h"
+
+namespace d2vdb::cli {
+
+void addFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm, const FitOptionHelp& help) {
+  command.add_option("--iterations", fit.maxIterations, "Iteration cap")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  command.add_option("--smoothness", fit.smoothness, help.smoothness)->check(nonNegativeNumber());
+  command
+      .add_option("--smoothing-bias", fit.automaticSmoothingBias,
+                  "Automatic smoothness: its shift of the fit as a fraction of the fit's "
+                  "resolution RMS x sqrt(control points / terms)")
+      ->capture_default_str()
+      ->check(positiveNumber());
+  command
+      .add_option("--step-smoothness", fit.stepSmoothness,
+                  "Damping of rough and tangential control-point moves (relative; no bias)")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command.add_option("--stretch", fit.stretch, help.stretch)
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command.add_option("--pdm-weight", fit.pdmWeight, "PDM weight of tdm+pdm")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command
+      .add_option("--tolerance", fit.distanceTolerance,
+                  "Stop when the RMS distance reaches this (world units; 0 = off)")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command
+      .add_option(
+          "--step-tolerance", fit.stepTolerance,
+          "Converged when the " + help.spline + " moves by less than this fraction of its size")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command
+      .add_option("--move-tolerance", fit.moveTolerance,
+                  "Converged when the " + help.spline +
+                      "'s move across the target and its RMS change, extrapolated at their "
+                      "rate of convergence, are below this fraction of the fit's resolution")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
+  command.add_flag("--plain-sdm", plainSdm, help.plainSdm);
+}
+
+nlohmann::json fitReportJson(const FitReport& report, FitMethod method) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const FitIteration& row : report.history) {
+    rows.push_back({{"iteration", row.iteration},
+                    {"objective", row.objective},
+                    {"rms_distance", row.rmsDistance},
+                    {"max_distance", row.maxDistance},
+                    {"step_length", row.stepLength},
+                    {"step_scale", row.stepScale},
+                    {"damping", row.damping},
+                    {"target_move", row.targetMove},
+                    {"smoothness", row.smoothness},
+                    {"second_order_weight", row.secondOrderWeight}});
+  }
+  return {{"method", fitMethodName(method)},
+          {"status", fitStatusName(report.status)},
+          {"reason", report.reason},
+          {"iterations", report.iterations()},
+          {"rms_distance", report.history.back().rmsDistance},
+          {"max_distance", report.history.back().maxDistance},
+          {"smoothness", report.history.back().smoothness},
+          {"history", rows}};
+}
+
+void printFitReport(const FitReport& report, FitMethod method) {
+  std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
+              fitStatusName(report.status), report.iterations(), report.reason.c_str());
+  std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
+              "step", "move", "scale", "damping", "smooth", "newton");
+  for (const FitIteration& row : report.history) {
+    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
+                row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
+                row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
+  }
+}
+
+}  // namespace d2vdb::cli

@@ -1,0 +1,42 @@
+// What the fit commands share (`d2vdb fit-curve`, `d2vdb fit-surface`): the command-line options
+// of FitOptions every fitter takes, and the JSON and text reports of a fit. The JSON keys are the
+// documented, stable output format (README, "JSON output").
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "d2vdb/fit/FitHistory.h"
+#include "d2vdb/fit/FitMethod.h"
+#include "d2vdb/fit/FitOptions.h"
+
+namespace d2vdb::cli {
+
+/// The help texts that differ between the fit commands.
+struct FitOptionHelp {
+  std::string spline;      ///< what is fitted: "curve", "surface"
+  std::string smoothness;  ///< --smoothness: the bending energy and its automatic default
+  std::string stretch;     ///< --stretch: the stretching energy
+  std::string plainSdm;    ///< --plain-sdm: what the exact second-order terms are left out of
+};
+
+/// Registers the options of `fit` that every fit command takes: --iterations, --smoothness,
+/// --smoothing-bias, --step-smoothness, --stretch, --pdm-weight, --tolerance, --step-tolerance,
+/// --move-tolerance, and --plain-sdm (sets `plainSdm`; see applyPlainSdm()). Each number is
+/// checked as it is parsed (a non-negative or positive finite number, an iteration cap in
+/// [0, 10^6]); the defaults are those of `fit` at registration.
+void addFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm, const FitOptionHelp& help);
+
+/// {"method", "status", "reason", "iterations", "rms_distance", "max_distance", "smoothness" (of
+///  the last iteration), "history": [{"iteration", "objective", "rms_distance", "max_distance",
+///  "step_length", "step_scale", "damping", "target_move", "smoothness",
+///  "second_order_weight"}]}
+nlohmann::json fitReportJson(const FitReport& report, FitMethod method);
+
+/// Prints to stdout "<method> fit: <status> after N iterations (<reason>)" and the history as a
+/// table, one row per iteration.
+void printFitReport(const FitReport& report, FitMethod method);
+
+}  // namespace d2vdb::cli
