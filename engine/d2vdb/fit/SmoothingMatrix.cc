@@ -4,49 +4,22 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/GaussLegendre.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
 namespace d2vdb {
-
-namespace {
-
-/// The derivative P'_count(x) of the Legendre polynomial of degree `count` (>= 1) at x in (-1, 1),
-/// by the three-term recurrence; sets `value` to P_count(x).
-double legendreDerivative(int count, double x, double& value) {
-  double p0 = 1.0;
-  double p1 = x;
-  for (int n = 2; n <= count; ++n) {
-    const double p2 = ((2.0 * n - 1.0) * x * p1 - (n - 1.0) * p0) / n;
-    p0 = p1;
-    p1 = p2;
-  }
-  value = p1;
-  return count * (x * p1 - p0) / (x * x - 1.0);
-}
-
-}  // namespace
 
 void gaussLegendre(int count, std::vector<double>& nodes, std::vector<double>& weights) {
   if (count < 1 || count > 64) {
     throw InputError("Gauss-Legendre rule needs 1..64 points, got " + std::to_string(count));
   }
-  nodes.assign(static_cast<std::size_t>(count), 0.0);
-  weights.assign(static_cast<std::size_t>(count), 0.0);
-  const double pi = 3.14159265358979323846;
-  for (int i = 0; i < count; ++i) {
-    // Newton on the Legendre polynomial P_count from the Chebyshev-like initial guess.
-    double x = std::cos(pi * (i + 0.75) / (count + 0.5));
-    double value = 0.0;
-    for (int iteration = 0; iteration < 100; ++iteration) {
-      const double slope = legendreDerivative(count, x, value);
-      const double step = value / slope;
-      x -= step;
-      if (std::abs(step) < 1e-16) break;
-    }
-    const double derivative = legendreDerivative(count, x, value);
-    // Map from [-1, 1] to [0, 1].
-    nodes[static_cast<std::size_t>(i)] = 0.5 * (1.0 - x);
-    weights[static_cast<std::size_t>(i)] = 1.0 / ((1.0 - x * x) * derivative * derivative);
+  const GaussLegendreRule rule = gaussLegendreRule(count);
+  nodes.resize(rule.nodes.size());
+  weights.resize(rule.weights.size());
+  // Map from [-1, 1] to [0, 1].
+  for (std::size_t i = 0; i < rule.nodes.size(); ++i) {
+    nodes[i] = 0.5 * (1.0 - rule.nodes[i]);
+    weights[i] = 0.5 * rule.weights[i];
   }
 }
 
