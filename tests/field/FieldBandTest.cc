@@ -17,6 +17,7 @@
 
 #include "ApproximantFieldTestSupport.h"
 #include "FieldTestSupport.h"
+#include "common/ExactApproximant.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
@@ -35,16 +36,7 @@ constexpr double kPi = 3.14159265358979323846;
 /// The approximant of an analytic shape at `centre`: its exact closest-point data.
 template <typename Shape>
 Approximant exactApproximant(const Shape& shape, const Eigen::Vector3d& centre) {
-  const SurfacePoint s = shape.closestSurfacePoint(centre);
-  Approximant a;
-  a.kind = TargetKind::Surface;
-  a.distance = s.signedDistance;
-  a.footpoint = s.point;
-  a.normal = s.normal;
-  a.tangent = s.e1;
-  a.k1 = s.k1;
-  a.k2 = s.k2;
-  return a;
+  return test::approximantFrom(shape.closestSurfacePoint(centre), centre);
 }
 
 /// Points on the torus (centre, radii R and r, axis z) spaced at most `spacing` apart.

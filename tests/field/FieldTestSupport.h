@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
-#include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
 
@@ -15,64 +14,21 @@
 #include <map>
 #include <utility>
 
+#include "common/Icosphere.h"
+#include "common/WithThreads.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::test {
-
-/// Runs `work` with TBB limited to `threads` threads and returns its result.
-template <typename Work>
-auto withThreads(int threads, Work&& work) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                                  static_cast<std::size_t>(threads));
-  return work();
-}
 
 /// Icosahedron subdivided `levels` times (each level splits every triangle into four) with all
 /// vertices on the sphere; triangles wound counter-clockwise seen from outside. The vertices lie
 /// on the sphere, the triangles inside it (chords).
 inline TriangleMesh makeIcosphere(const Eigen::Vector3d& centre, double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
-                                       {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
-                                       {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (Eigen::Vector3d& p : unit) p.normalize();
-  std::vector<TriangleMesh::Triangle> triangles = {
-      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
-    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      unit.push_back((unit[a] + unit[b]).normalized());
-      const auto index = static_cast<std::uint32_t>(unit.size() - 1);
-      midpoints.emplace(key, index);
-      return index;
-    };
-    std::vector<TriangleMesh::Triangle> finer;
-    finer.reserve(triangles.size() * 4);
-    for (const TriangleMesh::Triangle& tri : triangles) {
-      const std::uint32_t ab = midpoint(tri[0], tri[1]);
-      const std::uint32_t bc = midpoint(tri[1], tri[2]);
-      const std::uint32_t ca = midpoint(tri[2], tri[0]);
-      finer.push_back({tri[0], ab, ca});
-      finer.push_back({tri[1], bc, ab});
-      finer.push_back({tri[2], ca, bc});
-      finer.push_back({ab, bc, ca});
-    }
-    triangles = std::move(finer);
-  }
-  // Make every triangle counter-clockwise seen from outside.
-  for (TriangleMesh::Triangle& tri : triangles) {
-    const Eigen::Vector3d normal = (unit[tri[1]] - unit[tri[0]]).cross(unit[tri[2]] - unit[tri[0]]);
-    if (normal.dot(unit[tri[0]] + unit[tri[1]] + unit[tri[2]]) < 0.0) std::swap(tri[1], tri[2]);
-  }
+  UnitIcosphere unit = unitIcosphere(levels);
   TriangleMesh mesh;
-  for (const Eigen::Vector3d& p : unit)
+  for (const Eigen::Vector3d& p : unit.positions)
     mesh.positions.push_back((centre + radius * p).cast<float>());
-  mesh.triangles = std::move(triangles);
+  mesh.triangles = std::move(unit.triangles);
   return mesh;
 }
 

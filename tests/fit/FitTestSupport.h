@@ -2,8 +2,6 @@
 // sampling + Newton on the parameter), thread-count control and sampling helpers.
 #pragma once
 
-#include <tbb/global_control.h>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -14,19 +12,12 @@
 #include <random>
 #include <vector>
 
+#include "common/WithThreads.h"
 #include "d2vdb/spline/BSplineCurve.h"
 
 namespace d2vdb::test {
 
 inline constexpr double kTwoPi = 6.283185307179586476925;
-
-/// Runs `work` with TBB limited to `threads` threads and returns its result.
-template <typename Work>
-auto withThreads(int threads, Work&& work) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                                  static_cast<std::size_t>(threads));
-  return work();
-}
 
 /// A parametric curve with first and second derivatives, for reference distances.
 struct ParametricCurve {

@@ -10,24 +10,11 @@
 #include <cmath>
 #include <string>
 
+#include "common/ExactApproximant.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
 
 namespace d2vdb::test {
-
-/// Approximant of an analytic surface from its exact closest point and differential geometry.
-inline Approximant approximantFrom(const SurfacePoint& s, const Eigen::Vector3d& point) {
-  Approximant a;
-  a.kind = TargetKind::Surface;
-  a.origin = point;
-  a.footpoint = s.point;
-  a.normal = s.normal;
-  a.tangent = s.e1;
-  a.k1 = s.k1;
-  a.k2 = s.k2;
-  a.distance = s.signedDistance;
-  return a;
-}
 
 /// The exact torus (AnalyticShapes' Torus::closestSurfacePoint) as a fitting target.
 class ExactTorusTarget final : public SquaredDistanceTarget {

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
 
@@ -18,20 +17,14 @@
 #include <utility>
 #include <vector>
 
+#include "common/Icosphere.h"
+#include "common/WithThreads.h"
 #include "d2vdb/manifold/HalfEdgeMesh.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::test {
 
 inline constexpr double kPi = 3.14159265358979323846;
-
-/// Runs `work` with TBB limited to `threads` threads and returns its result.
-template <typename Work>
-auto withThreads(int threads, Work&& work) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                                  static_cast<std::size_t>(threads));
-  return work();
-}
 
 /// Positions and triangles of a closed mesh in double precision.
 struct DoubleMesh {
@@ -92,42 +85,10 @@ inline DoubleMesh bipyramid(int n) {
 }
 
 /// Icosahedron with vertices on the unit sphere, subdivided `levels` times (midpoints pushed to
-/// the sphere).
+/// the sphere; unitIcosphere()).
 inline DoubleMesh icosphere(int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  DoubleMesh m;
-  m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  for (Eigen::Vector3d& p : m.positions) p.normalize();
-  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoints;
-    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
-      const auto index = static_cast<std::uint32_t>(m.positions.size() - 1);
-      midpoints.emplace(key, index);
-      return index;
-    };
-    std::vector<TriangleMesh::Triangle> finer;
-    for (const TriangleMesh::Triangle& tri : m.triangles) {
-      const std::uint32_t ab = midpoint(tri[0], tri[1]);
-      const std::uint32_t bc = midpoint(tri[1], tri[2]);
-      const std::uint32_t ca = midpoint(tri[2], tri[0]);
-      finer.push_back({tri[0], ab, ca});
-      finer.push_back({tri[1], bc, ab});
-      finer.push_back({tri[2], ca, bc});
-      finer.push_back({ab, bc, ca});
-    }
-    m.triangles = std::move(finer);
-  }
-  m.orientOutward();
-  return m;
+  UnitIcosphere sphere = unitIcosphere(levels);
+  return {std::move(sphere.positions), std::move(sphere.triangles)};
 }
 
 /// A torus about the z axis with `around` x `across` vertices, every vertex of degree 6 (each

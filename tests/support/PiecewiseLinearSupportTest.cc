@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include "SupportTestSupport.h"
 #include "d2vdb/core/Error.h"
@@ -77,21 +76,9 @@ TEST(PiecewiseLinearSupport, EdgeFlipsRemoveSwallowtailsAndGiveTheConvexPolyhedr
   }
   EXPECT_LT(violation, 1e-12);
   // The dual polyhedron is a closed, consistently oriented mesh enclosing the ellipsoid.
-  const TriangleMesh mesh = pl.dualPolyhedron();
-  std::map<std::pair<TriangleMesh::Index, TriangleMesh::Index>, int> directed;
-  double volume = 0.0;
-  for (const auto& tri : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) ++directed[{tri[k], tri[(k + 1) % 3]}];
-    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>();
-    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>();
-    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>();
-    volume += a.dot(b.cross(c)) / 6.0;
-  }
-  for (const auto& edge : directed) {
-    EXPECT_EQ(edge.second, 1);
-    EXPECT_EQ(directed.count({edge.first.second, edge.first.first}), 1u);
-  }
-  EXPECT_GT(volume, 4.0 / 3.0 * test::kPi * 3.0 * 1.0 * 0.4);
+  const test::ClosedMeshCheck check = test::checkClosedMesh(pl.dualPolyhedron());
+  EXPECT_TRUE(check.closedAndOriented);
+  EXPECT_GT(check.volume, 4.0 / 3.0 * test::kPi * 3.0 * 1.0 * 0.4);
 }
 
 // The dual polyhedron of an icosphere-sampled ellipsoid converges like h^2 in the Hausdorff

@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <map>
 
 #include "SupportTestSupport.h"
 #include "d2vdb/support/SphereQuadrature.h"
@@ -73,19 +72,13 @@ TEST(SupportTessellation, ClosedOutwardMeshOfTheOffsetSurface) {
   const double d = 0.25;
   const TriangleMesh mesh = tessellateSupport(h, sphere, d);
   ASSERT_EQ(mesh.positions.size(), sphere.normals.size());
-  std::map<std::pair<TriangleMesh::Index, TriangleMesh::Index>, int> directed;
-  double volume = 0.0;
+  const test::ClosedMeshCheck check = test::checkClosedMesh(mesh);
+  EXPECT_TRUE(check.closedAndOriented);
   for (const auto& tri : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) ++directed[{tri[k], tri[(k + 1) % 3]}];
     const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>();
     const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>();
     const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>();
-    volume += a.dot(b.cross(c)) / 6.0;
     EXPECT_GT((b - a).cross(c - a).dot(mesh.normals[tri[0]].cast<double>()), 0.0);
-  }
-  for (const auto& edge : directed) {
-    EXPECT_EQ(edge.second, 1);
-    EXPECT_EQ(directed.count({edge.first.second, edge.first.first}), 1u);
   }
   for (std::size_t i = 0; i < sphere.normals.size(); i += 37) {
     EXPECT_LT((mesh.positions[i].cast<double>() - h.point(sphere.normals[i], d)).norm(), 1e-6);
@@ -93,8 +86,8 @@ TEST(SupportTessellation, ClosedOutwardMeshOfTheOffsetSurface) {
   }
   // The inscribed mesh's volume approaches Steiner's value from below (chords, O(h^2)).
   const double steiner = supportMeasures(h).offsetVolume(d);
-  EXPECT_LT(volume, steiner);
-  EXPECT_GT(volume, steiner * (1.0 - 1.5e-3));
+  EXPECT_LT(check.volume, steiner);
+  EXPECT_GT(check.volume, steiner * (1.0 - 1.5e-3));
 }
 
 }  // namespace

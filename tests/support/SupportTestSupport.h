@@ -2,30 +2,22 @@
 // support functions, random unit vectors, thread-count control.
 #pragma once
 
-#include <tbb/global_control.h>
-
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
+#include <utility>
 #include <vector>
 
-#include <algorithm>
-
+#include "common/WithThreads.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 #include "d2vdb/support/SupportFit.h"
 
 namespace d2vdb::test {
 
 constexpr double kPi = 3.14159265358979323846;
-
-/// Runs `work` with TBB limited to `threads` threads and returns its result.
-template <typename Work>
-auto withThreads(int threads, Work&& work) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
-                                  static_cast<std::size_t>(threads));
-  return work();
-}
 
 /// `count` unit vectors, uniformly distributed, from a fixed seed.
 inline std::vector<Eigen::Vector3d> randomUnitVectors(std::size_t count, unsigned seed) {
@@ -101,6 +93,35 @@ inline double signedDistanceToEllipsoid(const Ellipsoid& e, const Eigen::Vector3
       (p.x() / e.a) * (p.x() / e.a) + (p.y() / e.b) * (p.y() / e.b) + (p.z() / e.c) * (p.z() / e.c);
   const double distance = (Eigen::Vector3d(q[0], q[1], q[2]) - closest).norm();
   return inside < 1.0 ? -distance : distance;
+}
+
+/// What checkClosedMesh() finds.
+struct ClosedMeshCheck {
+  /// Every directed edge occurs exactly once and so does its reverse: the mesh is closed,
+  /// edge-manifold and consistently oriented.
+  bool closedAndOriented = true;
+  /// The signed volume it encloses (divergence theorem; positive when the triangles face out).
+  double volume = 0.0;
+};
+
+/// Counts the mesh's directed edges and sums the signed volumes of the tetrahedra from the origin
+/// to its triangles.
+inline ClosedMeshCheck checkClosedMesh(const TriangleMesh& mesh) {
+  std::map<std::pair<TriangleMesh::Index, TriangleMesh::Index>, int> directed;
+  ClosedMeshCheck check;
+  for (const auto& tri : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{tri[k], tri[(k + 1) % 3]}];
+    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>();
+    check.volume += a.dot(b.cross(c)) / 6.0;
+  }
+  for (const auto& edge : directed) {
+    if (edge.second != 1 || directed.count({edge.first.second, edge.first.first}) != 1) {
+      check.closedAndOriented = false;
+    }
+  }
+  return check;
 }
 
 /// The one-sheeted hyperboloid x^2 + y^2 - z^2 = 1, |z| <= zMax, as an outward-oriented grid

@@ -41,6 +41,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <type_traits>
@@ -56,6 +57,7 @@
 #include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/PointCloudFitter.h"
 #include "d2vdb/fit/SurfaceFitter.h"
+#include "fit/FitTestSupport.h"
 
 namespace {
 
@@ -85,6 +87,15 @@ bool useExactSecondOrder(Options& options, bool use) {
     (void)options;
     return use;
   }
+}
+
+/// Runs `fit` once per benchmark iteration and returns the last result (no result of the library
+/// version's own layout is built by hand).
+template <typename Fit>
+auto lastResult(benchmark::State& state, Fit&& fit) {
+  std::optional<decltype(fit())> result;
+  for (auto _ : state) result.emplace(fit());
+  return std::move(*result);
 }
 
 /// Every fit runs exactly maxIterations iterations.
@@ -224,127 +235,42 @@ BENCHMARK(BM_FitIterationSpeedup)
 
 // ---- Generated clouds of known curves (BM_CloudIteration, BM_Converge) ----
 
-/// A curve with its first derivative (for normals and arc length).
+/// A known curve (FitTestSupport.h) with its dimension and size (the noise level's scale).
 struct KnownCurve {
-  Eigen::Vector3d (*point)(double);
-  Eigen::Vector3d (*first)(double);
-  double start, end;
-  bool closed;
+  d2vdb::test::ParametricCurve curve;
   int dimension;
   double size;
 };
 
-Eigen::Vector3d lobedPoint(double t) {
-  const double r = 1.0 + 0.2 * std::cos(3.0 * t);
-  return {r * std::cos(t), 0.8 * r * std::sin(t), 0.0};
-}
-Eigen::Vector3d lobedFirst(double t) {
-  const double r = 1.0 + 0.2 * std::cos(3.0 * t), dr = -0.6 * std::sin(3.0 * t);
-  return {dr * std::cos(t) - r * std::sin(t), 0.8 * (dr * std::sin(t) + r * std::cos(t)), 0.0};
-}
-Eigen::Vector3d helixPoint(double t) {
-  return {std::cos(t), std::sin(t), 0.25 * t};
-}
-Eigen::Vector3d helixFirst(double t) {
-  return {-std::sin(t), std::cos(t), 0.25};
-}
+const KnownCurve kLobedLoop{d2vdb::test::threeLobedLoop(), 2, 2.4};
+const KnownCurve kHelix{d2vdb::test::helixCurve(1.0, 0.25, 1.5), 3, 2.0};
 
-const KnownCurve kLobedLoop{lobedPoint, lobedFirst, 0.0, kTwoPi, true, 2, 2.4};
-const KnownCurve kHelix{helixPoint, helixFirst, 0.0, 1.5 * kTwoPi, false, 3, 2.0};
+using d2vdb::test::Sampling;
 
-enum class Sampling { Noisy, NonUniformNoisy, Thick, Clean };
-
-/// `count` points of `curve`: uniform in arc length (density 2 + cos(2 pi s / L) for
-/// NonUniformNoisy, evenly spaced for Clean), Gaussian noise of sigma 0.5 % of the size per
-/// coordinate, or uniform across a band / tube of radius 2.5 % of the size (Thick).
-std::vector<Eigen::Vector3d> sampleCurve(const KnownCurve& curve, Sampling sampling, int count,
+/// `count` points of `known` sampled as d2vdb::test::generateCloud() does.
+std::vector<Eigen::Vector3d> sampleCurve(const KnownCurve& known, Sampling sampling, int count,
                                          unsigned seed) {
-  const int table = 20000;
-  std::vector<double> parameter(table + 1), weight(table + 1, 0.0), arc(table + 1, 0.0);
-  for (int i = 0; i <= table; ++i)
-    parameter[i] = curve.start + (curve.end - curve.start) * i / table;
-  for (int i = 1; i <= table; ++i) {
-    arc[i] = arc[i - 1] + (curve.point(parameter[i]) - curve.point(parameter[i - 1])).norm();
-  }
-  for (int i = 1; i <= table; ++i) {
-    const double s = 0.5 * (arc[i] + arc[i - 1]);
-    const double density =
-        sampling == Sampling::NonUniformNoisy ? 2.0 + std::cos(kTwoPi * s / arc.back()) : 1.0;
-    weight[i] = weight[i - 1] + density * (arc[i] - arc[i - 1]);
-  }
-  std::mt19937 engine(seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < count; ++i) {
-    const double w =
-        (sampling == Sampling::Clean ? (i + 0.5) / count : uniform(engine)) * weight.back();
-    const std::size_t j = static_cast<std::size_t>(std::max<std::ptrdiff_t>(
-        1, std::lower_bound(weight.begin(), weight.end(), w) - weight.begin()));
-    const double f = (w - weight[j - 1]) / std::max(1e-300, weight[j] - weight[j - 1]);
-    const double t = parameter[j - 1] + f * (parameter[j] - parameter[j - 1]);
-    Eigen::Vector3d p = curve.point(t);
-    const Eigen::Vector3d tangent = curve.first(t).normalized();
-    if (sampling == Sampling::Thick) {
-      const double radius = 0.025 * curve.size;
-      if (curve.dimension == 2) {
-        p += (2.0 * uniform(engine) - 1.0) * radius * Eigen::Vector3d(-tangent.y(), tangent.x(), 0);
-      } else {
-        const Eigen::Vector3d n1 = tangent.unitOrthogonal(), n2 = tangent.cross(n1);
-        double a = 1.0, b = 1.0;
-        while (a * a + b * b > 1.0)
-          a = 2.0 * uniform(engine) - 1.0, b = 2.0 * uniform(engine) - 1.0;
-        p += radius * (a * n1 + b * n2);
-      }
-    } else if (sampling != Sampling::Clean) {
-      const double sigma = 0.005 * curve.size;
-      p += sigma * Eigen::Vector3d(gauss(engine), gauss(engine),
-                                   curve.dimension == 3 ? gauss(engine) : 0.0);
-    }
-    points.push_back(p);
-  }
-  return points;
+  return d2vdb::test::generateCloud(known.curve, known.dimension, sampling, count, known.size, seed)
+      .points;
 }
 
 /// The initial curve `fit-curve` would start from: an ellipse around the cloud (closed), a
 /// least-squares curve through a rough ordered sketch of the curve (open).
-d2vdb::BSplineCurve startingCurve(const KnownCurve& curve,
+d2vdb::BSplineCurve startingCurve(const KnownCurve& known,
                                   const std::vector<Eigen::Vector3d>& cloud, int controlPoints) {
-  if (curve.closed) {
+  const d2vdb::test::ParametricCurve& curve = known.curve;
+  if (curve.periodic) {
     return d2vdb::initialCurveAround(cloud, d2vdb::InitialShape::Ellipse, 3, controlPoints,
-                                     curve.dimension, 1.2);
+                                     known.dimension, 1.2);
   }
   std::vector<Eigen::Vector3d> sketch;
   for (int i = 0; i < 30; ++i) {
     sketch.push_back(curve.point(curve.start + (curve.end - curve.start) * i / 29.0) +
-                     0.02 * curve.size *
+                     0.02 * known.size *
                          Eigen::Vector3d(std::sin(1.7 * i), std::cos(2.3 * i),
-                                         curve.dimension == 3 ? std::sin(0.7 * i) : 0.0));
+                                         known.dimension == 3 ? std::sin(0.7 * i) : 0.0));
   }
-  return d2vdb::fitPolylineLeastSquares(sketch, false, 3, controlPoints, curve.dimension);
-}
-
-/// RMS distance from 1000 samples of `fit` to `curve` (brute force against 20000 samples of it),
-/// leaving out samples whose nearest point is an end of an open curve.
-double rmsToCurve(const d2vdb::BSplineCurve& fit, const KnownCurve& curve) {
-  std::vector<Eigen::Vector3d> dense;
-  const int count = 20000;
-  for (int i = 0; i <= count; ++i)
-    dense.push_back(curve.point(curve.start + (curve.end - curve.start) * i / count));
-  double sum = 0.0;
-  int used = 0;
-  for (const Eigen::Vector3d& p : fit.sample(1000)) {
-    double best = std::numeric_limits<double>::infinity();
-    int bestIndex = 0;
-    for (int i = 0; i <= count; ++i) {
-      const double d = (dense[static_cast<std::size_t>(i)] - p).squaredNorm();
-      if (d < best) best = d, bestIndex = i;
-    }
-    if (!curve.closed && (bestIndex == 0 || bestIndex == count)) continue;
-    sum += best;
-    ++used;
-  }
-  return used > 0 ? std::sqrt(sum / used) : 0.0;
+  return d2vdb::fitPolylineLeastSquares(sketch, false, 3, controlPoints, known.dimension);
 }
 
 /// Seconds per SDM II iteration (as secondsPerIteration()).
@@ -369,7 +295,7 @@ double secondsPerCloudIteration(const d2vdb::BSplineCurve& initial,
 void BM_CloudIteration(benchmark::State& state) {
   const bool clean = state.range(0) > 5000;
   const std::vector<Eigen::Vector3d> cloud =
-      sampleCurve(kLobedLoop, clean ? Sampling::Clean : Sampling::NonUniformNoisy,
+      sampleCurve(kLobedLoop, clean ? Sampling::Clean : Sampling::NonUniform,
                   static_cast<int>(state.range(0)), 3);
   const d2vdb::BSplineCurve initial = startingCurve(kLobedLoop, cloud, 16);
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
@@ -399,7 +325,7 @@ void BM_Converge(benchmark::State& state) {
     int points;
   };
   static const Case cases[] = {
-      {"closed loop, non-uniform noisy, 3000 points", &kLobedLoop, Sampling::NonUniformNoisy, 3000},
+      {"closed loop, non-uniform noisy, 3000 points", &kLobedLoop, Sampling::NonUniform, 3000},
       {"closed loop, clean, 20000 points", &kLobedLoop, Sampling::Clean, 20000},
       {"closed loop, thick, 3000 points", &kLobedLoop, Sampling::Thick, 3000},
       {"open 3D helix, noisy, 3000 points", &kHelix, Sampling::Noisy, 3000},
@@ -417,11 +343,12 @@ void BM_Converge(benchmark::State& state) {
     state.SkipWithError("this library has no exact second-order terms (SDM is plain here)");
     return;
   }
-  d2vdb::CurveFitResult result{initial, {}, {}, {}, {}};
-  for (auto _ : state) result = d2vdb::fitCurveToPoints(initial, cloud, options);
+  const d2vdb::CurveFitResult result =
+      lastResult(state, [&] { return d2vdb::fitCurveToPoints(initial, cloud, options); });
   state.counters["iterations"] = result.iterations();
   state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
-  state.counters["rms_clean"] = rmsToCurve(result.curve, *c.curve);
+  state.counters["rms_clean"] =
+      d2vdb::test::splineToCurveInterior(result.curve, c.curve->curve, 1000);
   state.counters["data_rms"] = result.history.back().rmsDistance;
   static const char* methodNames[] = {"sdm", "pdm", "tdm+pdm", "sdm without second-order terms"};
   state.SetLabel(std::string(c.name) + ", " + methodNames[method]);
@@ -479,11 +406,10 @@ void BM_TimeToRms(benchmark::State& state) {
   options.method = method;
   options.maxIterations = 3000;  // default tolerances otherwise: a fit may stop short (reached 0)
   options.distanceTolerance = factor * (cloud ? p.cloudRms : p.fieldRms);
-  d2vdb::CurveFitResult result{*p.initial, {}, {}, {}, {}};
-  for (auto _ : state) {
-    result = cloud ? d2vdb::fitCurveToPoints(*p.initial, p.cloud, options)
-                   : d2vdb::fitCurve(*p.initial, *p.field, options);
-  }
+  const d2vdb::CurveFitResult result = lastResult(state, [&] {
+    return cloud ? d2vdb::fitCurveToPoints(*p.initial, p.cloud, options)
+                 : d2vdb::fitCurve(*p.initial, *p.field, options);
+  });
   state.counters["iterations"] = result.iterations();
   state.counters["rms"] = result.history.back().rmsDistance;
   state.counters["target_rms"] = options.distanceTolerance;
@@ -576,11 +502,10 @@ void BM_SurfaceConverge(benchmark::State& state) {
   placement.layout = d2vdb::SurfaceLayout{3, 3, 12, 12, false, false};
   const d2vdb::BSplineSurface initial =
       torus ? torusStart(which == 0 ? 16 : 8) : d2vdb::initialSurfaceAround(waveCloud(), placement);
-  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
-  for (auto _ : state) {
-    result = torus ? d2vdb::fitSurface(initial, torusField(), options)
-                   : d2vdb::fitSurfaceToPoints(initial, waveCloud(), options);
-  }
+  const d2vdb::SurfaceFitResult result = lastResult(state, [&] {
+    return torus ? d2vdb::fitSurface(initial, torusField(), options)
+                 : d2vdb::fitSurfaceToPoints(initial, waveCloud(), options);
+  });
   state.counters["iterations"] = result.iterations();
   state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
   state.counters["data_rms"] = result.history.back().rmsDistance;
@@ -606,8 +531,8 @@ void BM_SurfaceTimeToRms(benchmark::State& state) {
   options.maxIterations = 300;
   options.distanceTolerance = 1.02 * sdmRms;
   const d2vdb::BSplineSurface initial = torusStart(16);
-  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
-  for (auto _ : state) result = d2vdb::fitSurface(initial, torusField(), options);
+  const d2vdb::SurfaceFitResult result =
+      lastResult(state, [&] { return d2vdb::fitSurface(initial, torusField(), options); });
   state.counters["iterations"] = result.iterations();
   state.counters["rms"] = result.history.back().rmsDistance;
   state.counters["target_rms"] = options.distanceTolerance;

@@ -46,6 +46,7 @@
 #include "d2vdb/support/SupportFit.h"
 #include "d2vdb/support/SupportTessellation.h"
 #include "d2vdb/support/detail/SupportDesign.h"
+#include "support/SupportTestSupport.h"
 
 namespace {
 
@@ -60,61 +61,22 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-std::vector<Eigen::Vector3d> randomUnitVectors(std::size_t count, unsigned seed) {
-  std::mt19937_64 engine(seed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<Eigen::Vector3d> out;
-  out.reserve(count);
-  while (out.size() < count) {
-    const Eigen::Vector3d v(gauss(engine), gauss(engine), gauss(engine));
-    if (v.norm() > 1e-6) out.push_back(v.normalized());
-  }
-  return out;
-}
+using d2vdb::test::randomUnitVectors;
 
-// The ellipsoid with semi-axes (2, 1.5, 1): h(n) = |A n|, x_h(n) = A^2 n / |A n|.
+// The ellipsoid with semi-axes (2, 1.5, 1), centred at the origin (SupportTestSupport.h).
 constexpr double kA = 2.0, kB = 1.5, kC = 1.0;
+const d2vdb::test::Ellipsoid kEllipsoid{kA, kB, kC};
 
 Eigen::Vector3d ellipsoidPoint(const Eigen::Vector3d& n) {
-  const Eigen::Vector3d an(kA * n.x(), kB * n.y(), kC * n.z());
-  return Eigen::Vector3d(kA * an.x(), kB * an.y(), kC * an.z()) / an.norm();
+  return kEllipsoid.point(n);
 }
 
 d2vdb::OrientedSamples ellipsoidSamples(std::size_t count, unsigned seed) {
-  d2vdb::OrientedSamples samples;
-  samples.normals = randomUnitVectors(count, seed);
-  for (const auto& n : samples.normals) samples.points.push_back(ellipsoidPoint(n));
-  return samples;
+  return kEllipsoid.samples(count, seed);
 }
 
-// Signed distance to the ellipsoid (Eberly 2013: bisection on the Lagrange parameter).
 double signedDistanceToEllipsoid(const Eigen::Vector3d& p) {
-  const double axes[3] = {kA, kB, kC};
-  double q[3];
-  for (int i = 0; i < 3; ++i) q[i] = std::abs(p[i]) < 1e-12 ? 1e-12 : p[i];
-  const auto f = [&](double t) {
-    double sum = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      const double r = axes[i] * q[i] / (t + axes[i] * axes[i]);
-      sum += r * r;
-    }
-    return sum - 1.0;
-  };
-  double lo = -kC * kC;
-  double hi = 1.0;
-  while (f(hi) > 0.0) hi *= 2.0;
-  for (int iteration = 0; iteration < 200; ++iteration) {
-    const double mid = 0.5 * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (f(mid) > 0.0 ? lo : hi) = mid;
-  }
-  const double t = 0.5 * (lo + hi);
-  Eigen::Vector3d closest;
-  for (int i = 0; i < 3; ++i) closest[i] = axes[i] * axes[i] * q[i] / (t + axes[i] * axes[i]);
-  const double inside =
-      (p.x() / kA) * (p.x() / kA) + (p.y() / kB) * (p.y() / kB) + (p.z() / kC) * (p.z() / kC);
-  const double distance = (Eigen::Vector3d(q[0], q[1], q[2]) - closest).norm();
-  return inside < 1.0 ? -distance : distance;
+  return d2vdb::test::signedDistanceToEllipsoid(kEllipsoid, p);
 }
 
 void BM_FitVsDenseProduct(benchmark::State& state) {
@@ -339,9 +301,7 @@ void BM_FitAccuracy(benchmark::State& state) {
 // an ellipsoid point's distance to the boundary is its distance to the nearest face plane).
 void BM_DualPolyhedron(benchmark::State& state) {
   const int subdivisions = static_cast<int>(state.range(0));
-  const auto support = [](const Eigen::Vector3d& n) {
-    return Eigen::Vector3d(kA * n.x(), kB * n.y(), kC * n.z()).norm();
-  };
+  const auto support = [](const Eigen::Vector3d& n) { return kEllipsoid.support(n); };
   std::size_t foldedBefore = 0;
   std::size_t flips = 0;
   std::size_t foldedAfter = 0;
