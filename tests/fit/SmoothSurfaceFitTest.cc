@@ -32,7 +32,7 @@ TEST(SmoothSurfaceFit, ClosedCurveIsPulledOntoAPseudoManifold) {
   CurveFitOptions options;
   options.maxIterations = 40;
   const CurveFitResult result = fitCurve(initial, target, options);
-  EXPECT_NE(result.status, FitStatus::Stalled) << result.reason;
+  EXPECT_EQ(result.status, FitStatus::Converged) << result.reason;
   double worst = 0.0;
   for (const Eigen::Vector3d& p : result.curve.sample(500)) {
     worst = std::max(worst, target.project(p).distance);  // exact distance to the surface
@@ -77,6 +77,10 @@ TEST(SmoothSurfaceFit, TorusSurfaceFromWrongRadiiFitsAPseudoManifold) {
       "smooth surface max %.3g RMS %.3g; to the analytic torus max %.3g (the smooth surface's "
       "own distance from it %.3g)\n",
       result.iterations(), fitStatusName(result.status), toSurface, rms, toTorus, surfaceFromTorus);
+  // Not asserted converged: from these radii the sensors' parametrisation around the tube is
+  // distorted by the first steps and slides back slowly (RMS 6.0e-5 after 3 iterations, 4.2e-5 at
+  // convergence after 55 iterations), beyond this test's time budget; the cap stops it at
+  // 15 with the accuracy asserted below.
   EXPECT_NE(result.status, FitStatus::Stalled) << result.reason;
   // On the exact torus the same fit reaches max 3e-4 and RMS 8e-5 (tests/fit/SurfaceFitterTest);
   // the smooth surface is as easy a target.
