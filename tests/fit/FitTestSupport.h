@@ -1,9 +1,12 @@
 // Independent references for the fitting tests: analytic ellipse and helix distances (dense
-// sampling + Newton on the parameter), thread-count control and sampling helpers.
+// sampling + Newton on the parameter), sampling helpers and a dense reference of the quadratic
+// model's step.
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <Eigen/Sparse>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "common/WithThreads.h"
+#include "d2vdb/field/Approximant.h"
 #include "d2vdb/spline/BSplineCurve.h"
 
 namespace d2vdb::test {
@@ -287,6 +291,41 @@ inline double pointsToSpline(const std::vector<Eigen::Vector3d>& points, const B
     worst = std::max(worst, referenceDistance(curve, p, nullptr, dense));
   }
   return worst;
+}
+
+/// The minimiser c of (1/N) sum_k Q_k(J_k (P + c)) + sum_a (P + c)_a^T S (P + c)_a (a over the
+/// coordinates) by a dense solve of its normal equations: the reference for QuadraticModel::solve.
+/// `jacobian(k)` is the 3 x 3n derivative J_k of sensor k's position by the n = points.size()
+/// control points P, `forms` the N sensors' quadratic forms Q_k and `smoothing` the n x n matrix S.
+template <typename Jacobian>
+std::vector<Eigen::Vector3d> denseModelStep(int sensorCount, Jacobian&& jacobian,
+                                            const std::vector<QuadraticForm>& forms,
+                                            const Eigen::SparseMatrix<double>& smoothing,
+                                            const std::vector<Eigen::Vector3d>& points) {
+  const int n = static_cast<int>(points.size());
+  Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  Eigen::VectorXd right = Eigen::VectorXd::Zero(3 * n);
+  const double inverseCount = 1.0 / sensorCount;
+  for (int k = 0; k < sensorCount; ++k) {
+    const Eigen::MatrixXd j = jacobian(k);
+    const QuadraticForm& form = forms[static_cast<std::size_t>(k)];
+    hessian += inverseCount * j.transpose() * form.A * j;
+    right += inverseCount * j.transpose() * form.b;
+  }
+  const Eigen::MatrixXd dense = Eigen::MatrixXd(smoothing);
+  Eigen::VectorXd current(3 * n);
+  for (int i = 0; i < n; ++i) {
+    current.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
+    for (int j = 0; j < n; ++j) {
+      hessian.block<3, 3>(3 * i, 3 * j) += dense(i, j) * Eigen::Matrix3d::Identity();
+    }
+  }
+  const Eigen::VectorXd target = hessian.ldlt().solve(right);
+  std::vector<Eigen::Vector3d> step(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    step[static_cast<std::size_t>(i)] = target.segment<3>(3 * i) - current.segment<3>(3 * i);
+  }
+  return step;
 }
 
 }  // namespace d2vdb::test

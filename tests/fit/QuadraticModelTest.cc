@@ -50,39 +50,21 @@ std::vector<QuadraticForm> randomForms(int count, unsigned seed) {
 }
 
 /// The minimiser of (1/N) sum_k Q_k(x_k(P + c)) + sum_a (P + c)_a^T S (P + c)_a by a dense solve
-/// of its normal equations, built from one Jacobian per sensor.
+/// of its normal equations, built from one Jacobian per sensor (from the basis' weights).
 std::vector<Eigen::Vector3d> denseStep(const SensorMap& basis,
                                        const std::vector<QuadraticForm>& forms,
                                        const Eigen::SparseMatrix<double>& smoothing,
                                        const std::vector<Eigen::Vector3d>& points) {
   const int n = static_cast<int>(points.size());
-  Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  Eigen::VectorXd right = Eigen::VectorXd::Zero(3 * n);
-  const double inverseCount = 1.0 / basis.sensorCount();
-  for (int k = 0; k < basis.sensorCount(); ++k) {
-    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(3, 3 * n);  // d x_k / d P
+  const auto jacobian = [&](int k) {
+    Eigen::MatrixXd result = Eigen::MatrixXd::Zero(3, 3 * n);  // d x_k / d P
     for (int j = 0; j < basis.order(); ++j) {
-      jacobian.middleCols(3 * basis.index(k, j), 3) +=
+      result.middleCols(3 * basis.index(k, j), 3) +=
           basis.weight(k, j) * Eigen::Matrix3d::Identity();
     }
-    const QuadraticForm& form = forms[static_cast<std::size_t>(k)];
-    hessian += inverseCount * jacobian.transpose() * form.A * jacobian;
-    right += inverseCount * jacobian.transpose() * form.b;
-  }
-  const Eigen::MatrixXd dense = Eigen::MatrixXd(smoothing);
-  Eigen::VectorXd current(3 * n);
-  for (int i = 0; i < n; ++i) {
-    current.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
-    for (int j = 0; j < n; ++j) {
-      hessian.block<3, 3>(3 * i, 3 * j) += dense(i, j) * Eigen::Matrix3d::Identity();
-    }
-  }
-  const Eigen::VectorXd target = hessian.ldlt().solve(right);
-  std::vector<Eigen::Vector3d> step(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    step[static_cast<std::size_t>(i)] = target.segment<3>(3 * i) - current.segment<3>(3 * i);
-  }
-  return step;
+    return result;
+  };
+  return test::denseModelStep(basis.sensorCount(), jacobian, forms, smoothing, points);
 }
 
 double largestDifference(const std::vector<Eigen::Vector3d>& a,

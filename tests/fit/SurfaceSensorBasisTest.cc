@@ -110,31 +110,18 @@ TEST(SurfaceSensorBasis, ModelSolveMatchesADenseSolve) {
       basisValues(k, m) = indicator.evaluate(basis.parameter(k).x(), basis.parameter(k).y()).x();
     }
   }
-  Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  Eigen::VectorXd right = Eigen::VectorXd::Zero(3 * n);
-  for (int k = 0; k < basis.sensorCount(); ++k) {
-    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(3, 3 * n);
+  const auto jacobian = [&](int k) {
+    Eigen::MatrixXd result = Eigen::MatrixXd::Zero(3, 3 * n);
     for (int m = 0; m < n; ++m) {
-      jacobian.middleCols(3 * m, 3) = basisValues(k, m) * Eigen::Matrix3d::Identity();
+      result.middleCols(3 * m, 3) = basisValues(k, m) * Eigen::Matrix3d::Identity();
     }
-    hessian += jacobian.transpose() * forms[static_cast<std::size_t>(k)].A * jacobian /
-               basis.sensorCount();
-    right += jacobian.transpose() * forms[static_cast<std::size_t>(k)].b / basis.sensorCount();
-  }
-  const Eigen::MatrixXd dense(smoothing);
-  Eigen::VectorXd current(3 * n);
+    return result;
+  };
+  const std::vector<Eigen::Vector3d> reference =
+      test::denseModelStep(basis.sensorCount(), jacobian, forms, smoothing, points);
   for (int i = 0; i < n; ++i) {
-    current.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
-    for (int j = 0; j < n; ++j) {
-      hessian.block<3, 3>(3 * i, 3 * j) += dense(i, j) * Eigen::Matrix3d::Identity();
-    }
-  }
-  const Eigen::VectorXd target = hessian.ldlt().solve(right);
-  for (int i = 0; i < n; ++i) {
-    EXPECT_LT(
-        (step[static_cast<std::size_t>(i)] - (target.segment<3>(3 * i) - current.segment<3>(3 * i)))
-            .norm(),
-        1e-9);
+    EXPECT_LT((step[static_cast<std::size_t>(i)] - reference[static_cast<std::size_t>(i)]).norm(),
+              1e-9);
   }
 }
 
