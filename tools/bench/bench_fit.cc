@@ -16,6 +16,14 @@
 //    points); SDM, PDM, TDM+PDM and SDM without the exact second-order terms. Counters:
 //    iterations, converged (1/0), rms_clean (RMS distance of the fit to the clean curve),
 //    data_rms. The source builds against older versions of the library too (side-by-side runs).
+//  - BM_SdmCorrection/case: SDM II with default options with and without the footpoint
+//    correction (CurveFitOptions::footpointCorrection), run one after the other in each of three
+//    benchmark iterations (paired), from the initial curve `fit-curve` would use: the open 2D wave
+//    (t, 0.3 sin(1.25 pi t)) and the open 3D helix sampled cleanly (2000 points), the wavy closed
+//    3D loop (r cos t, r sin t, 0.3 sin 3t), r = 1 + 0.25 cos 3t, noisy (3000 points), the closed
+//    three-lobed loop clean (20000 points) and non-uniform noisy (3000). Counters: it_with,
+//    it_without, ms_with, ms_without (medians), time_ratio (without / with), rms_with and
+//    rms_without (to the clean curve), converged (both).
 //  - BM_TimeToRms/<target>/<method>/<permille>: wall time for SDM and PDM, from the same initial
 //    curve, to reach the same RMS error ((1 + permille / 1000) x the RMS SDM converges to with
 //    default tolerances), on a noisy point cloud (SDM II) and on a curve field
@@ -74,6 +82,12 @@ template <typename T, typename = void>
 struct HasExactSecondOrder : std::false_type {};
 template <typename T>
 struct HasExactSecondOrder<T, std::void_t<decltype(std::declval<T&>().exactSecondOrder)>>
+    : std::true_type {};
+
+template <typename T, typename = void>
+struct HasFootpointCorrection : std::false_type {};
+template <typename T>
+struct HasFootpointCorrection<T, std::void_t<decltype(std::declval<T&>().footpointCorrection)>>
     : std::true_type {};
 
 /// Sets exactSecondOrder where the library has it; false when it has not and `use` is false
@@ -245,6 +259,9 @@ struct KnownCurve {
 const KnownCurve kLobedLoop{d2vdb::test::threeLobedLoop(), 2, 2.4};
 const KnownCurve kHelix{d2vdb::test::helixCurve(1.0, 0.25, 1.5), 3, 2.0};
 
+const KnownCurve kOpenWave{d2vdb::test::openWave(), 2, 2.0};
+const KnownCurve kWavyLoop{d2vdb::test::wavySpaceLoop(), 3, 2.5};
+
 using d2vdb::test::Sampling;
 
 /// `count` points of `known` sampled as d2vdb::test::generateCloud() does.
@@ -359,6 +376,76 @@ BENCHMARK(BM_Converge)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+void BM_SdmCorrection(benchmark::State& state) {
+  struct Case {
+    const char* name;
+    const KnownCurve* curve;
+    Sampling sampling;
+    int points;
+    int controlPoints;
+  };
+  static const Case cases[] = {
+      {"open 2D wave, clean, 2000 points, 12 control points", &kOpenWave, Sampling::Clean, 2000,
+       12},
+      {"open 3D helix, clean, 2000 points, 16 control points", &kHelix, Sampling::Clean, 2000, 16},
+      {"wavy closed 3D loop, noisy, 3000 points, 20 control points", &kWavyLoop, Sampling::Noisy,
+       3000, 20},
+      {"closed loop, clean, 20000 points, 16 control points", &kLobedLoop, Sampling::Clean, 20000,
+       16},
+      {"closed loop, non-uniform noisy, 3000 points, 16 control points", &kLobedLoop,
+       Sampling::NonUniform, 3000, 16},
+  };
+  const Case& c = cases[state.range(0)];
+  const std::vector<Eigen::Vector3d> cloud = sampleCurve(*c.curve, c.sampling, c.points, 17);
+  const d2vdb::BSplineCurve initial = startingCurve(*c.curve, cloud, c.controlPoints);
+  d2vdb::CurveFitOptions options;
+  options.maxIterations = 1000;
+  d2vdb::CurveFitOptions uncorrected = options;
+  if constexpr (HasFootpointCorrection<d2vdb::CurveFitOptions>::value) {
+    uncorrected.footpointCorrection = false;
+  } else {
+    state.SkipWithError("this library has no footpoint correction");
+    return;
+  }
+  std::optional<d2vdb::CurveFitResult> with, without;
+  std::vector<double> withSeconds, withoutSeconds;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    with.emplace(d2vdb::fitCurveToPoints(initial, cloud, options));
+    const auto middle = std::chrono::steady_clock::now();
+    without.emplace(d2vdb::fitCurveToPoints(initial, cloud, uncorrected));
+    const auto end = std::chrono::steady_clock::now();
+    const std::chrono::duration<double> first = middle - start, second = end - middle;
+    withSeconds.push_back(first.count());
+    withoutSeconds.push_back(second.count());
+    state.SetIterationTime(first.count());
+  }
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+  };
+  state.counters["it_with"] = with->iterations();
+  state.counters["it_without"] = without->iterations();
+  state.counters["converged"] =
+      with->status == d2vdb::FitStatus::Converged && without->status == d2vdb::FitStatus::Converged
+          ? 1.0
+          : 0.0;
+  state.counters["ms_with"] = 1e3 * median(withSeconds);
+  state.counters["ms_without"] = 1e3 * median(withoutSeconds);
+  state.counters["time_ratio"] = median(withoutSeconds) / median(withSeconds);
+  state.counters["rms_with"] =
+      d2vdb::test::splineToCurveInterior(with->curve, c.curve->curve, 1000);
+  state.counters["rms_without"] =
+      d2vdb::test::splineToCurveInterior(without->curve, c.curve->curve, 1000);
+  state.SetLabel(c.name);
+}
+BENCHMARK(BM_SdmCorrection)
+    ->ArgName("case")
+    ->DenseRange(0, 4)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(3);
 
 std::vector<Eigen::Vector3d> noisyFlowerCloud() {
   std::mt19937 engine(5);

@@ -100,6 +100,7 @@ struct Arguments {
   int every = 1;
   bool compare = false;
   bool plainSdm = false;
+  bool noFootpointCorrection = false;
   CurveFitOptions fit;
 };
 
@@ -232,6 +233,9 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
                  "Weight of int |x'|^2 (dimensionless)",
                  "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
                  "Liu 2006 as published; for comparison)"});
+  command->add_flag("--no-footpoint-correction", args->noFootpointCorrection,
+                    "SDM on point clouds without correcting each step by the least-squares fit "
+                    "for the footpoint parameters it reached (for comparison)");
   command->add_option("--svg", args->svg, "Draw target, initial, iterates and final curve (SVG)");
   command->add_option("--every", args->every, "With --svg: draw every k-th iterate")
       ->capture_default_str()
@@ -250,6 +254,7 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
     CurveFitOptions fit = args->fit;
     fit.method = method;
     fit.exactSecondOrder = !args->plainSdm;
+    fit.footpointCorrection = !args->noFootpointCorrection;
     fit.keepIterates = !args->svg.empty();
     fit.progress = makeProgressPrinter(options);
     const CurveFitResult result = runFit(initial, target, fit);

@@ -18,6 +18,14 @@ namespace d2vdb {
 struct CurveFitOptions : FitOptions {
   /// Sensors per knot span (CurveFitter only; PointCloudFitter uses one per data point).
   int sensorsPerSpan = 8;
+  /// SDM II on point clouds (with exactSecondOrder): correct every step that uses the exact
+  /// second-order terms by the least-squares fit of the control points with the data points'
+  /// footpoint parameters on the stepped curve held fixed (it can only lower the objective), and
+  /// lengthen a step whose correction gained much more than the quadratic model promised. Along
+  /// the curve's reparametrisations (control points sliding along it, which changes the shape
+  /// only slightly) the squared distance is a long curved valley that Newton's steps follow in
+  /// many short steps; the correction straightens it. false = steps as they are.
+  bool footpointCorrection = true;
 };
 
 /// The outcome of a curve fit.

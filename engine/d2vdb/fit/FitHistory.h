@@ -33,7 +33,8 @@ struct FitIteration {
   double stepLength = 0.0;   ///< largest control-point move of the accepted step, world units
   double targetMove = 0.0;   ///< largest sensor move of the step across the target (in the error
                              ///< terms' metric: for SDM and TDM the normal move), world units
-  double stepScale = 1.0;    ///< line-search factor of the accepted step (1 = full step)
+  double stepScale = 1.0;    ///< line-search factor of the accepted step (1 = full step; above
+                             ///< 1 when a corrected step was lengthened)
   double damping = 0.0;      ///< Levenberg-Marquardt damping used (relative), 0 when none
   double smoothness = 0.0;   ///< bending weight lambda2 of the iteration (automatic or fixed)
   double secondOrderWeight = 0.0;  ///< share (0..1) of the fitter's exact second-order terms in

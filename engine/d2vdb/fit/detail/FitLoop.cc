@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -44,6 +45,10 @@ constexpr int kBendingRounds = 4;
 /// Share of the plain forms in the step's model (1 = forms only) after a step that went well or
 /// badly: 1 -> 1/4 -> 1/16 -> 1/64 -> 0 and back.
 constexpr double kSmallestFormShare = 1.0 / 64.0;
+/// A corrected full step is extrapolated when its decrease exceeds this multiple of the
+/// model's predicted decrease, up to this multiple of the step.
+constexpr double kExtrapolationGain = 2.0;
+constexpr double kLargestExtrapolation = 64.0;
 
 double objectiveOf(const DataError& error, double smoothingEnergy) {
   if (!error.valid || error.count == 0) return std::numeric_limits<double>::infinity();
@@ -240,6 +245,12 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
   double formShare = 1.0;  // share of the plain forms; 1 - formShare of the second-order terms
   double radius = std::numeric_limits<double>::infinity();  // trust radius of second-order steps
   FitLinearization linearization;
+  // The correction's model (same smoothing), made when the problem offers corrections.
+  std::optional<QuadraticModel> correctionModel;
+  FitLinearization correctionLinearization;
+  if (problem.offersCorrection()) {
+    correctionModel.emplace(n, d, settings.fixedSmoothing, settings.bending);
+  }
   bool stopped = false;
   double lastMove = 0.0;
   double previousSensorMove = -1.0;
@@ -279,32 +290,89 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
     DataError acceptedError;
     double acceptedObjective = objective;
     std::vector<Eigen::Vector3d> acceptedPoints;
+    bool correctedGain = false;  // the accepted step's correction gained more than the model said
+    // The candidate points + s step, measured, then corrected (FitProblem::correction()) when the
+    // problem offers a correction: the problem's last measurement is the returned points'.
+    struct Trial {
+      std::vector<Eigen::Vector3d> points;
+      DataError error;
+      double value = 0.0;             // E of the (corrected) candidate
+      double uncorrectedValue = 0.0;  // E of points + s step itself
+    };
+    const auto evaluate = [&](const std::vector<Eigen::Vector3d>& step, double s) {
+      Trial trial;
+      trial.points = moved(points, step, s);
+      trial.error = problem.measure(trial.points);
+      trial.value = objectiveOf(trial.error, model.smoothingEnergy(trial.points));
+      trial.uncorrectedValue = trial.value;
+      if (correctionModel && trial.error.valid &&
+          problem.correction(trial.points, correctionLinearization)) {
+        const int terms = static_cast<int>(correctionLinearization.forms.size());
+        correctionModel->assemble(
+            {SensorTerms{correctionLinearization.basis, &correctionLinearization.forms,
+                         terms > 0 ? 1.0 / terms : 0.0, nullptr}},
+            trial.points);
+        correctionModel->setSmoothingScale(bending.weight());
+        std::vector<Eigen::Vector3d> correctedPoints =
+            moved(trial.points, correctionModel->solveAssembled(1.0, 0.0), 1.0);
+        const DataError correctedError = problem.measure(correctedPoints);
+        const double correctedValue =
+            objectiveOf(correctedError, model.smoothingEnergy(correctedPoints));
+        if (correctedValue <= trial.value) {
+          trial.points = std::move(correctedPoints);
+          trial.error = correctedError;
+          trial.value = correctedValue;
+        } else {
+          problem.measure(trial.points);  // rounding: keep the uncorrected candidate
+        }
+      }
+      return trial;
+    };
     // Measures the candidate points + s step for s = 1, 1/2, ... (`halvings` tries) and accepts
-    // the first that lowers E. Returns the actual decrease of the full step.
+    // the first that lowers E. Returns the actual decrease of the full (corrected) step.
     const auto lineSearch = [&](const std::vector<Eigen::Vector3d>& step, int halvings) {
       double fullDecrease = -std::numeric_limits<double>::infinity();
       scale = 1.0;
+      correctedGain = false;
       for (int h = 0; h < halvings; ++h, scale *= 0.5) {
-        std::vector<Eigen::Vector3d> candidatePoints = moved(points, step, scale);
-        const DataError candidateError = problem.measure(candidatePoints);
-        const double value = objectiveOf(candidateError, model.smoothingEnergy(candidatePoints));
+        Trial trial = evaluate(step, scale);
         if (h == 0) {
-          fullDecrease = objective - value;
+          fullDecrease = objective - trial.value;
           if (firstStep < 0.0) {
             firstStep = largestSensorMove(linearization, step, d);
-            flat = std::abs(value - objective) <= 1e-12 * objective;
+            flat = std::abs(trial.value - objective) <= 1e-12 * objective;
           }
         }
-        if (value < objective) {
+        if (trial.value < objective) {
           accepted = true;
-          acceptedError = candidateError;
-          acceptedObjective = value;
-          acceptedPoints = std::move(candidatePoints);
+          correctedGain = trial.value < trial.uncorrectedValue;
+          acceptedError = trial.error;
+          acceptedObjective = trial.value;
+          acceptedPoints = std::move(trial.points);
           return fullDecrease;
         }
         if (largestMove(step) * scale < 1e-3 * tolerance) break;
       }
       return fullDecrease;
+    };
+    // After a full step whose correction gained much more than the model predicted (the step
+    // follows a curved valley that the correction straightens): tries 2, 4, ... times the step,
+    // each corrected, while E keeps falling, and keeps the best.
+    const auto extrapolate = [&](const std::vector<Eigen::Vector3d>& step, double predicted) {
+      if (!correctionModel || !correctedGain || scale != 1.0) return;
+      const double gain = objective - acceptedObjective;
+      if (!(gain > kExtrapolationGain * std::max(predicted, 0.0))) return;
+      bool lastIsAccepted = true;
+      for (double s = 2.0; s <= kLargestExtrapolation; s *= 2.0) {
+        Trial trial = evaluate(step, s);
+        lastIsAccepted = trial.value < acceptedObjective;
+        if (!lastIsAccepted) break;
+        scale = s;
+        acceptedError = trial.error;
+        acceptedObjective = trial.value;
+        acceptedPoints = std::move(trial.points);
+      }
+      if (!lastIsAccepted) problem.measure(acceptedPoints);  // accept() takes the last measured
     };
 
     if (settings.levenbergMarquardt) {
@@ -333,9 +401,11 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
         const double predicted = model.predictedDecrease(step);
         const double actual = lineSearch(step, formShare == 1.0 ? 30 : 1);
         const double ratio = predicted > 0.0 ? actual / predicted : 0.0;
+        if (accepted) extrapolate(step, predicted);
+
         if (accepted) {
-          if (scale == 1.0 && ratio > 0.75) radius = std::max(radius, 2.0 * length);
-          if (scale == 1.0 && ratio > 0.5) {
+          if (scale >= 1.0 && ratio > 0.75) radius = std::max(radius, 2.0 * length);
+          if (scale >= 1.0 && ratio > 0.5) {
             formShare = fewerForms(formShare);
           } else if (ratio < 0.25) {
             formShare = moreForms(formShare);

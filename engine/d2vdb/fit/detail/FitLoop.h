@@ -55,6 +55,18 @@ class FitProblem {
   virtual DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) = 0;
   /// The last measured candidate became the current net.
   virtual void accept() {}
+  /// Whether correction() may return true (the loop then keeps a second model for it).
+  virtual bool offersCorrection() const { return false; }
+  /// A correction of the candidate `controlPoints`, the net measure() was last called with (a
+  /// second-order correction in the trust-region sense): quadratic forms over the sensors of
+  /// `correction.basis` whose mean is, for every net, at least the data term, and equals it at
+  /// `controlPoints` (e.g. the squared distances to footpoints held fixed). The loop replaces
+  /// the candidate by the minimiser of that mean plus the smoothing, which therefore never
+  /// raises the objective. false = no correction (the default).
+  virtual bool correction(const std::vector<Eigen::Vector3d>& /*controlPoints*/,
+                          FitLinearization& /*correction*/) {
+    return false;
+  }
   /// The target's resolution (SquaredDistanceTarget::resolution()); 0 for exact data.
   virtual double resolution() const { return 0.0; }
 };
@@ -116,6 +128,14 @@ struct FitLoopResult {
 /// one (< 1/4), an indefinite system or two failed steps. Steps that use second-order terms are
 /// kept within a trust radius (halved after a failure, doubled after a step that went as
 /// predicted); with s = 1 the step gets the line search.
+///
+/// Correction (problems whose offersCorrection()): every candidate the step control measures is
+/// replaced by the minimiser of the problem's correction forms plus the smoothing (it can only
+/// lower E), and the trust-region rule judges the corrected decrease. A full step whose corrected
+/// decrease exceeds twice the model's predicted one is lengthened 2, 4, ... up to 64 times, each
+/// corrected, while E keeps falling (the history's step scale is then above 1): the step follows a
+/// curved valley that the correction straightens, and near the solution (model and objective
+/// agree) the steps stay Newton's.
 ///
 /// Converged when the last iteration's move of the sensors across the target (max_k
 /// sqrt(d_k^T A_k d_k) over the sensors' displacements d_k in their forms' metric; the model's

@@ -65,7 +65,8 @@ PointCloudProblem::PointCloudProblem(const BSplineCurve& initial,
       curve_(initial),
       method_(options.method),
       pdmWeight_(options.pdmWeight),
-      exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
+      exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM),
+      footpointCorrection_(exactSecondOrder_ && options.footpointCorrection) {}
 
 void PointCloudProblem::linearize(const std::vector<Eigen::Vector3d>& controlPoints,
                                   FitLinearization& linearization) {
@@ -188,16 +189,46 @@ DataError PointCloudProblem::measure(const std::vector<Eigen::Vector3d>& control
     error.sum += footpoint.squaredDistance;
     error.maxSquared = std::max(error.maxSquared, footpoint.squaredDistance);
   }
+  candidateEnds_.clear();
   if (!candidate.isClosed()) {  // the end terms of linearize()
     const ParameterInterval domain = candidate.domain();
     for (const double t : {domain.start, domain.end}) {
       const Eigen::Vector3d end = candidate.evaluate(t);
-      error.sum += (points_[nearestDataPoint(end)] - end).squaredNorm();
+      candidateEnds_.push_back(nearestDataPoint(end));
+      error.sum += (points_[candidateEnds_.back()] - end).squaredNorm();
       error.count += 1;
     }
   }
   if (!std::isfinite(error.sum)) error.valid = false;
   return error;
+}
+
+bool PointCloudProblem::correction(const std::vector<Eigen::Vector3d>& controlPoints,
+                                   FitLinearization& correction) {
+  if (!footpointCorrection_ || candidate_.size() != points_.size()) return false;
+  BSplineCurve candidate = curve_;
+  candidate.setControlPoints(controlPoints);
+  const std::size_t count = points_.size();
+  std::vector<double> parameters(count);
+  for (std::size_t k = 0; k < count; ++k) parameters[k] = candidate_[k].parameter;
+  std::vector<Eigen::Vector3d> targets = points_;
+  if (!candidate.isClosed()) {
+    const ParameterInterval domain = candidate.domain();
+    parameters.push_back(domain.start);
+    parameters.push_back(domain.end);
+    for (const std::size_t end : candidateEnds_) targets.push_back(points_[end]);
+  }
+  correctionBasis_.emplace(candidate, std::move(parameters));
+  correction.basis = &*correctionBasis_;
+  correction.forms.resize(targets.size());
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    QuadraticForm& form = correction.forms[k];
+    form.A = Eigen::Matrix3d::Identity();
+    form.b = targets[k];
+    form.c = targets[k].squaredNorm();
+  }
+  correction.secondOrder.reset(correctionBasis_->sensorCount(), 0);
+  return true;
 }
 
 std::size_t PointCloudProblem::nearestDataPoint(const Eigen::Vector3d& x) const {

@@ -43,6 +43,16 @@ class PointCloudProblem final : public FitProblem {
                  FitLinearization& linearization) override;
   DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override;
   void accept() override { current_.swap(candidate_); }
+  bool offersCorrection() const override { return footpointCorrection_; }
+  /// With options.footpointCorrection (SDM with the exact second-order terms): the squared
+  /// distances of the data points to the candidate curve at their footpoints on it, held fixed
+  /// (and of the open curve's ends to their nearest data points), as PDM forms: for fixed
+  /// parameters the control points enter linearly, so the loop's correction is the exact
+  /// least-squares fit for the parametrisation the step reached (the variable projection of
+  /// Golub and Pereyra 1973 applied to the step; Hoschek 1988's parameter correction in
+  /// reverse).
+  bool correction(const std::vector<Eigen::Vector3d>& controlPoints,
+                  FitLinearization& correction) override;
 
  private:
   struct Footpoint {
@@ -59,9 +69,12 @@ class PointCloudProblem final : public FitProblem {
   FitMethod method_;
   double pdmWeight_;
   bool exactSecondOrder_;
+  bool footpointCorrection_;
   std::optional<SensorBasis> basis_;
+  std::optional<SensorBasis> correctionBasis_;
   std::vector<Footpoint> current_;
   std::vector<Footpoint> candidate_;
+  std::vector<std::size_t> candidateEnds_;  // nearest data points of the candidate's open ends
 };
 
 }  // namespace d2vdb::detail
