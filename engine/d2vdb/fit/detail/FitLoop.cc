@@ -305,7 +305,7 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
       trial.error = problem.measure(trial.points);
       trial.value = objectiveOf(trial.error, model.smoothingEnergy(trial.points));
       trial.uncorrectedValue = trial.value;
-      if (correctionModel && trial.error.valid &&
+      if (correctionModel && trial.error.valid && formShare < 1.0 &&
           problem.correction(trial.points, correctionLinearization)) {
         const int terms = static_cast<int>(correctionLinearization.forms.size());
         correctionModel->assemble(

@@ -129,13 +129,14 @@ struct FitLoopResult {
 /// kept within a trust radius (halved after a failure, doubled after a step that went as
 /// predicted); with s = 1 the step gets the line search.
 ///
-/// Correction (problems whose offersCorrection()): every candidate the step control measures is
-/// replaced by the minimiser of the problem's correction forms plus the smoothing (it can only
-/// lower E), and the trust-region rule judges the corrected decrease. A full step whose corrected
-/// decrease exceeds twice the model's predicted one is lengthened 2, 4, ... up to 64 times, each
-/// corrected, while E keeps falling (the history's step scale is then above 1): the step follows a
-/// curved valley that the correction straightens, and near the solution (model and objective
-/// agree) the steps stay Newton's.
+/// Correction (problems whose offersCorrection()): every candidate of a step that uses the
+/// second-order terms (s < 1: the net is already near the target; the plain-form steps that bring
+/// it there stay as they are) is replaced by the minimiser of the problem's correction forms plus
+/// the smoothing (it can only lower E), and the trust-region rule judges the corrected decrease. A
+/// full step whose corrected decrease exceeds twice the model's predicted one is lengthened 2, 4,
+/// ... up to 64 times, each corrected, while E keeps falling (the history's step scale is then
+/// above 1): the step follows a curved valley that the correction straightens, and near the
+/// solution (model and objective agree) the steps stay Newton's.
 ///
 /// Converged when the last iteration's move of the sensors across the target (max_k
 /// sqrt(d_k^T A_k d_k) over the sensors' displacements d_k in their forms' metric; the model's
