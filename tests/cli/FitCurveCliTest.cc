@@ -95,6 +95,31 @@ TEST_F(FitCurveCliTest, PrintsTheHistoryAndFitsAPointCloud) {
   EXPECT_LT(ellipseError(d2vdb::readCurveJson(scratch_ / "cloud.json")), 2e-3);
 }
 
+TEST_F(FitCurveCliTest, FootpointCorrectionCanBeLeftOutForComparison) {
+  // Clean samples of the open wave (t, 0.3 sin(1.25 pi t)): with and without the footpoint
+  // correction SDM II reaches the same curve; without it, it needs more iterations.
+  std::ostringstream cloud;
+  cloud.precision(17);
+  for (int i = 0; i < 2000; ++i) {
+    const double t = -1.0 + 2.0 * (i + 0.5) / 2000;
+    cloud << t << ' ' << 0.3 * std::sin(1.25 * kTwoPi / 2.0 * t) << " 0\n";
+  }
+  write("wave.xyz", cloud.str());
+  const std::string command = "fit-curve --target " + path("wave.xyz") +
+                              " --init polyline --ctrl 12 --json --out " + path("wave.json");
+  const CliResult corrected = run(command);
+  const CliResult uncorrected = run(command + " --no-footpoint-correction");
+  ASSERT_EQ(corrected.exitCode, 0) << corrected.err;
+  ASSERT_EQ(uncorrected.exitCode, 0) << uncorrected.err;
+  const nlohmann::json with = nlohmann::json::parse(corrected.out);
+  const nlohmann::json without = nlohmann::json::parse(uncorrected.out);
+  EXPECT_EQ(with["status"], "converged");
+  EXPECT_EQ(without["status"], "converged");
+  EXPECT_LT(with["iterations"].get<int>(), without["iterations"].get<int>());
+  EXPECT_NEAR(with["rms_distance"].get<double>(), without["rms_distance"].get<double>(),
+              0.01 * without["rms_distance"].get<double>());
+}
+
 TEST_F(FitCurveCliTest, OffsetFit) {
   const CliResult result = run("fit-curve --target " + path("ellipse.json") +
                                " --offset 0.2 --ctrl 20 --json --out " + path("offset.json"));
