@@ -290,7 +290,7 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
     DataError acceptedError;
     double acceptedObjective = objective;
     std::vector<Eigen::Vector3d> acceptedPoints;
-    bool correctedGain = false;  // the accepted step's correction gained more than the model said
+    bool correctedGain = false;  // the accepted candidate was lowered by its correction
     // The candidate points + s step, measured, then corrected (FitProblem::correction()) when the
     // problem offers a correction: the problem's last measurement is the returned points'.
     struct Trial {

@@ -48,9 +48,11 @@ class PointCloudProblem final : public FitProblem {
   /// distances of the data points to the candidate curve at their footpoints on it, held fixed
   /// (and of the open curve's ends to their nearest data points), as PDM forms: for fixed
   /// parameters the control points enter linearly, so the loop's correction is the exact
-  /// least-squares fit for the parametrisation the step reached (the variable projection of
-  /// Golub and Pereyra 1973 applied to the step; Hoschek 1988's parameter correction in
-  /// reverse).
+  /// least-squares fit for the parametrisation the step reached: the linear variables solved
+  /// exactly for the nonlinear ones, as in Golub and Pereyra's variable projection ("The
+  /// differentiation of pseudo-inverses and nonlinear least squares problems whose variables
+  /// separate", 1973), and the least-squares step of parameter-correction fitting (Hoschek,
+  /// "Intrinsic parametrization for approximation", 1988), here after each Newton step.
   bool correction(const std::vector<Eigen::Vector3d>& controlPoints,
                   FitLinearization& correction) override;
 
