@@ -18,8 +18,8 @@ if(D2VDB_FUZZ)
     -fsanitize-ignorelist=${PROJECT_SOURCE_DIR}/tests/fuzz/sanitizer-ignorelist.txt)
   target_link_options(d2vdb_build_flags INTERFACE -fsanitize=address,undefined)
 elseif(D2VDB_SANITIZE STREQUAL "thread")
-  # ThreadSanitizer: data races in d2vdb's parallel code. Debian's TBB is not instrumented, so
-  # TSan also reports TBB's own task hand-offs (RELIABILITY.md). -O1 -g1 as for ASan below.
+  # ThreadSanitizer: data races in d2vdb's parallel code. Run the tests with tools/tsan.sh, which
+  # puts an instrumented TBB in front of Debian's (RELIABILITY.md). -O1 -g1 as for ASan below.
   target_compile_options(d2vdb_build_flags INTERFACE -O1 -g1 -fsanitize=thread
     -fno-omit-frame-pointer)
   target_link_options(d2vdb_build_flags INTERFACE -fsanitize=thread)
