@@ -13,7 +13,7 @@ set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$here"
-targets=(obj ply stl spline_json polyline_json xyz vdb field)
+targets=(obj ply stl spline_json polyline_json xyz vdb field input)
 
 if [ "${1:-}" = list ]; then printf '%s\n' "${targets[@]}"; exit 0; fi
 if [ $# -lt 2 ] || ! [[ "$2" =~ ^[0-9]+$ ]] || [[ ! " ${targets[*]} " =~ " $1 " ]]; then

@@ -4,15 +4,22 @@
 
 #include <Eigen/Core>
 
+#include <array>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <system_error>
 #include <variant>
+
+#include <unistd.h>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/io/FieldGrids.h"
+#include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/PointSetFile.h"
 #include "d2vdb/io/PolylineFile.h"
 #include "d2vdb/io/SplineJson.h"
@@ -102,6 +109,59 @@ void runField(const std::uint8_t* data, std::size_t size) {
   static_cast<void>(field.approximantAt(field.domain().center()));
 }
 
+// The file name extensions the `input` target's first byte chooses from (its value modulo the
+// count): none, and every extension loadInput() knows, so that recognition by content and the
+// fallback to the extension are both reached.
+constexpr std::array<const char*, 7> kInputExtensions = {"",     ".vdb", ".ply", ".json",
+                                                         ".stl", ".obj", ".xyz"};
+
+// The scratch folder of this process that the `input` target writes each input to (loadInput()
+// reads paths, not memory); removed with everything in it when the program ends.
+class InputScratchFolder {
+ public:
+  InputScratchFolder()
+      : folder_(std::filesystem::temp_directory_path() /
+                ("d2vdb-fuzz-input-" + std::to_string(static_cast<long>(::getpid())))) {
+    std::filesystem::create_directories(folder_);
+  }
+  ~InputScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(folder_, ignored);
+  }
+  InputScratchFolder(const InputScratchFolder&) = delete;
+  InputScratchFolder& operator=(const InputScratchFolder&) = delete;
+
+  /// Writes `bytes` to the scratch file with the given extension and returns its path.
+  std::filesystem::path write(const char* extension, const std::uint8_t* bytes,
+                              std::size_t count) const {
+    const std::filesystem::path path = folder_ / (std::string("input") + extension);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes), static_cast<std::streamsize>(count));
+    if (!out) throw std::runtime_error("cannot write the fuzz scratch file " + path.string());
+    return path;
+  }
+
+ private:
+  std::filesystem::path folder_;
+};
+
+// What every command does with a file it is given: loadInput() accepting every kind, so that the
+// content decides (a .vdb holding a level set is read as one; a stored field is read back).
+void runInput(const std::uint8_t* data, std::size_t size) {
+  if (size == 0) return;
+  static const InputScratchFolder scratch;
+  const std::filesystem::path path =
+      scratch.write(kInputExtensions[data[0] % kInputExtensions.size()], data + 1, size - 1);
+  LoadOptions options;
+  options.purpose = "the fuzzed input";
+  const LoadedInput loaded =
+      loadInput(path,
+                {InputKind::Mesh, InputKind::PointSet, InputKind::LevelSet, InputKind::Field,
+                 InputKind::VdbGrids, InputKind::Curve, InputKind::Surface, InputKind::Polylines},
+                options);
+  if (const auto* mesh = std::get_if<MeshInput>(&loaded.value)) describeMesh(mesh->mesh);
+}
+
 }  // namespace
 
 const std::vector<Target>& targets() {
@@ -116,6 +176,10 @@ const std::vector<Target>& targets() {
       {"vdb", ".vdb files (io/VdbFile), then what `info` reports", runVdb},
       {"field", ".vdb files as approximant fields (io/FieldGrids), coarse levels, a query",
        runField},
+      {"input",
+       "any file through io/InputFile loadInput (first byte: the file name extension), as every "
+       "command reads its inputs",
+       runInput},
   };
   return all;
 }
