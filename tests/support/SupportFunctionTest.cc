@@ -11,6 +11,7 @@
 #include "SupportTestSupport.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/support/SphereQuadrature.h"
+#include "d2vdb/support/detail/SupportDesign.h"
 
 namespace d2vdb {
 namespace {
@@ -171,6 +172,36 @@ TEST(SupportFunction, BatchEvaluationIsDeterministicAndMatchesSingleEvaluation) 
     const SupportPoint single = h.evaluate(normals[i]);
     EXPECT_LT((single.point - one[i].point).norm(), 1e-11);
     EXPECT_NEAR(single.radius1, one[i].radius1, 1e-10);
+  }
+}
+
+// The evaluation kernel (all quantities from one pass over the harmonics per order) against
+// independent references at degree 24: h from the harmonic values, x_h from the explicit design
+// matrix (harmonic values and derivative ladders assembled separately), and the sum of the radii
+// from the spherical Laplacian, r1 + r2 = tr(Hess_S h + h I) = Delta_S h + 2 h with
+// Delta_S Y_l = -l (l + 1) Y_l.
+TEST(SupportFunction, EvaluationMatchesTheHarmonicBasisAtHighDegree) {
+  const int degree = 24;
+  const SupportFunction h = randomFunction(degree, 31, 0.9);
+  const auto normals = test::randomUnitVectors(300, 14);
+  const std::vector<SupportPoint> points = h.evaluate(normals);
+  const Eigen::MatrixXd design = detail::supportDesignMatrix(normals, degree);
+  const Eigen::VectorXd x = design * h.coefficients();
+  Eigen::VectorXd laplacianWeights(harmonicCount(degree));
+  for (int l = 0; l <= degree; ++l) {
+    for (int m = -l; m <= l; ++m) laplacianWeights[harmonicIndex(l, m)] = 2.0 - l * (l + 1.0);
+  }
+  const Eigen::VectorXd traceCoefficients = laplacianWeights.cwiseProduct(h.coefficients());
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const Eigen::VectorXd y = evaluateHarmonics(degree, normals[i]);
+    EXPECT_NEAR(points[i].value, y.dot(h.coefficients()), 1e-12);
+    const Eigen::Vector3d reference = x.segment<3>(3 * static_cast<Eigen::Index>(i));
+    EXPECT_LT((points[i].point - reference).norm(), 1e-11);
+    EXPECT_NEAR(points[i].radius1 + points[i].radius2, y.dot(traceCoefficients), 1e-9);
+  }
+  const std::vector<Eigen::Vector3d> offsetPoints = h.points(normals, 0.25);
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    EXPECT_LT((offsetPoints[i] - points[i].point - 0.25 * normals[i]).norm(), 1e-12);
   }
 }
 

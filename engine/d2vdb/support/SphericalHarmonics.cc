@@ -26,45 +26,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Recurrence coefficients of the normalised harmonics for every degree up to the maximum.
-struct RecurrenceTables {
-  // sectoral[m]: Y_m^{+-m} = sectoral[m] * (Re, Im)((x + i y)^m).
-  std::vector<double> sectoral;
-  // a[l][m], b[l][m]: Lambda_l^m = a z Lambda_{l-1}^m - b r^2 Lambda_{l-2}^m for l >= m + 1
-  // (b = 0 for l = m + 1).
-  std::vector<std::vector<double>> a;
-  std::vector<std::vector<double>> b;
-
-  RecurrenceTables() {
-    const int maxDegree = kMaxSupportDegree;
-    sectoral.assign(maxDegree + 1, 0.0);
-    sectoral[0] = 1.0 / std::sqrt(4.0 * kPi);
-    for (int m = 1; m <= maxDegree; ++m) {
-      const double dm = m;
-      sectoral[m] = sectoral[m - 1] * std::sqrt((2.0 * dm + 1.0) / (2.0 * dm)) *
-                    (m == 1 ? std::sqrt(2.0) : 1.0);
-    }
-    a.assign(maxDegree + 1, std::vector<double>(maxDegree + 1, 0.0));
-    b = a;
-    for (int l = 1; l <= maxDegree; ++l) {
-      for (int m = 0; m < l; ++m) {
-        const double dl = l;
-        const double dm = m;
-        const double lm = dl * dl - dm * dm;
-        a[l][m] = std::sqrt((4.0 * dl * dl - 1.0) / lm);
-        b[l][m] = l >= 2 ? std::sqrt((2.0 * dl + 1.0) * (dl - 1.0 - dm) * (dl - 1.0 + dm) /
-                                     ((2.0 * dl - 3.0) * lm))
-                         : 0.0;
-      }
-    }
-  }
-};
-
-const RecurrenceTables& recurrenceTables() {
-  static const RecurrenceTables tables;
-  return tables;
-}
-
 void checkDegree(int degree) {
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("spherical-harmonic degree " + std::to_string(degree) +
@@ -97,6 +58,35 @@ double ratioSame(int l, int m) {
 }
 
 }  // namespace
+
+RecurrenceTables::RecurrenceTables() {
+  const int maxDegree = kMaxSupportDegree;
+  sectoral.assign(maxDegree + 1, 0.0);
+  sectoral[0] = 1.0 / std::sqrt(4.0 * kPi);
+  for (int m = 1; m <= maxDegree; ++m) {
+    const double dm = m;
+    sectoral[m] = sectoral[m - 1] * std::sqrt((2.0 * dm + 1.0) / (2.0 * dm)) *
+                  (m == 1 ? std::sqrt(2.0) : 1.0);
+  }
+  a.assign(maxDegree + 1, std::vector<double>(maxDegree + 1, 0.0));
+  b = a;
+  for (int l = 1; l <= maxDegree; ++l) {
+    for (int m = 0; m < l; ++m) {
+      const double dl = l;
+      const double dm = m;
+      const double lm = dl * dl - dm * dm;
+      a[l][m] = std::sqrt((4.0 * dl * dl - 1.0) / lm);
+      b[l][m] = l >= 2 ? std::sqrt((2.0 * dl + 1.0) * (dl - 1.0 - dm) * (dl - 1.0 + dm) /
+                                   ((2.0 * dl - 3.0) * lm))
+                       : 0.0;
+    }
+  }
+}
+
+const RecurrenceTables& recurrenceTables() {
+  static const RecurrenceTables tables;
+  return tables;
+}
 
 int harmonicDegreeOf(int index) {
   int l = static_cast<int>(std::sqrt(static_cast<double>(index)));

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 
@@ -21,11 +22,9 @@ namespace detail {
 
 SupportEvaluator::SupportEvaluator(int degreeIn, const Eigen::VectorXd& c) : degree(degreeIn) {
   const int count = harmonicCount(degree);
-  table = Eigen::MatrixXd::Zero(count, kQuantityCount);
+  // Column q: the coefficients of quantity q in the harmonic basis.
+  Eigen::MatrixXd table = Eigen::MatrixXd::Zero(count, kQuantityCount);
   table.col(kValue) = c;
-  for (int j = 0; j < count; ++j) {
-    table(j, kRadialDefect) = (1.0 - harmonicDegreeOf(j)) * c[j];
-  }
   if (degree >= 1) {
     const int lower = harmonicCount(degree - 1);
     Eigen::VectorXd gradient[3];
@@ -44,27 +43,140 @@ SupportEvaluator::SupportEvaluator(int degreeIn, const Eigen::VectorXd& c) : deg
       table.col(kHessYZ).head(lowest) = dy * gradient[2];
     }
   }
+  const RecurrenceTables& recurrence = recurrenceTables();
+  recordOffset.resize(static_cast<std::size_t>(degree) + 1);
+  records.clear();
+  const auto push = [&](double value) { records.insert(records.end(), kLanes, value); };
+  for (int m = 0; m <= degree; ++m) {
+    recordOffset[static_cast<std::size_t>(m)] = records.size();
+    for (int l = m; l <= degree; ++l) {
+      const auto ul = static_cast<std::size_t>(l);
+      const auto um = static_cast<std::size_t>(m);
+      push(l == m ? recurrence.sectoral[um] : recurrence.a[ul][um]);
+      push(l >= m + 2 ? recurrence.b[ul][um] : 0.0);
+      for (int q = 0; q < kQuantityCount; ++q) push(table(harmonicIndex(l, m), q));
+      for (int q = 0; q < kQuantityCount; ++q) push(m > 0 ? table(harmonicIndex(l, -m), q) : 0.0);
+    }
+  }
 }
 
+namespace {
+
+// Loads and stores of kLanes consecutive doubles (any alignment).
+inline Lanes load(const double* p) {
+  Lanes value;
+  std::memcpy(&value, p, sizeof value);
+  return value;
+}
+inline void store(double* p, Lanes value) {
+  std::memcpy(p, &value, sizeof value);
+}
+inline Lanes splat(double value) {
+  return Lanes{} + value;  // every lane
+}
+
+// sums[q] += t[q] * lambda for the first Used quantities; t holds each coefficient kLanes times.
+// Used is a constant after inlining, so the sums stay in registers.
+template <int Used>
+inline void accumulate(Lanes (&sums)[kQuantityCount], const double* t, Lanes lambda) {
+  for (int q = 0; q < Used; ++q) sums[q] += load(t + q * kLanes) * lambda;
+}
+
+// Adds the order-m terms of the first MaxUsed quantities for the lanes at `lane`: the sums over
+// l = m..degree of t_q(l, +-m) Lambda_l^m (Part 0: cosine coefficients, 1: sine), times `factor`
+// (Re or Im of (x + i y)^m). Quantity q reaches degree - (0, 1, 1, 1, 2, 2, ...): the value L,
+// the gradient L - 1, the Hessian L - 2.
+template <int MaxUsed, int Part>
+inline void addOrder(const double* record, const double* lambdaRows, int m, int degree, int lane,
+                     Lanes factor, SupportBlockValues& out) {
+  constexpr int size = SupportEvaluator::kRecordSize;
+  constexpr int offset = (2 + Part * kQuantityCount) * kLanes;
+  constexpr int gradientUsed = MaxUsed < 4 ? MaxUsed : 4;
+  Lanes sums[kQuantityCount];
+  for (int q = 0; q < kQuantityCount; ++q) sums[q] = splat(0.0);
+  int l = m;
+  const double* t = record + offset;
+  const double* lambda = lambdaRows + lane;
+  for (; l + 2 <= degree; ++l, t += size, lambda += kSupportBlock) {
+    accumulate<MaxUsed>(sums, t, load(lambda));
+  }
+  if (l + 1 == degree) {
+    accumulate<gradientUsed>(sums, t, load(lambda));
+    ++l, t += size, lambda += kSupportBlock;
+  }
+  accumulate<1>(sums, t, load(lambda));  // l == degree
+  for (int q = 0; q < MaxUsed; ++q) {
+    store(&out.values[q][lane], load(&out.values[q][lane]) + sums[q] * factor);
+  }
+}
+
+template <int MaxUsed>
+void evaluateLanes(const SupportEvaluator& evaluator, int padded, const double* x, const double* y,
+                   const double* z, SupportBlockValues& out) {
+  const int degree = evaluator.degree;
+  constexpr int size = SupportEvaluator::kRecordSize;
+  // lambdaRows[(l - m) * kSupportBlock + i]: Lambda_l^m at normal i for the current order m.
+  alignas(16) double lambdaRows[(kMaxSupportDegree + 1) * kSupportBlock];
+  alignas(16) double re[kSupportBlock];
+  alignas(16) double im[kSupportBlock];
+  for (int q = 0; q < MaxUsed; ++q) std::fill(out.values[q], out.values[q] + padded, 0.0);
+  for (int i = 0; i < padded; ++i) {
+    re[i] = 1.0;
+    im[i] = 0.0;
+  }
+  for (int m = 0; m <= degree; ++m) {
+    const double* record =
+        evaluator.records.data() + evaluator.recordOffset[static_cast<std::size_t>(m)];
+    // The recurrence in l, row by row for all normals (independent lanes, so it runs at full
+    // throughput rather than at the latency of one normal's recurrence).
+    const Lanes sectoral = load(record);  // Lambda_m^m
+    for (int i = 0; i < padded; i += kLanes) {
+      if (m > 0) {
+        const Lanes lx = load(x + i), ly = load(y + i);
+        const Lanes r = load(re + i), s = load(im + i);
+        store(re + i, r * lx - s * ly);
+        store(im + i, r * ly + s * lx);
+      }
+      store(lambdaRows + i, sectoral);
+    }
+    const double* t = record;
+    for (int row = 1; row <= degree - m; ++row) {
+      t += size;
+      const Lanes a = load(t);
+      const Lanes b = load(t + kLanes);
+      double* current = lambdaRows + row * kSupportBlock;
+      const double* previous = current - kSupportBlock;
+      for (int i = 0; i < padded; i += kLanes) {
+        const Lanes beforePrevious = row >= 2 ? load(previous - kSupportBlock + i) : splat(0.0);
+        store(current + i, a * load(z + i) * load(previous + i) - b * beforePrevious);
+      }
+    }
+    for (int i = 0; i < padded; i += kLanes) {
+      addOrder<MaxUsed, 0>(record, lambdaRows, m, degree, i, load(re + i), out);
+      if (m > 0) addOrder<MaxUsed, 1>(record, lambdaRows, m, degree, i, load(im + i), out);
+    }
+  }
+}
+
+}  // namespace
+
 void SupportEvaluator::evaluateBlock(int count, const Eigen::Vector3d* normals,
-                                     Eigen::MatrixXd& basis, Eigen::MatrixXd& result,
-                                     bool pointsOnly) const {
-  double x[kSupportBlock];
-  double y[kSupportBlock];
-  double z[kSupportBlock];
-  for (int i = 0; i < kSupportBlock; ++i) {
+                                     SupportBlockValues& out, bool pointsOnly) const {
+  // Padded to whole lanes with the north pole; each lane's arithmetic involves its normal only.
+  alignas(16) double x[kSupportBlock];
+  alignas(16) double y[kSupportBlock];
+  alignas(16) double z[kSupportBlock];
+  const int padded = (count + kLanes - 1) / kLanes * kLanes;
+  for (int i = 0; i < padded; ++i) {
     const bool real = i < count;
     x[i] = real ? normals[i].x() : 0.0;
     y[i] = real ? normals[i].y() : 0.0;
     z[i] = real ? normals[i].z() : 1.0;
   }
-  basis.resize(kSupportBlock, harmonicCount(degree));
-  result.resize(kSupportBlock, kQuantityCount);
-  evaluateHarmonicBlock(degree, kSupportBlock, x, y, z, basis.data(), kSupportBlock);
   if (pointsOnly) {
-    result.leftCols(kGradZ + 1).noalias() = basis * table.leftCols(kGradZ + 1);
+    evaluateLanes<kGradZ + 1>(*this, padded, x, y, z, out);
   } else {
-    result.noalias() = basis * table;
+    evaluateLanes<kQuantityCount>(*this, padded, x, y, z, out);
   }
 }
 
@@ -76,21 +188,24 @@ void tangentFrame(const Eigen::Vector3d& n, Eigen::Vector3d& e1, Eigen::Vector3d
   e2 = Eigen::Vector3d(b, sign + n.y() * n.y() * a, -n.y());
 }
 
-SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const Eigen::MatrixXd& r,
-                                  Eigen::Index row) {
+SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const SupportBlockValues& block,
+                                  int i) {
+  const auto at = [&](int q) { return block.values[q][i]; };
   SupportPoint sp;
   sp.normal = n;
-  sp.value = r(row, kValue);
-  const double defect = r(row, kRadialDefect);
-  const Eigen::Vector3d gradient(r(row, kGradX), r(row, kGradY), r(row, kGradZ));
-  sp.surfaceGradient = gradient - n.dot(gradient) * n;
+  sp.value = at(kValue);
+  const Eigen::Vector3d gradient(at(kGradX), at(kGradY), at(kGradZ));
+  const double radial = n.dot(gradient);
+  // P - n . grad P: the term of Hess_S h + h I besides the projected Hessian of P.
+  const double defect = sp.value - radial;
+  sp.surfaceGradient = gradient - radial * n;
   sp.point = sp.value * n + sp.surfaceGradient;
   Eigen::Matrix3d hessian;
-  const double xx = r(row, kHessXX);
-  const double xy = r(row, kHessXY);
-  const double xz = r(row, kHessXZ);
-  const double yy = r(row, kHessYY);
-  const double yz = r(row, kHessYZ);
+  const double xx = at(kHessXX);
+  const double xy = at(kHessXY);
+  const double xz = at(kHessXZ);
+  const double yy = at(kHessYY);
+  const double yz = at(kHessYZ);
   hessian << xx, xy, xz, xy, yy, yz, xz, yz, -xx - yy;
   Eigen::Vector3d e1;
   Eigen::Vector3d e2;
@@ -103,7 +218,8 @@ SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const Eigen::MatrixX
   // Eigenvalues of [[p, q], [q, s]]; the one of smaller magnitude from det / (larger), which
   // avoids cancellation when the radii differ greatly.
   const double mean = 0.5 * (p + s);
-  const double radius = std::hypot(0.5 * (p - s), q);
+  const double half = 0.5 * (p - s);
+  const double radius = std::sqrt(half * half + q * q);
   const double det = p * s - q * q;
   double small = 0.0;
   double large = 0.0;
@@ -116,10 +232,22 @@ SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const Eigen::MatrixX
   }
   sp.radius1 = std::min(small, large);
   sp.radius2 = std::max(small, large);
-  // Eigenvector of the larger eigenvalue at angle theta from e1.
-  const double theta = 0.5 * std::atan2(2.0 * q, p - s);
-  const double c = std::cos(theta);
-  const double sn = std::sin(theta);
+  // Eigenvector of the larger eigenvalue, (cos t, sin t) in (e1, e2) with t = atan2(q, half) / 2
+  // in (-pi/2, pi/2], from the half-angle formulas: cos t = sqrt((1 + cos 2t) / 2) with
+  // cos 2t = half / radius, and sin t = q / (2 radius cos t).
+  double c = 1.0;
+  double sn = 0.0;
+  if (radius > 0.0) {
+    const double cosDouble = half / radius;
+    if (cosDouble > -0.5) {
+      c = std::sqrt(0.5 * (1.0 + cosDouble));
+      sn = q / (2.0 * radius * c);
+    } else {  // near t = +-pi/2: sin t from the other half-angle formula, sign of q (or +)
+      const double magnitude = std::sqrt(0.5 * (1.0 - cosDouble));
+      sn = std::signbit(q) ? -magnitude : magnitude;
+      c = std::abs(q) / (2.0 * radius * magnitude);
+    }
+  }
   sp.direction2 = c * e1 + sn * e2;
   sp.direction1 = sp.direction2.cross(n);  // (direction1, direction2, n) right-handed
   return sp;
@@ -151,20 +279,19 @@ std::vector<Eigen::Vector3d> normalisedAll(const std::vector<Eigen::Vector3d>& n
   return unit;
 }
 
-// Runs `body(blockBegin, count, basis, result)` over fixed blocks of kSupportBlock normals in
-// parallel; each task owns its scratch matrices.
+// Runs `body(blockBegin, count, values)` over fixed blocks of kSupportBlock normals in parallel;
+// each task owns its scratch values.
 template <typename Body>
 void forEachBlock(std::size_t total, const Body& body) {
   const std::size_t blocks = (total + detail::kSupportBlock - 1) / detail::kSupportBlock;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 4),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      Eigen::MatrixXd basis;
-                      Eigen::MatrixXd result;
+                      detail::SupportBlockValues values;
                       for (std::size_t block = range.begin(); block != range.end(); ++block) {
                         const std::size_t begin = block * detail::kSupportBlock;
                         const int count = static_cast<int>(
                             std::min<std::size_t>(detail::kSupportBlock, total - begin));
-                        body(begin, count, basis, result);
+                        body(begin, count, values);
                       }
                     });
 }
@@ -218,24 +345,22 @@ Eigen::Vector3d SupportFunction::point(const Eigen::Vector3d& normal, double off
 
 SupportPoint SupportFunction::evaluate(const Eigen::Vector3d& normal) const {
   const Eigen::Vector3d n = normalised(normal);
-  Eigen::MatrixXd basis(1, harmonicCount(degree_));
-  detail::evaluateHarmonicBlock(degree_, 1, &n.x(), &n.y(), &n.z(), basis.data(), 1);
-  const Eigen::MatrixXd result = basis * evaluator_->table;
-  return detail::assembleSupportPoint(n, result, 0);
+  detail::SupportBlockValues values;
+  evaluator_->evaluateBlock(1, &n, values, false);
+  return detail::assembleSupportPoint(n, values, 0);
 }
 
 std::vector<SupportPoint> SupportFunction::evaluate(
     const std::vector<Eigen::Vector3d>& normals) const {
   const std::vector<Eigen::Vector3d> unit = normalisedAll(normals);
   std::vector<SupportPoint> out(unit.size());
-  forEachBlock(unit.size(),
-               [&](std::size_t begin, int count, Eigen::MatrixXd& basis, Eigen::MatrixXd& result) {
-                 evaluator_->evaluateBlock(count, unit.data() + begin, basis, result, false);
-                 for (int i = 0; i < count; ++i) {
-                   out[begin + static_cast<std::size_t>(i)] = detail::assembleSupportPoint(
-                       unit[begin + static_cast<std::size_t>(i)], result, i);
-                 }
-               });
+  forEachBlock(unit.size(), [&](std::size_t begin, int count, detail::SupportBlockValues& values) {
+    evaluator_->evaluateBlock(count, unit.data() + begin, values, false);
+    for (int i = 0; i < count; ++i) {
+      out[begin + static_cast<std::size_t>(i)] =
+          detail::assembleSupportPoint(unit[begin + static_cast<std::size_t>(i)], values, i);
+    }
+  });
   return out;
 }
 
@@ -244,14 +369,14 @@ std::vector<Eigen::Vector3d> SupportFunction::points(const std::vector<Eigen::Ve
   if (!std::isfinite(offset)) throw InputError("the offset distance is not finite");
   const std::vector<Eigen::Vector3d> unit = normalisedAll(normals);
   std::vector<Eigen::Vector3d> out(unit.size());
-  forEachBlock(unit.size(), [&](std::size_t begin, int count, Eigen::MatrixXd& basis,
-                                Eigen::MatrixXd& result) {
-    evaluator_->evaluateBlock(count, unit.data() + begin, basis, result, true);
+  forEachBlock(unit.size(), [&](std::size_t begin, int count, detail::SupportBlockValues& values) {
+    evaluator_->evaluateBlock(count, unit.data() + begin, values, true);
     for (int i = 0; i < count; ++i) {
       const Eigen::Vector3d& n = unit[begin + static_cast<std::size_t>(i)];
-      const Eigen::Vector3d gradient(result(i, detail::kGradX), result(i, detail::kGradY),
-                                     result(i, detail::kGradZ));
-      const double h = result(i, detail::kValue) + offset;
+      const Eigen::Vector3d gradient(values.values[detail::kGradX][i],
+                                     values.values[detail::kGradY][i],
+                                     values.values[detail::kGradZ][i]);
+      const double h = values.values[detail::kValue][i] + offset;
       out[begin + static_cast<std::size_t>(i)] = h * n + (gradient - n.dot(gradient) * n);
     }
   });

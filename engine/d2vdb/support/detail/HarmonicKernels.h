@@ -5,7 +5,23 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <vector>
+
 namespace d2vdb::detail {
+
+/// Recurrence coefficients of the normalised harmonics, for every degree up to
+/// kMaxSupportDegree: with Lambda_l^m such that Y_l^{+-m} = Lambda_l^m(z) (Re, Im)((x + i y)^m)
+/// on the unit sphere, Lambda_m^m = sectoral[m] and Lambda_l^m = a[l][m] z Lambda_{l-1}^m -
+/// b[l][m] Lambda_{l-2}^m for l >= m + 1 (b = 0 for l = m + 1).
+struct RecurrenceTables {
+  std::vector<double> sectoral;
+  std::vector<std::vector<double>> a;
+  std::vector<std::vector<double>> b;
+  RecurrenceTables();
+};
+
+/// The tables, built once.
+const RecurrenceTables& recurrenceTables();
 
 /// Writes Y_j(n_i) for the `count` unit vectors n_i = (x[i], y[i], z[i]) and every harmonic of
 /// degree <= `degree` into `out`: out[j * stride + i] (column j holds harmonic j at all points,
