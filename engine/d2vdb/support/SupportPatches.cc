@@ -1,0 +1,332 @@
+#include "d2vdb/support/SupportPatches.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+#include <utility>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/mesh/VertexNormals.h"
+
+namespace d2vdb {
+namespace {
+
+// Union-find over triangle indices (path halving; the smaller root wins, so components are
+// labelled deterministically by their first triangle).
+struct Components {
+  std::vector<std::size_t> parent;
+  explicit Components(std::size_t count) : parent(count) {
+    std::iota(parent.begin(), parent.end(), std::size_t{0});
+  }
+  std::size_t find(std::size_t i) {
+    while (parent[i] != i) {
+      parent[i] = parent[parent[i]];
+      i = parent[i];
+    }
+    return i;
+  }
+  void join(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (b < a) std::swap(a, b);
+    parent[b] = a;
+  }
+};
+
+// The mesh with one unit normal per vertex (its own, or area-weighted ones), indices checked.
+TriangleMesh withNormals(const TriangleMesh& mesh, const std::string& sourceName) {
+  if (mesh.triangles.empty()) {
+    throw InputError(sourceName +
+                     ": the mesh has no triangles, so it cannot be split into "
+                     "patches of one curvature sign");
+  }
+  for (const auto& triangle : mesh.triangles) {
+    for (const auto index : triangle) {
+      if (index >= mesh.positions.size()) {
+        throw InputError(sourceName + ": a triangle refers to vertex " + std::to_string(index) +
+                         " of " + std::to_string(mesh.positions.size()));
+      }
+    }
+  }
+  TriangleMesh out = mesh;
+  if (!out.hasNormals()) computeVertexNormals(out);
+  return out;
+}
+
+// The sub-mesh of the given triangles, vertices renumbered in order of first use.
+TriangleMesh subMesh(const TriangleMesh& mesh, const std::vector<std::size_t>& triangles) {
+  TriangleMesh out;
+  std::unordered_map<TriangleMesh::Index, TriangleMesh::Index> renumber;
+  for (const std::size_t t : triangles) {
+    TriangleMesh::Triangle triangle{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const TriangleMesh::Index v = mesh.triangles[t][k];
+      const auto found = renumber.find(v);
+      if (found != renumber.end()) {
+        triangle[k] = found->second;
+      } else {
+        const auto index = static_cast<TriangleMesh::Index>(out.positions.size());
+        renumber.emplace(v, index);
+        out.positions.push_back(mesh.positions[v]);
+        out.normals.push_back(mesh.normals[v]);
+        triangle[k] = index;
+      }
+    }
+    out.triangles.push_back(triangle);
+  }
+  return out;
+}
+
+double boundingDiagonal(const std::vector<Eigen::Vector3d>& points) {
+  if (points.empty()) return 0.0;
+  Eigen::Vector3d lo = points.front();
+  Eigen::Vector3d hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return (hi - lo).norm();
+}
+
+struct PatchFitter {
+  const TriangleMesh& mesh;
+  const SupportPatchOptions& options;
+  const std::string& sourceName;
+  SupportPatchSet& result;
+
+  // Fits the region; on failure cuts it in two and recurses.
+  void fitRegion(RadiusSigns signs, std::vector<std::size_t> triangles, int depth) {
+    if (triangles.size() < options.minTriangles) {
+      result.rejectedTriangles += triangles.size();
+      return;
+    }
+    SupportPatch patch;
+    patch.signs = signs;
+    patch.gaussImage = meshGaussImage(subMesh(mesh, triangles), sourceName);
+    const std::size_t samples = patch.gaussImage.samples.points.size();
+    int degree = options.degree;
+    while (degree > 1 && static_cast<std::size_t>(3 * harmonicCount(degree)) > samples) --degree;
+    bool accepted = false;
+    if (static_cast<std::size_t>(harmonicCount(degree)) <= samples) {
+      SupportFitOptions fitOptions;
+      fitOptions.degree = degree;
+      fitOptions.regularization = options.regularization;
+      try {
+        patch.function =
+            fitSupportFunction(patch.gaussImage.samples, fitOptions, &patch.fit, sourceName);
+        patch.validity = analyzeSupportValidity(patch.function, patch.gaussImage.gaussImage);
+        accepted = patch.validity.regular() && patch.validity.signs == signs &&
+                   patch.fit.maxResidual <= options.maxRelativeResidual *
+                                                boundingDiagonal(patch.gaussImage.samples.points);
+      } catch (const InputError&) {
+        accepted = false;  // e.g. normals that do not determine the coefficients
+      }
+    }
+    if (accepted) {
+      patch.triangles = std::move(triangles);
+      result.patches.push_back(std::move(patch));
+      return;
+    }
+    if (depth >= options.maxSplitDepth) {
+      result.rejectedTriangles += triangles.size();
+      return;
+    }
+    // Cut at the median centroid along the longest side of the region's bounding box.
+    std::vector<Eigen::Vector3d> centroids(triangles.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      const auto& t = mesh.triangles[triangles[i]];
+      centroids[i] =
+          (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]).cast<double>() / 3.0;
+    }
+    Eigen::Vector3d lo = centroids.front();
+    Eigen::Vector3d hi = centroids.front();
+    for (const auto& c : centroids) {
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    Eigen::Index axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    std::vector<std::size_t> order(triangles.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    const auto middle = order.begin() + static_cast<std::ptrdiff_t>(order.size() / 2);
+    std::nth_element(order.begin(), middle, order.end(), [&](std::size_t a, std::size_t b) {
+      const double ca = centroids[a][axis];
+      const double cb = centroids[b][axis];
+      return ca < cb || (ca == cb && triangles[a] < triangles[b]);
+    });
+    std::vector<std::size_t> first;
+    std::vector<std::size_t> second;
+    for (auto it = order.begin(); it != order.end(); ++it) {
+      (it < middle ? first : second).push_back(triangles[*it]);
+    }
+    std::sort(first.begin(), first.end());
+    std::sort(second.begin(), second.end());
+    if (first.front() > second.front()) std::swap(first, second);
+    fitRegion(signs, std::move(first), depth + 1);
+    fitRegion(signs, std::move(second), depth + 1);
+  }
+};
+
+}  // namespace
+
+std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std::string& sourceName,
+                                           double parabolicRatio) {
+  const TriangleMesh mesh = withNormals(input, sourceName);
+  std::vector<RadiusSigns> classes(mesh.triangles.size(), RadiusSigns::Parabolic);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    Eigen::Vector3d x[3];
+    Eigen::Vector3d n[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto v = mesh.triangles[t][k];
+      x[k] = mesh.positions[v].cast<double>();
+      n[k] = mesh.normals[v].cast<double>();
+      const double length = n[k].norm();
+      if (!std::isfinite(length) || length < 1e-150 || !x[k].allFinite()) {
+        throw InputError(sourceName + ": vertex " + std::to_string(v) +
+                         " has a zero or non-finite normal or position");
+      }
+      n[k] /= length;
+    }
+    // The shape operator W on the triangle's plane from its edges: (n_j - n_0) = W (x_j - x_0)
+    // for j = 1, 2 (exactly determined), symmetrised; its eigenvalues are the principal
+    // curvatures (positive where the surface bends away from its normal).
+    const Eigen::Vector3d e1 = x[1] - x[0];
+    const Eigen::Vector3d e2 = x[2] - x[0];
+    const Eigen::Vector3d face = e1.cross(e2);
+    const double faceNorm = face.norm();
+    if (!(faceNorm > 0.0) || e1.norm() == 0.0) continue;  // degenerate: left out
+    const Eigen::Vector3d t1 = e1.normalized();
+    const Eigen::Vector3d t2 = (face / faceNorm).cross(t1);
+    Eigen::Matrix2d edges;
+    edges << e1.dot(t1), e2.dot(t1), e1.dot(t2), e2.dot(t2);
+    Eigen::Matrix2d turns;
+    turns << (n[1] - n[0]).dot(t1), (n[2] - n[0]).dot(t1), (n[1] - n[0]).dot(t2),
+        (n[2] - n[0]).dot(t2);
+    Eigen::Matrix2d shape = turns * edges.inverse();
+    // The face's winding must agree with the normals (outward); otherwise flip the frame.
+    if (face.dot(n[0] + n[1] + n[2]) < 0.0) shape = -shape;
+    const Eigen::Matrix2d symmetric = 0.5 * (shape + shape.transpose());
+    const double mean = 0.5 * symmetric.trace();
+    const double half =
+        std::sqrt(0.25 * (symmetric(0, 0) - symmetric(1, 1)) * (symmetric(0, 0) - symmetric(1, 1)) +
+                  symmetric(0, 1) * symmetric(0, 1));
+    const double k1 = mean - half;
+    const double k2 = mean + half;
+    const double larger = std::max(std::abs(k1), std::abs(k2));
+    const double smaller = std::min(std::abs(k1), std::abs(k2));
+    if (!std::isfinite(larger) || !(larger > 0.0) || smaller < parabolicRatio * larger) {
+      continue;  // parabolic (one curvature negligible against the other) or flat
+    }
+    classes[t] = k1 > 0.0   ? RadiusSigns::Convex
+                 : k2 < 0.0 ? RadiusSigns::Concave
+                            : RadiusSigns::Saddle;
+  }
+  // A vertex of a parabolic triangle lies on or next to a parabolic curve, where the Gauss map
+  // folds: its normal is shared by nearby points of both sides, so every triangle touching it
+  // counts as parabolic too (otherwise a region could hold samples with one normal and several
+  // positions, which no support function fits).
+  std::vector<bool> parabolicVertex(mesh.positions.size(), false);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (classes[t] != RadiusSigns::Parabolic) continue;
+    for (const auto v : mesh.triangles[t]) parabolicVertex[v] = true;
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& triangle = mesh.triangles[t];
+    if (parabolicVertex[triangle[0]] || parabolicVertex[triangle[1]] ||
+        parabolicVertex[triangle[2]]) {
+      classes[t] = RadiusSigns::Parabolic;
+    }
+  }
+  return classes;
+}
+
+double SupportPatchSet::safeOffsetMin() const {
+  double value = -std::numeric_limits<double>::infinity();
+  for (const SupportPatch& p : patches) value = std::max(value, p.validity.safeOffsetMin);
+  return value;
+}
+
+double SupportPatchSet::safeOffsetMax() const {
+  double value = std::numeric_limits<double>::infinity();
+  for (const SupportPatch& p : patches) value = std::min(value, p.validity.safeOffsetMax);
+  return value;
+}
+
+SupportPatchSet fitSupportPatches(const TriangleMesh& input, const SupportPatchOptions& options,
+                                  const std::string& sourceName) {
+  if (options.degree < 1 || options.degree > kMaxSupportDegree) {
+    throw InputError("patch degree " + std::to_string(options.degree) +
+                     " is not supported (expected 1 to " + std::to_string(kMaxSupportDegree) + ")");
+  }
+  if (!(options.regularization >= 0.0) || !std::isfinite(options.regularization) ||
+      !(options.maxRelativeResidual > 0.0) || options.maxSplitDepth < 0 ||
+      options.maxSplitDepth > 30 || !(options.parabolicRatio >= 0.0) ||
+      !(options.parabolicRatio < 0.15)) {
+    throw InputError(
+        "invalid patch options (regularisation >= 0, residual bound > 0, split "
+        "depth 0..30)");
+  }
+  const TriangleMesh mesh = withNormals(input, sourceName);
+  const std::vector<RadiusSigns> classes =
+      classifyTriangles(mesh, sourceName, options.parabolicRatio);
+  SupportPatchSet result;
+  result.triangles = mesh.triangles.size();
+  for (const RadiusSigns c : classes) {
+    switch (c) {
+      case RadiusSigns::Convex:
+        ++result.convexTriangles;
+        break;
+      case RadiusSigns::Saddle:
+        ++result.saddleTriangles;
+        break;
+      case RadiusSigns::Concave:
+        ++result.concaveTriangles;
+        break;
+      case RadiusSigns::Parabolic:
+        ++result.parabolicTriangles;
+        break;
+    }
+  }
+  // Regions: triangles of one class that share an edge.
+  Components components(mesh.triangles.size());
+  std::unordered_map<std::uint64_t, std::size_t> firstOfEdge;
+  firstOfEdge.reserve(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (classes[t] == RadiusSigns::Parabolic) continue;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint64_t a = mesh.triangles[t][k];
+      const std::uint64_t b = mesh.triangles[t][(k + 1) % 3];
+      const std::uint64_t key = (std::min(a, b) << 32) | std::max(a, b);
+      const auto [it, inserted] = firstOfEdge.emplace(key, t);
+      if (!inserted && classes[it->second] == classes[t]) components.join(it->second, t);
+    }
+  }
+  std::vector<std::vector<std::size_t>> regions;
+  std::unordered_map<std::size_t, std::size_t> regionOfRoot;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (classes[t] == RadiusSigns::Parabolic) continue;
+    const std::size_t root = components.find(t);
+    const auto [it, inserted] = regionOfRoot.emplace(root, regions.size());
+    if (inserted) regions.emplace_back();
+    regions[it->second].push_back(t);
+  }
+  PatchFitter fitter{mesh, options, sourceName, result};
+  for (std::vector<std::size_t>& region : regions) {
+    if (region.size() < options.minTriangles) {
+      result.smallRegionTriangles += region.size();
+      continue;
+    }
+    const RadiusSigns signs = classes[region.front()];
+    fitter.fitRegion(signs, std::move(region), 0);
+  }
+  return result;
+}
+
+}  // namespace d2vdb
