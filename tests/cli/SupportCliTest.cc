@@ -216,6 +216,81 @@ TEST_F(SupportCliTest, LevelSetMethodOffsetsTheMesh) {
   }
 }
 
+// A torus (R = 2, r = 0.5: outer half convex, inner half saddle) as a grid mesh with exact
+// normals: refused as a whole, split by --patches; the offsets of the patches lie on the offset
+// torus (tube radius r + d); an offset outside the common safe range is refused.
+TEST_F(SupportCliTest, PatchesSplitANonConvexTorus) {
+  constexpr double kMajor = 2.0, kMinor = 0.5;
+  d2vdb::TriangleMesh torus;
+  const int around = 64, tube = 32;
+  for (int i = 0; i < around; ++i) {
+    const double u = 2.0 * d2vdb::test::kPi * i / around;
+    for (int j = 0; j < tube; ++j) {
+      const double v = 2.0 * d2vdb::test::kPi * j / tube;
+      const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+      const Eigen::Vector3d p =
+          kMajor * Eigen::Vector3d(std::cos(u), std::sin(u), 0.0) + kMinor * n;
+      torus.positions.push_back(p.cast<float>());
+      torus.normals.push_back(n.cast<float>());
+    }
+  }
+  const auto index = [&](int i, int j) {
+    return static_cast<d2vdb::TriangleMesh::Index>((i % around) * tube + (j % tube));
+  };
+  for (int i = 0; i < around; ++i) {
+    for (int j = 0; j < tube; ++j) {
+      torus.triangles.push_back({index(i, j), index(i + 1, j), index(i + 1, j + 1)});
+      torus.triangles.push_back({index(i, j), index(i + 1, j + 1), index(i, j + 1)});
+    }
+  }
+  d2vdb::writeMesh(file("torus.obj"), torus);
+
+  CliResult result = run("support " + path("torus.obj") + " --degree 12 --out " + path("t.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("--patches"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("t.json"));
+
+  result = run("support " + path("torus.obj") + " --degree 12 --patches --out " + path("t.json") +
+               " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  ASSERT_EQ(report.at("patches").size(), 2u);
+  EXPECT_EQ(report.at("patches")[0].at("signs"), "convex");
+  EXPECT_EQ(report.at("patches")[1].at("signs"), "saddle");
+  EXPECT_GT(report.at("triangles").at("parabolic").get<int>(), 0);
+  EXPECT_EQ(report.at("triangles").at("uncovered"), report.at("triangles").at("parabolic"));
+  // The common safe range lies inside the torus's own (-r, R - r).
+  const double lo = report.at("safe_offset").at("min").get<double>();
+  const double hi = report.at("safe_offset").at("max").get<double>();
+  EXPECT_GE(lo, -kMinor - 1e-3);
+  EXPECT_LT(lo, 0.0);
+  EXPECT_NEAR(hi, kMajor - kMinor, 0.01);
+  for (const char* name : {"t_p0.json", "t_p1.json"}) {
+    EXPECT_TRUE(exists(name)) << name;
+    const CliResult info = run("info " + path(name) + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.err;
+    EXPECT_EQ(nlohmann::json::parse(info.out).at("domain"), "patch");
+  }
+
+  result = run("offset " + path("torus.obj") + " " + path("o.obj") +
+               " --distance 0.2 --degree 12 --patches --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const d2vdb::TriangleMesh offset = d2vdb::readMesh(file("o.obj"));
+  ASSERT_GT(offset.vertexCount(), 1000u);
+  double worst = 0.0;
+  for (const Eigen::Vector3f& p : offset.positions) {
+    const double tubeDistance = std::hypot(std::hypot(p.x(), p.y()) - kMajor, p.z());
+    worst = std::max(worst, std::abs(tubeDistance - (kMinor + 0.2)));
+  }
+  EXPECT_LT(worst, 1e-3);
+
+  result = run("offset " + path("torus.obj") + " " + path("far.obj") +
+               " --distance 1.8 --degree 12 --patches");
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("every patch stays regular"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("far.obj"));
+}
+
 TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
   const std::string mesh = ellipsoidMesh(0);  // 12 vertices
   // Fewer samples than unknowns.
@@ -254,7 +329,13 @@ TEST_F(SupportCliTest, BadInputExitsWithCodeTwoAndWritesNothing) {
                "/volumes/bunny.obj' --degree 8 --out " + path("b.json"));
   EXPECT_EQ(result.exitCode, 2);
   EXPECT_NE(result.err.find("not injective"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("--patches"), std::string::npos) << result.err;
   EXPECT_FALSE(exists("b.json"));
+  // --patches needs triangles (a point set has no connectivity to split).
+  result = run("support " + path("points.ply") + " --patches --out " + path("p.json"));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.err.find("connectivity"), std::string::npos) << result.err;
+  EXPECT_FALSE(exists("p_p0.json"));
   result = run(std::string("offset '") + D2VDB_SOURCE_DIR + "/volumes/bunny.obj' " + path("b.obj") +
                " --distance 0.01 --degree 8");
   EXPECT_EQ(result.exitCode, 2);

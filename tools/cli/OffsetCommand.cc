@@ -36,6 +36,8 @@ struct Arguments {
   double regularization = -1.0;
   int subdivisions = 6;
   bool allowSingular = false;
+  bool patches = false;
+  double parabolicRatio = -1.0;
   double voxelSize = 0.0;
   int resolution = 0;
   double halfWidth = 3.0;
@@ -173,6 +175,45 @@ nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& optio
   return report;
 }
 
+// The support-function method over the patches of a non-convex surface: each patch's offset over
+// its Gauss image, all in one mesh (open pieces; gaps where no patch covers the surface).
+nlohmann::json offsetByPatches(const Arguments& args, const GlobalOptions& options,
+                               std::vector<Written>& written, std::vector<std::string>& warnings) {
+  if (isVdbPath(args.output)) {
+    throw InputError(
+        "--patches gives open pieces of the offset surface, which have no inside for "
+        "a signed level set; write a mesh (.obj, .ply, .stl)");
+  }
+  const PatchedSupport patched =
+      fitPatches(args.input, options, args.degree, args.regularization, args.parabolicRatio);
+  warnings.insert(warnings.end(), patched.warnings.begin(), patched.warnings.end());
+  for (const double d : args.distances) {
+    requireRegularPatchOffset(patched, d, args.allowSingular, warnings);
+  }
+  for (const double d : args.distances) {
+    const Stopwatch clock;
+    Written w;
+    w.distance = d;
+    w.path = outputFor(args.output, d, args.distances.size()).string();
+    for (const SupportPatch& p : patched.set.patches) {
+      const TriangleMesh piece = tessellateSupport(p.function, p.gaussImage.gaussImage, d);
+      const auto base = static_cast<TriangleMesh::Index>(w.mesh.positions.size());
+      w.mesh.positions.insert(w.mesh.positions.end(), piece.positions.begin(),
+                              piece.positions.end());
+      w.mesh.normals.insert(w.mesh.normals.end(), piece.normals.begin(), piece.normals.end());
+      for (const auto& t : piece.triangles) {
+        w.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      }
+    }
+    w.seconds = clock.seconds();
+    written.push_back(std::move(w));
+  }
+  writeAll(written, options);
+  nlohmann::json report = patchesJson(patched);
+  report["tessellation"] = "gauss images of the patches";
+  return report;
+}
+
 // The level-set method (OpenVDB's way): level set of the input, offset by LevelSetFilter in steps
 // of at most half a voxel with renormalisation, marching cubes.
 nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& options,
@@ -259,13 +300,16 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
       "h + d, tessellated over a geodesic sphere of normals (closed inputs) or the input's\n"
       "Gauss image (open meshes); a distance outside the safe range (where a principal radius\n"
       "r + d would change sign: cusps, swallowtails) is refused unless --allow-singular, and so\n"
-      "is a non-convex closed input. --method levelset: the OpenVDB way, as a reference: level\n"
+      "is a non-convex closed input unless --patches: then the surface (a mesh or level set) is\n"
+      "split into patches of one curvature sign, each offset over its Gauss image, all written\n"
+      "as one mesh of open pieces. --method levelset: the OpenVDB way, as a reference: level\n"
       "set of the input, LevelSetFilter::offset, marching cubes. Several --distance values give\n"
       "OUT's name with _d<distance> inserted before the extension. An OUT ending in .vdb gets\n"
       "each offset as a level set (--method levelset: the offset grid itself; support: the\n"
       "tessellation converted at --voxel-size or --resolution, so choose --subdivisions fine\n"
       "enough for that voxel size).\n"
       "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
+      "         d2vdb offset volumes/torus.vdb torus-out.obj --distance 0.1 --patches\n"
       "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset");
   command
       ->add_option("input", args->input, "Mesh, point set (.ply), .vdb or support-function .json")
@@ -295,6 +339,9 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
       ->check(CLI::Range(0, 9));
   command->add_flag("--allow-singular", args->allowSingular,
                     "support: write offsets outside the safe range or of a singular function");
+  command->add_flag("--patches", args->patches,
+                    "support: split a non-convex mesh or level set into patches of one curvature "
+                    "sign and offset each over its Gauss image");
   auto* voxelSize =
       command->add_option("--voxel-size", args->voxelSize,
                           "levelset and .vdb outputs: voxel edge length in world units");
@@ -314,6 +361,7 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
                    "levelset and .vdb outputs: refuse when the estimated number of active voxels "
                    "exceeds this")
       ->capture_default_str();
+  addParabolicRatioOption(command, args->parabolicRatio);
   command->add_flag("--json", options.json, "Print the report as JSON on stdout");
 
   registry.add(command, [args, &options]() {
@@ -332,9 +380,13 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
     }
     std::vector<Written> written;
     std::vector<std::string> warnings;
-    nlohmann::json report = args->method == "support"
-                                ? offsetBySupport(*args, options, written, warnings)
-                                : offsetByLevelSet(*args, options, written, warnings);
+    if (args->patches && args->method != "support") {
+      throw InputError("--patches belongs to --method support");
+    }
+    nlohmann::json report = args->method != "support"
+                                ? offsetByLevelSet(*args, options, written, warnings)
+                            : args->patches ? offsetByPatches(*args, options, written, warnings)
+                                            : offsetBySupport(*args, options, written, warnings);
     for (const std::string& message : warnings) warning(message);
     report["input"] = args->input;
     report["method"] = args->method;
@@ -344,6 +396,11 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
     report["seconds"] = clock.seconds();
     if (options.json) {
       printJson(report);
+    } else if (args->patches) {
+      std::string summary = patchesText(report, "  ");
+      summary.pop_back();
+      status(options, "offset " + args->input + " by support-function patches (" +
+                          std::to_string(clock.seconds()) + " s):\n" + summary);
     } else if (args->method == "support") {
       std::string summary = supportText(report, "  ");
       summary.pop_back();

@@ -18,7 +18,55 @@ struct Arguments {
   int degree = 16;
   double regularization = -1.0;
   bool allowSingular = false;
+  bool patches = false;
+  double parabolicRatio = -1.0;
 };
+
+// OUT's stem + "_p<index>" + extension: the file of one patch.
+std::filesystem::path patchOutput(const std::filesystem::path& output, std::size_t index) {
+  std::filesystem::path name = output;
+  name.replace_filename(output.stem().string() + "_p" + std::to_string(index) +
+                        output.extension().string());
+  return name;
+}
+
+// `support --patches`: fit the patches, write each as its own support-function file over its
+// Gauss image (all computed before any is written), report them.
+ExitCode runPatches(const Arguments& args, const GlobalOptions& options, const Stopwatch& clock) {
+  const PatchedSupport patched =
+      fitPatches(args.input, options, args.degree, args.regularization, args.parabolicRatio);
+  for (const std::string& message : patched.warnings) warning(message);
+  nlohmann::json report = patchesJson(patched);
+  std::vector<SupportFunctionDocument> documents;
+  for (std::size_t i = 0; i < patched.set.patches.size(); ++i) {
+    const SupportPatch& p = patched.set.patches[i];
+    SupportFunctionDocument document;
+    document.function = p.function;
+    document.patch = p.gaussImage.gaussImage;
+    document.fit =
+        SupportFitRecord{std::filesystem::path(args.input).filename().string(), p.fit.samples,
+                         p.fit.regularization, p.fit.rmsResidual, p.fit.maxResidual};
+    documents.push_back(std::move(document));
+  }
+  for (std::size_t i = 0; i < documents.size(); ++i) {
+    const std::string path = patchOutput(args.output, i).string();
+    writeSupportFunctionJson(path, documents[i]);
+    report["patches"][i]["output"] = path;
+  }
+  report["input"] = args.input;
+  report["warnings"] = patched.warnings;
+  report["seconds"] = clock.seconds();
+  if (options.json) {
+    printJson(report);
+  } else {
+    std::string summary = patchesText(report, "  ");
+    summary.pop_back();
+    status(options, "wrote " + std::to_string(documents.size()) + " patch files (" + patched.kind +
+                        " " + args.input + ", " + std::to_string(clock.seconds()) + " s):\n" +
+                        summary);
+  }
+  return kSuccess;
+}
 
 }  // namespace
 
@@ -34,8 +82,12 @@ void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
       "as .json. Inputs: meshes (.obj, .ply, .stl; vertex normals, or area-weighted ones),\n"
       "point sets with normals (.ply with nx ny nz), level sets and fields (.vdb; band\n"
       "footpoints and normals). A non-convex closed surface has no support function: the fit\n"
-      "is singular and refused (exit 2) unless --allow-singular.\n"
-      "Example: d2vdb support ellipsoid.obj --degree 24 --out ellipsoid-sf.json");
+      "is singular and refused (exit 2) unless --allow-singular; with --patches a mesh or level\n"
+      "set is split into connected regions of one curvature sign (convex, saddle, concave;\n"
+      "a band along the parabolic curves is left out), each fitted over its own Gauss image\n"
+      "and written to OUT's name with _p<k> before .json.\n"
+      "Example: d2vdb support ellipsoid.obj --degree 24 --out ellipsoid-sf.json\n"
+      "         d2vdb support volumes/torus.vdb --patches --out torus-sf.json");
   command->add_option("input", args->input, "Mesh, point set (.ply), level set or field (.vdb)")
       ->required();
   command->add_option("--out", args->output, "Output support-function .json (written atomically)")
@@ -53,6 +105,10 @@ void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
   command->add_flag("--allow-singular", args->allowSingular,
                     "Keep a support function that is singular on its domain (warning instead of "
                     "refusal)");
+  command->add_flag("--patches", args->patches,
+                    "Split a non-convex mesh or level set into patches of one curvature sign and "
+                    "fit each over its Gauss image (one .json per patch)");
+  addParabolicRatioOption(command, args->parabolicRatio);
   command->add_flag("--json", options.json, "Print the report as JSON on stdout");
 
   registry.add(command, [args, &options]() {
@@ -60,6 +116,7 @@ void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
     if (std::filesystem::path(args->output).extension() != ".json") {
       throw InputError("the output '" + args->output + "' must end in .json");
     }
+    if (args->patches) return runPatches(*args, options, clock);
     const SupportInput input = loadSupportInput(args->input, options);
     if (input.document) {
       throw InputError("'" + args->input +

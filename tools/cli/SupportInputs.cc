@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "d2vdb/contour/IsoSurface.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/ApproximantField.h"
@@ -120,9 +121,20 @@ CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source,
   }
   checked.validity =
       analyzeSupportValidity(checked.document.function, validityDomain(checked.document));
-  if (!checked.validity.regular()) {
+  // A fit that misses its samples badly is no representation of the input even when it is regular
+  // (e.g. a torus over the whole sphere averages its outer and inner halves into a sphere).
+  const double relativeResidual =
+      checked.fit && checked.fit->size > 0.0 ? checked.fit->maxResidual / checked.fit->size : 0.0;
+  const bool missed = relativeResidual > kMaxRelativeSupportResidual;
+  if (!checked.validity.regular() || missed) {
     std::string why =
-        "'" + source + "': the support function is " + checked.validity.describe() + ". ";
+        "'" + source + "': the support function is " + checked.validity.describe() +
+        (missed
+             ? " but misses the samples by up to " + formatNumber(checked.fit->maxResidual, 4) +
+                   " (" + formatNumber(100.0 * relativeResidual, 3) + "% of the size, more than " +
+                   formatNumber(100.0 * kMaxRelativeSupportResidual, 3) + "%)"
+             : std::string()) +
+        ". ";
     if (input.gaussImage && input.gaussImage->reversingTriangles > 0 &&
         input.gaussImage->preservingTriangles > 0) {
       why += "Of its " +
@@ -140,8 +152,8 @@ CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source,
                : "A closed surface has a support function only if it is convex (its Gauss map "
                  "is then injective)";
     why +=
-        "; offset non-convex shapes with --method levelset, or fit patches whose Gauss map "
-        "is injective (an open mesh is fitted over its own Gauss image)";
+        "; pass --patches to split it into patches of one curvature sign, each fitted over its "
+        "own Gauss image, or offset it with --method levelset";
     if (!allowSingular) throw InputError(why + ", or pass --allow-singular to keep this result");
     checked.warnings.push_back(why + " (kept: --allow-singular)");
   }
@@ -223,6 +235,154 @@ nlohmann::json supportFileReport(const std::string& path) {
   report["file"] = path;
   report["kind"] = kSupportFunctionJsonType;
   return report;
+}
+
+PatchedSupport fitPatches(const std::string& path, const GlobalOptions& options, int degree,
+                          double regularization, double parabolicRatio) {
+  if (isSupportFunctionFile(path)) {
+    throw InputError("'" + path +
+                     "' is a support-function file; --patches splits a mesh or a level set");
+  }
+  LoadOptions load;
+  load.purpose = "the input of --patches (a mesh with triangles or a level set)";
+  load.progress = makeProgressPrinter(options);
+  LoadedInput loaded = loadInput(path, {InputKind::Mesh, InputKind::LevelSet}, load);
+  PatchedSupport patched;
+  TriangleMesh mesh;
+  if (loaded.kind() == InputKind::LevelSet) {
+    const openvdb::FloatGrid::Ptr grid = std::move(loaded).take<LevelSetInput>().floatGrid();
+    IsoSurfaceOptions iso;
+    iso.computeNormals = true;
+    mesh = extractIsoSurface(*grid, iso, makeProgressPrinter(options));
+    patched.kind = "level set";
+    if (mesh.triangles.empty()) {
+      throw InputError("'" + path + "' has no zero crossing: its iso-surface is empty");
+    }
+  } else {
+    mesh = std::move(loaded).take<MeshInput>().mesh;
+    patched.kind = "mesh";
+    if (mesh.triangles.empty()) {
+      throw InputError("'" + path +
+                       "' has no triangles: splitting into patches needs the surface's "
+                       "connectivity (a mesh or a level set), not a point set");
+    }
+    if (!mesh.hasNormals()) {
+      patched.warnings.push_back("'" + path +
+                                 "' has no vertex normals: using area-weighted normals of its "
+                                 "triangles, which limit the curvature signs and the fits' "
+                                 "accuracy to the facets' size");
+    }
+  }
+  SupportPatchOptions patchOptions;
+  patchOptions.degree = degree;
+  if (regularization >= 0.0) patchOptions.regularization = regularization;
+  if (parabolicRatio >= 0.0) patchOptions.parabolicRatio = parabolicRatio;
+  status(options,
+         "splitting " + path + " (" + patched.kind + ", " + std::to_string(mesh.triangles.size()) +
+             " triangles) into patches of one curvature sign, degree " + std::to_string(degree));
+  patched.set = fitSupportPatches(mesh, patchOptions, "'" + path + "'");
+  if (patched.set.patches.empty()) {
+    throw InputError(
+        "'" + path + "': no region of one curvature sign could be fitted (" +
+        std::to_string(patched.set.smallRegionTriangles) + " triangles in regions too small, " +
+        std::to_string(patched.set.rejectedTriangles) + " in regions whose fit failed, " +
+        std::to_string(patched.set.parabolicTriangles) + " near-parabolic)");
+  }
+  const double uncovered = static_cast<double>(patched.set.uncoveredTriangles()) /
+                           static_cast<double>(patched.set.triangles);
+  if (uncovered > 0.0) {
+    patched.warnings.push_back(
+        formatNumber(100.0 * uncovered, 3) + "% of the triangles are in no patch (" +
+        std::to_string(patched.set.parabolicTriangles) + " near parabolic curves, " +
+        std::to_string(patched.set.smallRegionTriangles) + " in regions too small to fit, " +
+        std::to_string(patched.set.rejectedTriangles) +
+        " in regions whose fit failed): the patches' offsets leave gaps there");
+  }
+  return patched;
+}
+
+void addParabolicRatioOption(CLI::App* command, double& ratio) {
+  command
+      ->add_option("--parabolic-ratio", ratio,
+                   "--patches: leave out the band where the smaller principal curvature is below "
+                   "this fraction of the larger (default 0.1; larger: less coverage, more "
+                   "accurate patches)")
+      ->check(CLI::Range(0.0, 0.99));
+}
+
+nlohmann::json patchesJson(const PatchedSupport& patched) {
+  const SupportPatchSet& set = patched.set;
+  nlohmann::json patches = nlohmann::json::array();
+  for (std::size_t i = 0; i < set.patches.size(); ++i) {
+    const SupportPatch& p = set.patches[i];
+    patches.push_back({{"index", i},
+                       {"signs", radiusSignsName(p.signs)},
+                       {"triangles", p.triangles.size()},
+                       {"samples", p.fit.samples},
+                       {"degree", p.fit.degree},
+                       {"rms_residual", p.fit.rmsResidual},
+                       {"max_residual", p.fit.maxResidual},
+                       {"radii", {{"min", p.validity.minRadius}, {"max", p.validity.maxRadius}}},
+                       {"safe_offset",
+                        {{"min", finiteOrNull(p.validity.safeOffsetMin)},
+                         {"max", finiteOrNull(p.validity.safeOffsetMax)}}}});
+  }
+  nlohmann::json report;
+  report["input_kind"] = patched.kind;
+  report["domain"] = "patches";
+  report["patches"] = patches;
+  report["triangles"] = {{"total", set.triangles},
+                         {"convex", set.convexTriangles},
+                         {"saddle", set.saddleTriangles},
+                         {"concave", set.concaveTriangles},
+                         {"parabolic", set.parabolicTriangles},
+                         {"small_regions", set.smallRegionTriangles},
+                         {"rejected", set.rejectedTriangles},
+                         {"uncovered", set.uncoveredTriangles()}};
+  report["safe_offset"] = {{"min", finiteOrNull(set.safeOffsetMin())},
+                           {"max", finiteOrNull(set.safeOffsetMax())}};
+  return report;
+}
+
+std::string patchesText(const nlohmann::json& report, const std::string& indent) {
+  const auto side = [](const nlohmann::json& value, const char* infinite) {
+    return value.is_null() ? std::string(infinite) : formatNumber(value.get<double>(), 6);
+  };
+  const auto& t = report["triangles"];
+  std::string text = indent + std::to_string(report["patches"].size()) +
+                     " patches of one curvature sign, " + "each fitted over its Gauss image; of " +
+                     t["total"].dump() + " triangles: " + t["convex"].dump() + " convex, " +
+                     t["saddle"].dump() + " saddle, " + t["concave"].dump() + " concave, " +
+                     t["parabolic"].dump() + " near-parabolic; " + t["uncovered"].dump() +
+                     " in no patch\n";
+  for (const auto& p : report["patches"]) {
+    text += indent + "  patch " + p["index"].dump() + ": " + p["signs"].get<std::string>() + ", " +
+            p["triangles"].dump() + " triangles, degree " + p["degree"].dump() + ", residual max " +
+            formatNumber(p["max_residual"].get<double>(), 3) + ", safe offsets (" +
+            side(p["safe_offset"]["min"], "-inf") + ", " + side(p["safe_offset"]["max"], "inf") +
+            ")";
+    if (p.contains("output")) text += " -> " + p["output"].get<std::string>();
+    text += "\n";
+  }
+  text += indent + "safe offsets for all patches: (" + side(report["safe_offset"]["min"], "-inf") +
+          ", " + side(report["safe_offset"]["max"], "inf") + ")\n";
+  return text;
+}
+
+void requireRegularPatchOffset(const PatchedSupport& patched, double distance, bool allowSingular,
+                               std::vector<std::string>& warnings) {
+  const double lo = patched.set.safeOffsetMin();
+  const double hi = patched.set.safeOffsetMax();
+  if (distance > lo && distance < hi) return;
+  const std::string message =
+      "offset " + formatNumber(distance, 6) + " is outside the range (" + formatNumber(lo, 6) +
+      ", " + formatNumber(hi, 6) +
+      ") where every patch stays regular (a principal radius r + d would change sign: cusps or "
+      "self-intersections)";
+  if (!allowSingular) {
+    throw InputError(message + "; choose a distance inside it or pass --allow-singular");
+  }
+  warnings.push_back(message + " (kept: --allow-singular)");
 }
 
 std::string supportText(const nlohmann::json& report, const std::string& indent) {

@@ -13,6 +13,7 @@
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/io/SupportFunctionJson.h"
 #include "d2vdb/support/SupportFit.h"
+#include "d2vdb/support/SupportPatches.h"
 #include "d2vdb/support/SupportSamples.h"
 #include "d2vdb/support/SupportValidity.h"
 
@@ -50,11 +51,16 @@ struct CheckedSupport {
   std::vector<std::string> warnings;
 };
 
+/// A fit whose max residual exceeds this fraction of the samples' bounding-box diagonal is
+/// refused like a singular one: the input is not one support-function surface.
+inline constexpr double kMaxRelativeSupportResidual = 0.02;
+
 /// Fits `input` at `degree` (regularisation < 0: the default of its domain, sphere or patch), or
 /// takes its support-function document, and analyses the validity over its domain. Unless
 /// `allowSingular`, throws InputError when the function is singular there (not convex, or a patch
-/// whose Gauss map is not injective), explaining why and what to do; with `allowSingular` that
-/// becomes a warning.
+/// whose Gauss map is not injective) or a fit misses its samples by more than
+/// kMaxRelativeSupportResidual of their size, explaining why and what to do; with
+/// `allowSingular` that becomes a warning.
 CheckedSupport fitAndCheck(const SupportInput& input, const std::string& source, int degree,
                            double regularization, bool allowSingular);
 
@@ -71,6 +77,38 @@ bool isSupportFunctionFile(const std::string& path);
 /// `d2vdb info` on a support-function file: {"file", "kind": "support_function"} plus
 /// supportJson() of the function and its validity over its domain.
 nlohmann::json supportFileReport(const std::string& path);
+
+/// The patches of a non-convex surface (`--patches`), with where they came from.
+struct PatchedSupport {
+  std::string kind;  ///< "mesh" or "level set" (its zero iso-surface, marching cubes)
+  SupportPatchSet set;
+  std::vector<std::string> warnings;
+};
+
+/// Loads `path` as a mesh with triangles, or a level set (.vdb) whose zero iso-surface is
+/// extracted (marching cubes, gradient normals), and fits support-function patches of one
+/// curvature sign to it (fitSupportPatches at `degree`; regularisation < 0: the patch default;
+/// parabolicRatio < 0: SupportPatchOptions' default).
+/// Throws InputError for point sets and support-function files (the split needs the surface's
+/// connectivity), malformed files, or when no region could be fitted.
+PatchedSupport fitPatches(const std::string& path, const GlobalOptions& options, int degree,
+                          double regularization, double parabolicRatio);
+
+/// Adds `--parabolic-ratio` (for --patches) to `command`, stored in `ratio` (default -1: unset).
+void addParabolicRatioOption(CLI::App* command, double& ratio);
+
+/// The report of fitPatches(): "patches" (per patch: signs, triangles, samples, degree, fit
+/// residuals, radii, safe offsets, output when written), triangle counts by curvature class, what
+/// is uncovered and the safe offset range common to all patches.
+nlohmann::json patchesJson(const PatchedSupport& patched);
+
+/// A few indented lines for the text output of patchesJson().
+std::string patchesText(const nlohmann::json& report, const std::string& indent);
+
+/// Throws InputError unless every patch is regular at `distance` (inside the common safe range);
+/// with `allowSingular` adds a warning instead.
+void requireRegularPatchOffset(const PatchedSupport& patched, double distance, bool allowSingular,
+                               std::vector<std::string>& warnings);
 
 /// A few indented lines for the text output.
 std::string supportText(const nlohmann::json& report, const std::string& indent);

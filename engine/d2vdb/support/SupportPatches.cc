@@ -1,5 +1,6 @@
 #include "d2vdb/support/SupportPatches.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
@@ -177,56 +178,104 @@ struct PatchFitter {
 }  // namespace
 
 std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std::string& sourceName,
-                                           double parabolicRatio) {
+                                           double parabolicRatio, int rings) {
+  if (rings < 1 || rings > 20) {
+    throw InputError("the curvature neighbourhood must be 1 to 20 rings of edges, got " +
+                     std::to_string(rings));
+  }
   const TriangleMesh mesh = withNormals(input, sourceName);
-  std::vector<RadiusSigns> classes(mesh.triangles.size(), RadiusSigns::Parabolic);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    Eigen::Vector3d x[3];
-    Eigen::Vector3d n[3];
-    for (std::size_t k = 0; k < 3; ++k) {
-      const auto v = mesh.triangles[t][k];
-      x[k] = mesh.positions[v].cast<double>();
-      n[k] = mesh.normals[v].cast<double>();
-      const double length = n[k].norm();
-      if (!std::isfinite(length) || length < 1e-150 || !x[k].allFinite()) {
-        throw InputError(sourceName + ": vertex " + std::to_string(v) +
-                         " has a zero or non-finite normal or position");
-      }
-      n[k] /= length;
+  const std::size_t vertexCount = mesh.positions.size();
+  std::vector<Eigen::Vector3d> x(vertexCount);
+  std::vector<Eigen::Vector3d> n(vertexCount);
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    x[v] = mesh.positions[v].cast<double>();
+    n[v] = mesh.normals[v].cast<double>();
+    const double length = n[v].norm();
+    if (!std::isfinite(length) || length < 1e-150 || !x[v].allFinite()) {
+      throw InputError(sourceName + ": vertex " + std::to_string(v) +
+                       " has a zero or non-finite normal or position");
     }
-    // The shape operator W on the triangle's plane from its edges: (n_j - n_0) = W (x_j - x_0)
-    // for j = 1, 2 (exactly determined), symmetrised; its eigenvalues are the principal
-    // curvatures (positive where the surface bends away from its normal).
-    const Eigen::Vector3d e1 = x[1] - x[0];
-    const Eigen::Vector3d e2 = x[2] - x[0];
-    const Eigen::Vector3d face = e1.cross(e2);
-    const double faceNorm = face.norm();
-    if (!(faceNorm > 0.0) || e1.norm() == 0.0) continue;  // degenerate: left out
-    const Eigen::Vector3d t1 = e1.normalized();
-    const Eigen::Vector3d t2 = (face / faceNorm).cross(t1);
-    Eigen::Matrix2d edges;
-    edges << e1.dot(t1), e2.dot(t1), e1.dot(t2), e2.dot(t2);
-    Eigen::Matrix2d turns;
-    turns << (n[1] - n[0]).dot(t1), (n[2] - n[0]).dot(t1), (n[1] - n[0]).dot(t2),
-        (n[2] - n[0]).dot(t2);
-    Eigen::Matrix2d shape = turns * edges.inverse();
-    // The face's winding must agree with the normals (outward); otherwise flip the frame.
-    if (face.dot(n[0] + n[1] + n[2]) < 0.0) shape = -shape;
-    const Eigen::Matrix2d symmetric = 0.5 * (shape + shape.transpose());
-    const double mean = 0.5 * symmetric.trace();
-    const double half =
-        std::sqrt(0.25 * (symmetric(0, 0) - symmetric(1, 1)) * (symmetric(0, 0) - symmetric(1, 1)) +
-                  symmetric(0, 1) * symmetric(0, 1));
+    n[v] /= length;
+  }
+  // Neighbours along edges, sorted and unique.
+  std::vector<std::vector<TriangleMesh::Index>> ring(vertexCount);
+  for (const auto& t : mesh.triangles) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      ring[t[k]].push_back(t[(k + 1) % 3]);
+      ring[t[k]].push_back(t[(k + 2) % 3]);
+    }
+  }
+  for (auto& r : ring) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  // Per vertex: the symmetric shape operator S on its tangent plane that best maps the offsets to
+  // the neighbours within `rings` edges to their normals' changes, (n_j - n_i) = S (x_j - x_i)
+  // projected (least squares in the three entries of S; the neighbourhood averages out the noise
+  // of marching-cubes normals and the creases of faceted meshes). Its eigenvalues are the principal
+  // curvatures, positive where the surface bends away from its normal.
+  std::vector<RadiusSigns> vertexClass(vertexCount, RadiusSigns::Parabolic);
+  std::vector<TriangleMesh::Index>
+      neighbourhood;  // the neighbourhood: vertices within `rings` edges
+  std::vector<std::size_t> seenAt(vertexCount, std::numeric_limits<std::size_t>::max());
+  std::vector<TriangleMesh::Index> frontier;
+  std::vector<TriangleMesh::Index> next;
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    neighbourhood.clear();
+    frontier.assign(1, static_cast<TriangleMesh::Index>(v));
+    seenAt[v] = v;
+    for (int r = 0; r < rings; ++r) {
+      next.clear();
+      for (const auto a : frontier) {
+        for (const auto b : ring[a]) {
+          if (seenAt[b] == v) continue;
+          seenAt[b] = v;
+          next.push_back(b);
+          neighbourhood.push_back(b);
+        }
+      }
+      frontier.swap(next);
+    }
+    const Eigen::Vector3d t1 = n[v].unitOrthogonal();
+    const Eigen::Vector3d t2 = n[v].cross(t1);
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (const auto j : neighbourhood) {
+      const Eigen::Vector3d dx = x[j] - x[v];
+      const Eigen::Vector3d dn = n[j] - n[v];
+      const double a1 = dx.dot(t1), a2 = dx.dot(t2);
+      const double b1 = dn.dot(t1), b2 = dn.dot(t2);
+      // b1 = p a1 + q a2, b2 = q a1 + s a2 in the unknowns (p, q, s).
+      const Eigen::Vector3d row1(a1, a2, 0.0);
+      const Eigen::Vector3d row2(0.0, a1, a2);
+      normal += row1 * row1.transpose() + row2 * row2.transpose();
+      rhs += b1 * row1 + b2 * row2;
+    }
+    if (neighbourhood.size() < 3) continue;
+    const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
+    if (solver.info() != Eigen::Success || !(std::abs(normal.determinant()) > 0.0)) continue;
+    const Eigen::Vector3d pqs = solver.solve(rhs);
+    const double mean = 0.5 * (pqs[0] + pqs[2]);
+    const double half = std::hypot(0.5 * (pqs[0] - pqs[2]), pqs[1]);
     const double k1 = mean - half;
     const double k2 = mean + half;
     const double larger = std::max(std::abs(k1), std::abs(k2));
     const double smaller = std::min(std::abs(k1), std::abs(k2));
-    if (!std::isfinite(larger) || !(larger > 0.0) || smaller < parabolicRatio * larger) {
-      continue;  // parabolic (one curvature negligible against the other) or flat
+    if (!std::isfinite(larger) || !(larger > 0.0) || smaller < parabolicRatio * larger) continue;
+    vertexClass[v] = k1 > 0.0   ? RadiusSigns::Convex
+                     : k2 < 0.0 ? RadiusSigns::Concave
+                                : RadiusSigns::Saddle;
+  }
+  // A triangle takes its corners' class when they agree (else it straddles a parabolic curve).
+  std::vector<RadiusSigns> classes(mesh.triangles.size(), RadiusSigns::Parabolic);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& triangle = mesh.triangles[t];
+    const RadiusSigns c = vertexClass[triangle[0]];
+    const bool degenerate =
+        !((x[triangle[1]] - x[triangle[0]]).cross(x[triangle[2]] - x[triangle[0]]).norm() > 0.0);
+    if (!degenerate && c == vertexClass[triangle[1]] && c == vertexClass[triangle[2]]) {
+      classes[t] = c;
     }
-    classes[t] = k1 > 0.0   ? RadiusSigns::Convex
-                 : k2 < 0.0 ? RadiusSigns::Concave
-                            : RadiusSigns::Saddle;
   }
   // A vertex of a parabolic triangle lies on or next to a parabolic curve, where the Gauss map
   // folds: its normal is shared by nearby points of both sides, so every triangle touching it
@@ -268,14 +317,15 @@ SupportPatchSet fitSupportPatches(const TriangleMesh& input, const SupportPatchO
   if (!(options.regularization >= 0.0) || !std::isfinite(options.regularization) ||
       !(options.maxRelativeResidual > 0.0) || options.maxSplitDepth < 0 ||
       options.maxSplitDepth > 30 || !(options.parabolicRatio >= 0.0) ||
-      !(options.parabolicRatio < 0.15)) {
+      !(options.parabolicRatio < 1.0) || options.curvatureRings < 1 ||
+      options.curvatureRings > 20) {
     throw InputError(
         "invalid patch options (regularisation >= 0, residual bound > 0, split "
         "depth 0..30)");
   }
   const TriangleMesh mesh = withNormals(input, sourceName);
   const std::vector<RadiusSigns> classes =
-      classifyTriangles(mesh, sourceName, options.parabolicRatio);
+      classifyTriangles(mesh, sourceName, options.parabolicRatio, options.curvatureRings);
   SupportPatchSet result;
   result.triangles = mesh.triangles.size();
   for (const RadiusSigns c : classes) {

@@ -35,9 +35,12 @@ struct SupportPatchOptions {
   /// larger are treated as parabolic and left out. Near a parabolic curve one radius grows without
   /// bound and the support function has a branch point just outside the region, which
   /// polynomials approximate slowly; leaving that band out keeps each region's fit accurate.
-  double parabolicRatio = 0.05;
+  double parabolicRatio = 0.1;
+  /// The principal curvatures at a vertex are fitted over the vertices within this many edges
+  /// (classifyTriangles): more rings average out noisy normals and facets.
+  int curvatureRings = 2;
   /// Largest accepted max residual of a patch's fit, relative to the diagonal of its bounding box.
-  double maxRelativeResidual = 2e-2;
+  double maxRelativeResidual = 5e-3;
 };
 
 /// One fitted patch: a connected region of the mesh of one curvature sign, its support function
@@ -72,16 +75,18 @@ struct SupportPatchSet {
   double safeOffsetMax() const;
 };
 
-/// The curvature class of each triangle of `mesh` from its corners and corner normals (given, or
-/// area-weighted when the mesh has none): the shape operator W with n_j - n_0 = W (x_j - x_0) on
-/// its two edges, symmetrised, gives principal curvatures k1 <= k2 (positive where the surface
-/// bends away from its normal): Convex (both > 0), Concave (both < 0), Saddle, or Parabolic where
-/// min |k| < parabolicRatio max |k| (or the triangle is degenerate). Every triangle sharing a
-/// vertex with a parabolic one is Parabolic too (that vertex's normal belongs to both sides of the
-/// Gauss map's fold). Normals must point out of the body. Throws InputError (naming `sourceName`)
-/// for a mesh without triangles or with bad indices, normals or positions.
+/// The curvature class of each triangle of `mesh` from its vertices and vertex normals (given,
+/// or area-weighted when the mesh has none). At each vertex, the symmetric shape operator S with
+/// (n_j - n_i) = S (x_j - x_i) on the tangent plane is fitted by least squares over the vertices
+/// within `rings` edges (1..20); its eigenvalues k1 <= k2 are the principal curvatures (positive
+/// where the surface bends away from its normal): Convex (both > 0), Concave (both < 0), Saddle, or
+/// Parabolic where min |k| < parabolicRatio max |k|. A triangle takes its corners' class when all
+/// three agree, else (or when degenerate) it is Parabolic; every triangle sharing a vertex with a
+/// parabolic one is Parabolic too (that vertex's normal belongs to both sides of the Gauss map's
+/// fold). Normals must point out of the body. Throws InputError (naming `sourceName`) for a mesh
+/// without triangles or with bad indices, normals or positions.
 std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& mesh, const std::string& sourceName,
-                                           double parabolicRatio = 0.05);
+                                           double parabolicRatio = 0.1, int rings = 2);
 
 /// Splits `mesh` into connected regions (triangles sharing an edge) of one curvature class
 /// (classifyTriangles), leaves out parabolic triangles and regions below options.minTriangles, and
