@@ -86,9 +86,9 @@ class SupportFunction {
   /// Everything at one normal (see SupportPoint).
   SupportPoint evaluate(const Eigen::Vector3d& normal) const;
 
-  /// evaluate() at every normal, in parallel (TBB). Normals are processed in fixed blocks, so the
-  /// result is bitwise identical for any thread count; it may differ from single-normal
-  /// evaluate() in the last bits.
+  /// evaluate() at every normal, in parallel (TBB). Each normal's arithmetic involves that normal
+  /// only, so the result is bitwise identical for any thread count and to single-normal
+  /// evaluate().
   std::vector<SupportPoint> evaluate(const std::vector<Eigen::Vector3d>& normals) const;
   /// point(n, offset) at every normal, in parallel; same determinism as evaluate().
   std::vector<Eigen::Vector3d> points(const std::vector<Eigen::Vector3d>& normals,
