@@ -39,12 +39,23 @@
 //  - BM_SurfaceTimeToRms/method: the 16 x 16 torus: wall time for SDM and PDM from the same start
 //    to reach 1.02 x the RMS SDM converges to (cap 300 iterations; reached 0 when the cap came
 //    first).
+//  - BM_SurfaceNoisyCloud: SDM II on 100,000 points of z = 0.1 sin(3x) cos(2y) on [0, 2]^2 with
+//    sigma 0.002 per coordinate, 12 x 12 bicubic, default options; and the same fit to the clean
+//    points (the noise-free floor). Counters: iterations, converged, rms_clean (vertical RMS to
+//    the clean surface over [0.1, 1.9]^2), floor (the clean fit's), bound = 1.15 sigma
+//    sqrt(3mn/N) + floor (the goal: rms_clean <= bound).
+//  - BM_SurfaceIteration/threads: one SDM I iteration on the torus field at 32 x 32 control points
+//    and 102,400 sensors (manual time, as BM_FitIteration) and, in the same run, the field's batch
+//    queries at its sensors: queries per iteration, query_ms, ratio = iteration / queries.
+//  - BM_SurfaceIterationSpeedup: the same iteration with 1 and 2 threads, paired; t1_ms, t2_ms,
+//    speedup.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -65,6 +76,7 @@
 #include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/PointCloudFitter.h"
 #include "d2vdb/fit/SurfaceFitter.h"
+#include "d2vdb/fit/SurfaceSensorBasis.h"
 #include "fit/FitTestSupport.h"
 
 namespace {
@@ -632,6 +644,210 @@ BENCHMARK(BM_SurfaceTimeToRms)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+/// `count` points of the wave z = waveHeight(x, y), uniform on [0, 2]^2, with Gaussian noise of
+/// `sigma` per coordinate (seed 4, as waveCloud()); sigma 0 = the clean points.
+std::vector<Eigen::Vector3d> waveSamples(int count, double sigma) {
+  std::mt19937 engine(4);
+  std::uniform_real_distribution<double> unit(0.0, 2.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    const double x = unit(engine), y = unit(engine);
+    const Eigen::Vector3d offset(noise(engine), noise(engine), noise(engine));
+    points.push_back(Eigen::Vector3d(x, y, waveHeight(x, y)) + (sigma / 0.002) * offset);
+  }
+  return points;
+}
+
+/// Vertical RMS of the surface to the clean wave over [0.1, 1.9]^2 (61 x 61 samples).
+double waveRms(const d2vdb::BSplineSurface& surface) {
+  double sum = 0.0;
+  int count = 0;
+  for (const Eigen::Vector3d& p : surface.sample(61, 61)) {
+    if (p.x() < 0.1 || p.x() > 1.9 || p.y() < 0.1 || p.y() > 1.9) continue;
+    sum += std::pow(p.z() - waveHeight(p.x(), p.y()), 2);
+    ++count;
+  }
+  return std::sqrt(sum / std::max(count, 1));
+}
+
+void BM_SurfaceNoisyCloud(benchmark::State& state) {
+  constexpr int kPoints = 100000;
+  constexpr double kSigma = 0.002;
+  const std::vector<Eigen::Vector3d> noisy = waveSamples(kPoints, kSigma);
+  const std::vector<Eigen::Vector3d> clean = waveSamples(kPoints, 0.0);
+  d2vdb::InitialSurfaceOptions placement;
+  placement.layout = d2vdb::SurfaceLayout{3, 3, 12, 12, false, false};
+  const d2vdb::BSplineSurface initial = d2vdb::initialSurfaceAround(noisy, placement);
+  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
+  for (auto _ : state) result = d2vdb::fitSurfaceToPoints(initial, noisy, {});
+  d2vdb::SurfaceFitOptions floorOptions;
+  floorOptions.maxIterations = 30;
+  const d2vdb::SurfaceFitResult floorFit =
+      d2vdb::fitSurfaceToPoints(d2vdb::initialSurfaceAround(clean, placement), clean, floorOptions);
+  const double floor = waveRms(floorFit.surface);
+  state.counters["iterations"] = result.iterations();
+  state.counters["converged"] = result.status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
+  state.counters["rms_clean"] = waveRms(result.surface);
+  state.counters["floor"] = floor;
+  state.counters["floor_iterations"] = floorFit.iterations();
+  state.counters["bound"] = 1.15 * kSigma * std::sqrt(3.0 * 12 * 12 / kPoints) + floor;
+}
+BENCHMARK(BM_SurfaceNoisyCloud)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// ---- One SDM I surface iteration against the field queries it makes (BM_SurfaceIteration*) ----
+
+/// Forwards to a target and counts the approximant queries made through it (atomic, so the count
+/// is exact for any thread count). Its resolution() is 0, so that the fit's resolved-move floor
+/// (1/100 of a voxel) does not end the timed fits early.
+class CountingTarget final : public d2vdb::SquaredDistanceTarget {
+ public:
+  explicit CountingTarget(const d2vdb::SquaredDistanceTarget& target) : target_(target) {}
+  d2vdb::TargetKind kind() const override { return target_.kind(); }
+  Eigen::AlignedBox3d domain() const override { return target_.domain(); }
+  d2vdb::Approximant approximantAt(const Eigen::Vector3d& point) const override {
+    queries_.fetch_add(1, std::memory_order_relaxed);
+    return target_.approximantAt(point);
+  }
+  std::vector<d2vdb::Approximant> approximantsAt(
+      const std::vector<Eigen::Vector3d>& points) const override {
+    queries_.fetch_add(static_cast<long long>(points.size()), std::memory_order_relaxed);
+    return target_.approximantsAt(points);
+  }
+  std::string describe() const override { return target_.describe(); }
+  long long queries() const { return queries_.load(); }
+
+ private:
+  const d2vdb::SquaredDistanceTarget& target_;
+  mutable std::atomic<long long> queries_{0};
+};
+
+/// The speed case: the torus field (torusField()), a bicubic closed x closed net of
+/// 32 x 32 control points from a torus of radii 1.7 and 0.8 (as the accuracy case), 10 x 10
+/// sensors per knot cell (102,400 sensors), default options (automatic smoothing) without early
+/// stop.
+struct SurfaceIterationProblem {
+  SurfaceIterationProblem() : initial(torusStart(32)) {
+    options.sensorsPerSpan = 10;
+    noEarlyStop(options);
+  }
+  d2vdb::BSplineSurface initial;
+  d2vdb::SurfaceFitOptions options;
+};
+
+/// One surface iteration's time and queries, as secondsPerIteration() for curves: (a fit of
+/// 1 + kTimedIterations iterations - a fit of 1) / kTimedIterations. `sensors` gets the sensor
+/// positions of the longer fit's result (for timing the queries alone). Returns false if a fit
+/// stopped early.
+struct SurfaceIterationCost {
+  double seconds = 0.0;
+  double queries = 0.0;
+  std::vector<Eigen::Vector3d> sensors;
+};
+bool surfaceIterationCost(SurfaceIterationProblem& problem, SurfaceIterationCost& cost) {
+  const CountingTarget counting(torusField());
+  d2vdb::SurfaceFitOptions& options = problem.options;
+  options.maxIterations = 1;
+  const auto start = std::chrono::steady_clock::now();
+  const d2vdb::SurfaceFitResult first = d2vdb::fitSurface(problem.initial, counting, options);
+  const auto middle = std::chrono::steady_clock::now();
+  const long long firstQueries = counting.queries();
+  options.maxIterations = 1 + kTimedIterations;
+  const d2vdb::SurfaceFitResult longer = d2vdb::fitSurface(problem.initial, counting, options);
+  const auto end = std::chrono::steady_clock::now();
+  const long long longerQueries = counting.queries() - firstQueries;
+  if (longer.iterations() != 1 + kTimedIterations || first.iterations() != 1) return false;
+  const std::chrono::duration<double> once = middle - start, more = end - middle;
+  cost.seconds = (more - once).count() / kTimedIterations;
+  cost.queries = static_cast<double>(longerQueries - firstQueries) / kTimedIterations;
+  const std::vector<Eigen::Vector2d> parameters =
+      d2vdb::uniformSurfaceSensorParameters(longer.surface, options.sensorsPerSpan);
+  cost.sensors.clear();
+  for (const Eigen::Vector2d& uv : parameters) {
+    cost.sensors.push_back(longer.surface.evaluate(uv.x(), uv.y()));
+  }
+  return true;
+}
+
+/// Seconds per approximant query of the field at `points`: the batch query (approximantsAt, the
+/// field's fastest path), median of 5.
+double secondsPerQuery(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> times;
+  for (int run = 0; run < 5; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<d2vdb::Approximant> answers = torusField().approximantsAt(points);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    benchmark::DoNotOptimize(answers.data());
+    times.push_back(elapsed.count() / static_cast<double>(points.size()));
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+/// BM_SurfaceIteration/threads: one SDM I iteration of SurfaceIterationProblem (manual time) and,
+/// in the same run, the field's batch queries at its sensors. Counters: queries (per iteration),
+/// query_ms (the time of that many queries), ratio = iteration time / query time (the issue's
+/// goal: at most 6 with one thread).
+void BM_SurfaceIteration(benchmark::State& state) {
+  torusField();  // built once, outside the timing
+  SurfaceIterationProblem problem;
+  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(state.range(0)));
+  SurfaceIterationCost cost;
+  std::vector<double> ratios, queryTimes;
+  for (auto _ : state) {
+    if (!surfaceIterationCost(problem, cost)) {
+      state.SkipWithError("a fit stopped early");
+      return;
+    }
+    const double queryTime = cost.queries * secondsPerQuery(cost.sensors);
+    state.SetIterationTime(cost.seconds);
+    ratios.push_back(cost.seconds / queryTime);
+    queryTimes.push_back(queryTime);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  std::sort(queryTimes.begin(), queryTimes.end());
+  state.counters["sensors"] = static_cast<double>(cost.sensors.size());
+  state.counters["queries"] = cost.queries;
+  state.counters["query_ms"] = 1e3 * queryTimes[queryTimes.size() / 2];
+  state.counters["ratio"] = ratios[ratios.size() / 2];
+}
+BENCHMARK(BM_SurfaceIteration)
+    ->ArgNames({"threads"})
+    ->DenseRange(1, 2)
+    ->Iterations(5)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime();
+
+/// BM_SurfaceIterationSpeedup: the same iteration with 1 and right after it 2 threads in every
+/// benchmark iteration (paired, as BM_FitIterationSpeedup); counters t1_ms, t2_ms (medians) and
+/// speedup (the goal: at least 1.7).
+void BM_SurfaceIterationSpeedup(benchmark::State& state) {
+  torusField();
+  SurfaceIterationProblem problem;
+  std::vector<double> times[2];
+  SurfaceIterationCost cost;
+  for (auto _ : state) {
+    for (int threads = 1; threads <= 2; ++threads) {
+      const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                      static_cast<std::size_t>(threads));
+      if (!surfaceIterationCost(problem, cost)) {
+        state.SkipWithError("a fit stopped early");
+        return;
+      }
+      times[threads - 1].push_back(cost.seconds);
+    }
+  }
+  const auto median = [](std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+  };
+  state.counters["t1_ms"] = 1e3 * median(times[0]);
+  state.counters["t2_ms"] = 1e3 * median(times[1]);
+  state.counters["speedup"] = median(times[0]) / median(times[1]);
+}
+BENCHMARK(BM_SurfaceIterationSpeedup)->Iterations(7)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
