@@ -194,23 +194,39 @@ TEST(SurfaceFitter, TorusFromWrongRadiiSdmAgainstPdm) {
   const BSplineSurface initial =
       torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.7, 0.8, layout);
   const auto distance = [&](const Eigen::Vector3d& p) { return target.distance(p); };
+  // The iterations themselves, without the chord-length restart: SDM well ahead of PDM at equal
+  // iteration counts. From these radii the first steps crowd the sensors' parameters around the
+  // tube, which then slide back only slowly (tangential moves barely change the distances).
   SurfaceFitOptions options;
   options.maxIterations = 30;
+  options.reparametrize = false;
   const SurfaceFitResult sdm = fitSurface(initial, target, options);
   const Errors sdmErrors = errorsOf(sdm.surface, distance, 161, 97);
-  print("torus 8 x 8, SDM", sdm, sdmErrors);
+  print("torus 8 x 8, SDM without restart", sdm, sdmErrors);
   options.method = FitMethod::PDM;
   const SurfaceFitResult pdm = fitSurface(initial, target, options);
   const Errors pdmErrors = errorsOf(pdm.surface, distance, 161, 97);
-  print("torus 8 x 8, PDM", pdm, pdmErrors);
-  // The issue asks max <= 1.9e-3 for 8 x 8. From these radii the first steps distort the
-  // sensors' parametrisation around the tube, which then slides back only slowly (a flat valley
-  // of the objective: tangential moves barely change the distances), so the level reached in 30
-  // iterations is asserted, and that SDM is well ahead of PDM at equal iteration counts.
+  print("torus 8 x 8, PDM without restart", pdm, pdmErrors);
   EXPECT_LE(sdmErrors.max, 2.3e-3);
   EXPECT_LE(sdmErrors.rms, 7e-4);
   EXPECT_LT(2.0 * sdmErrors.max, pdmErrors.max);
   EXPECT_LT(3.0 * sdmErrors.rms, pdmErrors.rms);
+  // With the restart (the default): after 8 iterations the parameters are spread by chord length
+  // and the fit continues from there. It ends below the RMS of the tensor product of the two
+  // optimal circle fits (the least-squares fit trades a little maximum for RMS: the issue's
+  // max <= 1.9e-3 holds on the torus field, where moves below 1/100 voxel end the sliding first;
+  // BENCHMARKS.md) and well below the run without restart.
+  SurfaceFitOptions restart;
+  restart.maxIterations = 30;
+  const SurfaceFitResult respread = fitSurface(initial, target, restart);
+  const Errors respreadErrors = errorsOf(respread.surface, distance, 161, 97);
+  print("torus 8 x 8, SDM with restart", respread, respreadErrors);
+  const Errors circleFits =
+      errorsOf(torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 2.0, 0.5, layout),
+               distance, 161, 97);
+  EXPECT_LT(respreadErrors.rms, circleFits.rms);
+  EXPECT_LE(respreadErrors.max, 2.0e-3);
+  EXPECT_LT(respreadErrors.rms, 0.9 * sdmErrors.rms);
   // The tensor product of the two optimal circle fits of the 16 x 16 net (max 9.65e-5) is a fixed
   // point of the fit.
   const BSplineSurface construction =
@@ -286,6 +302,17 @@ TEST(SurfaceFitter, OneAndTwoThreadsGiveIdenticalSurfaces) {
   const SurfaceFitResult two =
       test::withThreads(2, [&] { return fitSurface(initial, target, options); });
   EXPECT_EQ(one.surface.controlPoints(), two.surface.controlPoints());
+  // Through the chord-length restart (after iteration 8).
+  SurfaceFitOptions restart;
+  restart.maxIterations = 10;
+  const BSplineSurface wrongRadii = torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
+                                                 1.7, 0.8, SurfaceLayout{3, 3, 8, 8, true, true});
+  const SurfaceFitResult restartOne =
+      test::withThreads(1, [&] { return fitSurface(wrongRadii, target, restart); });
+  const SurfaceFitResult restartTwo =
+      test::withThreads(2, [&] { return fitSurface(wrongRadii, target, restart); });
+  EXPECT_NE(restartOne.reason.find("chord length"), std::string::npos) << restartOne.reason;
+  EXPECT_EQ(restartOne.surface.controlPoints(), restartTwo.surface.controlPoints());
   std::vector<Eigen::Vector3d> cloud = one.surface.sample(60, 40);
   for (Eigen::Vector3d& p : cloud) p *= 1.01;
   const SurfaceFitResult cloudOne =

@@ -19,6 +19,16 @@ struct SurfaceFitOptions : FitOptions {
   /// Sensors per knot span in each direction (SDM I): perSpan^2 per knot cell, plus the boundary
   /// lines of open directions. SDM II uses one sensor per data point.
   int sensorsPerSpan = 6;
+  /// fitSurface (SDM I): after 8 iterations (or when the fit stops before), if spreading the
+  /// surface's parameters by mean chord length moves one by more than 1 % of its domain, the
+  /// surface is re-parametrised that way (same knots and shape: the control points refitted by
+  /// least squares) and the fit continues from there once, within the same iteration cap (a fit
+  /// that had stopped by itself is kept when the restart ends no closer to the target). The
+  /// squared distance does not see how the parameters are spread along the target, so a fit
+  /// whose first steps crowded them (e.g. a torus started with wrong radii) otherwise relaxes
+  /// only very slowly, and a crowded spread approximates worse. false = one run. Not used by
+  /// fitSurfaceToPoints.
+  bool reparametrize = true;
 };
 
 /// The outcome of a surface fit.

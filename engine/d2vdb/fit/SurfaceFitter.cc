@@ -15,6 +15,7 @@
 #include "d2vdb/field/SurfaceTarget.h"
 #include "d2vdb/fit/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
+#include "d2vdb/fit/detail/SurfaceReparametrization.h"
 #include "d2vdb/fit/detail/TargetProblem.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/BasisFunctions.h"
@@ -318,12 +319,101 @@ class PointProblem final : public detail::FitProblem {
 
 }  // namespace
 
+namespace {
+
+/// The restart of fitSurface (SurfaceFitOptions::reparametrize) runs only when the chord-length
+/// spread moves some parameter by more than this fraction of its domain.
+constexpr double kReparametrizationShift = 0.01;
+/// fitSurface checks the chord-length spread after this many iterations (or when the fit stops
+/// before): by then the sensors have reached the target and what is left is mostly sliding.
+constexpr int kFirstRunIterations = 8;
+
+/// Whether every sensor of `sensors` on `surface` lies inside `domain`.
+bool covers(const SensorMap& sensors, const BSplineSurface& surface,
+            const Eigen::AlignedBox3d& domain) {
+  for (const Eigen::Vector3d& sensor : sensors.positions(surface.controlPoints())) {
+    if (!domain.contains(sensor)) return false;
+  }
+  return true;
+}
+
+/// `first` continued by `second` (run from first's re-parametrised surface): the iterations of
+/// both, second's surface, status and reason.
+SurfaceFitResult joined(SurfaceFitResult first, SurfaceFitResult second) {
+  const int offset = first.iterations();
+  for (std::size_t row = 1; row < second.history.size(); ++row) {
+    FitIteration iteration = second.history[row];
+    iteration.iteration += offset;
+    first.history.push_back(iteration);
+  }
+  for (std::size_t i = 1; i < second.iterates.size(); ++i) {
+    first.iterates.push_back(std::move(second.iterates[i]));
+  }
+  first.surface = std::move(second.surface);
+  first.status = second.status;
+  // The second run's cap is what was left of the fit's.
+  const std::string secondCap = "iteration cap of " + std::to_string(second.iterations());
+  const std::size_t at = second.reason.find(secondCap);
+  if (second.status == FitStatus::IterationCap && at != std::string::npos) {
+    second.reason.replace(at, secondCap.size(),
+                          "iteration cap of " + std::to_string(first.iterations()));
+  }
+  first.reason = second.reason + " (continued after spreading the parameters by chord length at " +
+                 "iteration " + std::to_string(offset) + ")";
+  return first;
+}
+
+}  // namespace
+
 SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                             const SurfaceFitOptions& options) {
   detail::validateSurfaceFit(initial, options);
   SurfaceTargetProblem problem(initial, target, options);
   problem.requireCovered(initial.controlPoints(), "surface");
-  return detail::runSurfaceFit(initial, options, problem);
+  const Eigen::AlignedBox3d domain = target.domain();
+  // The first run, interrupted after kFirstRunIterations when the chord-length spread differs
+  // from the surface's own by kReparametrizationShift or more.
+  std::optional<detail::Reparametrization> spread;
+  const auto spreadAt = [&](const std::vector<Eigen::Vector3d>& controlPoints) {
+    BSplineSurface current = initial;
+    current.setControlPoints(controlPoints);
+    spread = detail::chordLengthReparametrized(current);
+    return spread->shift >= kReparametrizationShift &&
+           covers(problem.sensors(), spread->surface, domain);
+  };
+  bool interrupted = false;
+  SurfaceFitResult first = detail::runSurfaceFit(
+      initial, options, problem,
+      [&](int iteration, const std::vector<Eigen::Vector3d>& controlPoints) {
+        interrupted =
+            options.reparametrize && iteration == kFirstRunIterations && spreadAt(controlPoints);
+        return interrupted;
+      });
+  const int remaining = options.maxIterations - first.iterations();
+  // A first run that stopped by itself before that restarts too, and is kept when the restart
+  // ends no closer to the target.
+  const bool stoppedEarly = !interrupted && first.status != FitStatus::IterationCap &&
+                            first.iterations() > 0 && first.iterations() < kFirstRunIterations;
+  if (!options.reparametrize || remaining <= 0 ||
+      !(interrupted || (stoppedEarly && spreadAt(first.surface.controlPoints())))) {
+    return first;
+  }
+  const BSplineSurface& restart = spread->surface;
+  SurfaceFitOptions continued = options;
+  continued.maxIterations = remaining;
+  if (options.progress) {
+    const double done = static_cast<double>(first.iterations()) / options.maxIterations;
+    const double share = static_cast<double>(remaining) / options.maxIterations;
+    continued.progress = [&options, done, share](std::string_view stage, double fraction) {
+      options.progress(stage, done + share * fraction);
+    };
+  }
+  SurfaceTargetProblem restartProblem(restart, target, continued);
+  SurfaceFitResult second = detail::runSurfaceFit(restart, continued, restartProblem);
+  if (stoppedEarly && !(second.history.back().rmsDistance < first.history.back().rmsDistance)) {
+    return first;
+  }
+  return joined(std::move(first), std::move(second));
 }
 
 Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double v,

@@ -492,6 +492,12 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
       result.reason = "the objective decreased by less than the objective tolerance";
       stopped = true;
     }
+    if (!stopped && settings.interrupt && settings.interrupt(iteration, points)) {
+      result.interrupted = true;
+      result.status = FitStatus::IterationCap;
+      result.reason = "interrupted after iteration " + std::to_string(iteration);
+      stopped = true;
+    }
   }
   if (!stopped) {
     result.status = FitStatus::IterationCap;

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,9 @@ struct FitLoopSettings {
   double objectiveTolerance = 0.0;  ///< converged when E falls by less than this fraction (0 = off)
   bool keepIterates = false;
   ProgressCallback progress;  ///< stage "fit", fraction = iteration / maxIterations
+  /// Called after every iteration that did not stop the fit, with its number and the net; true
+  /// ends the loop there (FitLoopResult::interrupted). Empty = never.
+  std::function<bool(int iteration, const std::vector<Eigen::Vector3d>& controlPoints)> interrupt;
 };
 
 /// The loop's outcome.
@@ -107,6 +111,7 @@ struct FitLoopResult {
   std::string reason;
   std::vector<FitIteration> history;  ///< row 0 = initial net, then one row per iteration
   std::vector<std::vector<Eigen::Vector3d>> iterates;  ///< with keepIterates: initial, then all
+  bool interrupted = false;  ///< settings.interrupt ended the loop (status IterationCap)
 };
 
 /// Runs the fit from `initial` (at least one point; its size is the largest side of its

@@ -1,6 +1,8 @@
 // The surface fitters' side of the shared fit loop (detail/SurfaceFitLoop.h).
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
 
+#include <utility>
+
 #include "d2vdb/fit/ThinPlateMatrix.h"
 #include "d2vdb/fit/detail/SplineFit.h"
 
@@ -26,10 +28,13 @@ FitLoopSettings surfaceLoopSettings(const BSplineSurface& initial,
   return settings;
 }
 
-SurfaceFitResult runSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options,
-                               FitProblem& problem) {
+SurfaceFitResult runSurfaceFit(
+    const BSplineSurface& initial, const SurfaceFitOptions& options, FitProblem& problem,
+    std::function<bool(int, const std::vector<Eigen::Vector3d>&)> interrupt) {
   validateSurfaceFit(initial, options);
-  return runSplineFit<SurfaceFitResult>(initial, surfaceLoopSettings(initial, options), problem);
+  FitLoopSettings settings = surfaceLoopSettings(initial, options);
+  settings.interrupt = std::move(interrupt);
+  return runSplineFit<SurfaceFitResult>(initial, settings, problem);
 }
 
 }  // namespace d2vdb::detail

@@ -2,6 +2,9 @@
 // the loop settings of a surface (its thin-plate and membrane matrices) and the surface result.
 #pragma once
 
+#include <functional>
+#include <vector>
+
 #include "d2vdb/fit/SurfaceFit.h"
 #include "d2vdb/fit/detail/FitLoop.h"
 #include "d2vdb/spline/BSplineSurface.h"
@@ -19,8 +22,10 @@ void validateSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& 
 FitLoopSettings surfaceLoopSettings(const BSplineSurface& initial,
                                     const SurfaceFitOptions& options);
 
-/// Validates the options and the initial surface, runs the loop and returns the surface result.
-SurfaceFitResult runSurfaceFit(const BSplineSurface& initial, const SurfaceFitOptions& options,
-                               FitProblem& problem);
+/// Validates the options and the initial surface, runs the loop and returns the surface result;
+/// `interrupt` as FitLoopSettings::interrupt.
+SurfaceFitResult runSurfaceFit(
+    const BSplineSurface& initial, const SurfaceFitOptions& options, FitProblem& problem,
+    std::function<bool(int, const std::vector<Eigen::Vector3d>&)> interrupt = {});
 
 }  // namespace d2vdb::detail
