@@ -816,7 +816,7 @@ void BM_SurfaceIteration(benchmark::State& state) {
 BENCHMARK(BM_SurfaceIteration)
     ->ArgNames({"threads"})
     ->DenseRange(1, 2)
-    ->Iterations(5)
+    ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
 
@@ -847,7 +847,7 @@ void BM_SurfaceIterationSpeedup(benchmark::State& state) {
   state.counters["t2_ms"] = 1e3 * median(times[1]);
   state.counters["speedup"] = median(times[0]) / median(times[1]);
 }
-BENCHMARK(BM_SurfaceIterationSpeedup)->Iterations(7)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SurfaceIterationSpeedup)->Iterations(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
