@@ -550,19 +550,23 @@ double waveHeight(double x, double y) {
   return 0.1 * std::sin(3 * x) * std::cos(2 * y);
 }
 
+/// `count` points of the wave z = waveHeight(x, y), uniform on [0, 2]^2, with Gaussian noise of
+/// `sigma` per coordinate (seed 4, as waveCloud()); sigma 0 = the clean points.
+std::vector<Eigen::Vector3d> waveSamples(int count, double sigma) {
+  std::mt19937 engine(4);
+  std::uniform_real_distribution<double> unit(0.0, 2.0);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    const double x = unit(engine), y = unit(engine);
+    const Eigen::Vector3d offset(noise(engine), noise(engine), noise(engine));
+    points.push_back(Eigen::Vector3d(x, y, waveHeight(x, y)) + (sigma / 0.002) * offset);
+  }
+  return points;
+}
+
 const std::vector<Eigen::Vector3d>& waveCloud() {
-  static const std::vector<Eigen::Vector3d> cloud = [] {
-    std::mt19937 engine(4);
-    std::uniform_real_distribution<double> unit(0.0, 2.0);
-    std::normal_distribution<double> noise(0.0, 0.002);
-    std::vector<Eigen::Vector3d> points;
-    for (int i = 0; i < 20000; ++i) {
-      const double x = unit(engine), y = unit(engine);
-      points.push_back(Eigen::Vector3d(x, y, waveHeight(x, y)) +
-                       Eigen::Vector3d(noise(engine), noise(engine), noise(engine)));
-    }
-    return points;
-  }();
+  static const std::vector<Eigen::Vector3d> cloud = waveSamples(20000, 0.002);
   return cloud;
 }
 
@@ -645,21 +649,6 @@ BENCHMARK(BM_SurfaceTimeToRms)
     ->UseRealTime()
     ->Iterations(1);
 
-/// `count` points of the wave z = waveHeight(x, y), uniform on [0, 2]^2, with Gaussian noise of
-/// `sigma` per coordinate (seed 4, as waveCloud()); sigma 0 = the clean points.
-std::vector<Eigen::Vector3d> waveSamples(int count, double sigma) {
-  std::mt19937 engine(4);
-  std::uniform_real_distribution<double> unit(0.0, 2.0);
-  std::normal_distribution<double> noise(0.0, 0.002);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < count; ++i) {
-    const double x = unit(engine), y = unit(engine);
-    const Eigen::Vector3d offset(noise(engine), noise(engine), noise(engine));
-    points.push_back(Eigen::Vector3d(x, y, waveHeight(x, y)) + (sigma / 0.002) * offset);
-  }
-  return points;
-}
-
 /// Vertical RMS of the surface to the clean wave over [0.1, 1.9]^2 (61 x 61 samples).
 double waveRms(const d2vdb::BSplineSurface& surface) {
   double sum = 0.0;
@@ -680,8 +669,8 @@ void BM_SurfaceNoisyCloud(benchmark::State& state) {
   d2vdb::InitialSurfaceOptions placement;
   placement.layout = d2vdb::SurfaceLayout{3, 3, 12, 12, false, false};
   const d2vdb::BSplineSurface initial = d2vdb::initialSurfaceAround(noisy, placement);
-  d2vdb::SurfaceFitResult result{initial, {}, {}, {}, {}};
-  for (auto _ : state) result = d2vdb::fitSurfaceToPoints(initial, noisy, {});
+  const d2vdb::SurfaceFitResult result =
+      lastResult(state, [&] { return d2vdb::fitSurfaceToPoints(initial, noisy, {}); });
   d2vdb::SurfaceFitOptions floorOptions;
   floorOptions.maxIterations = 30;
   const d2vdb::SurfaceFitResult floorFit =
