@@ -385,15 +385,15 @@ SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistance
   SurfaceFitResult first = detail::runSurfaceFit(
       initial, options, problem,
       [&](int iteration, const std::vector<Eigen::Vector3d>& controlPoints) {
-        interrupted =
-            options.reparametrize && iteration == kFirstRunIterations && spreadAt(controlPoints);
+        interrupted = options.reparametrize && iteration == kFirstRunIterations &&
+                      iteration < options.maxIterations && spreadAt(controlPoints);
         return interrupted;
       });
   const int remaining = options.maxIterations - first.iterations();
   // A first run that stopped by itself before that restarts too, and is kept when the restart
   // ends no closer to the target.
   const bool stoppedEarly = !interrupted && first.status != FitStatus::IterationCap &&
-                            first.iterations() > 0 && first.iterations() < kFirstRunIterations;
+                            first.iterations() > 0 && first.iterations() <= kFirstRunIterations;
   if (!options.reparametrize || remaining <= 0 ||
       !(interrupted || (stoppedEarly && spreadAt(first.surface.controlPoints())))) {
     return first;
