@@ -5,16 +5,26 @@
 //      470k vertices); items = vertices;
 //  (b) evaluation at random face points of the bunny's surface: position, position + normal,
 //      position + curvatures; next to it, in the same run, the exact Loop limit surface (the
-//      source) evaluated with first derivatives at the same points; items = points.
+//      source) evaluated with first derivatives at the same points; items = points;
+//  (c) the field of the bunny's smooth surface (`d2vdb field --smooth`: half-edge mesh, Loop
+//      source, surface, every band voxel projected) next to the ordinary field of the same mesh
+//      (`d2vdb field`: meshToLevelSet with exact signs, then the level-set estimator) at the same
+//      voxel size, both built in every iteration; counters: seconds of each and their ratio
+//      smooth / plain, wall clock and process CPU time (all threads).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 #include <random>
 #include <vector>
 
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/MeshToLevelSet.h"
+#include "d2vdb/field/SmoothSurfaceField.h"
 #include "d2vdb/manifold/LoopLimitSurface.h"
 #include "d2vdb/manifold/LoopSubdivision.h"
 #include "d2vdb/manifold/PseudoManifold.h"
@@ -29,9 +39,14 @@ tbb::global_control threadLimit(const benchmark::State& state, int argument) {
                              static_cast<std::size_t>(state.range(argument)));
 }
 
+const d2vdb::TriangleMesh& bunnyTriangles() {
+  static const d2vdb::TriangleMesh mesh =
+      d2vdb::readMesh(std::filesystem::path(D2VDB_SOURCE_DIR) / "volumes" / "bunny.obj");
+  return mesh;
+}
+
 const std::shared_ptr<const HalfEdgeMesh>& bunny() {
-  static const auto mesh = std::make_shared<const HalfEdgeMesh>(
-      d2vdb::readMesh(std::filesystem::path(D2VDB_SOURCE_DIR) / "volumes" / "bunny.obj"));
+  static const auto mesh = std::make_shared<const HalfEdgeMesh>(bunnyTriangles());
   return mesh;
 }
 
@@ -142,6 +157,74 @@ BENCHMARK(BM_LoopSourcePositionDerivatives)
     ->Arg(1)
     ->Arg(2)
     ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// Seconds of wall clock and of CPU time of the whole process (all threads).
+struct Clocks {
+  std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
+  double cpu = processCpuSeconds();
+
+  static double processCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  }
+  double wallSince() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  }
+  double cpuSince() const { return processCpuSeconds() - cpu; }
+};
+
+/// `d2vdb field bunny.obj --smooth` against `d2vdb field bunny.obj` at the same voxel size
+/// (longest side / resolution, half-width 3), both built from the triangle mesh in every
+/// iteration, the ordinary field first. Arguments: resolution, threads.
+void BM_FieldSmoothVsPlain(benchmark::State& state) {
+  const auto limit = threadLimit(state, 1);
+  const d2vdb::TriangleMesh& mesh = bunnyTriangles();
+  Eigen::AlignedBox3d bounds;
+  for (const Eigen::Vector3f& p : mesh.positions) bounds.extend(p.cast<double>());
+  const double voxelSize = bounds.sizes().maxCoeff() / static_cast<double>(state.range(0));
+  double plainWall = 0.0, plainCpu = 0.0, smoothWall = 0.0, smoothCpu = 0.0;
+  std::uint64_t plainVoxels = 0, smoothVoxels = 0;
+  for (auto _ : state) {
+    {
+      const Clocks clocks;
+      d2vdb::LevelSetOptions options;
+      options.voxelSize = voxelSize;
+      options.halfWidth = 3.0;
+      const d2vdb::LevelSetResult levelSet = d2vdb::meshToLevelSet(mesh, options);
+      const auto field = d2vdb::ApproximantField::fromLevelSet(levelSet.grid);
+      plainVoxels = field.statistics().levels.front().activeVoxels;
+      plainWall += clocks.wallSince();
+      plainCpu += clocks.cpuSince();
+    }
+    {
+      const Clocks clocks;
+      const auto halfEdges = std::make_shared<const HalfEdgeMesh>(mesh);
+      const d2vdb::LoopLimitSurface loop(halfEdges);
+      const d2vdb::PseudoManifold surface(loop);
+      const auto field = d2vdb::smoothSurfaceField(surface, voxelSize, 3.0);
+      smoothVoxels = field.statistics().levels.front().activeVoxels;
+      smoothWall += clocks.wallSince();
+      smoothCpu += clocks.cpuSince();
+    }
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["plain_s"] = plainWall / n;
+  state.counters["smooth_s"] = smoothWall / n;
+  state.counters["ratio"] = smoothWall / plainWall;
+  state.counters["plain_cpu_s"] = plainCpu / n;
+  state.counters["smooth_cpu_s"] = smoothCpu / n;
+  state.counters["cpu_ratio"] = smoothCpu / plainCpu;
+  state.counters["plain_voxels"] = static_cast<double>(plainVoxels);
+  state.counters["smooth_voxels"] = static_cast<double>(smoothVoxels);
+}
+BENCHMARK(BM_FieldSmoothVsPlain)
+    ->Args({256, 1})
+    ->Args({256, 2})
+    ->Args({512, 2})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
     ->UseRealTime();
 
 }  // namespace

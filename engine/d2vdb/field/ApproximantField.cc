@@ -237,27 +237,33 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
     std::vector<BandRecord> records;
   };
   std::vector<Kept> kept(leaves.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      const FieldBand::VoxelApproximant approximant = band.approximantFactory()();
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
-                          const openvdb::Coord ijk = voxel.getCoord();
-                          const Approximant a = approximant(ijk, voxelCentre(frame, ijk));
-                          if (std::abs(a.distance) >= limit) continue;  // NaN is checked
-                          checkApproximant(a, ijk, source);
-                          kept[i].offsets.push_back(static_cast<std::uint16_t>(voxel.pos()));
-                          kept[i].records.push_back(encodeWorld(codec, a));
+  // Blocks of leaves in sequence (for progress), the leaves of a block in parallel.
+  const std::size_t blocks =
+      std::max<std::size_t>(1, std::min<std::size_t>(40, leaves.size() / 64));
+  for (std::size_t block = 0; block < blocks; ++block) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(leaves.size() * block / blocks,
+                                                      leaves.size() * (block + 1) / blocks, 4),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        const FieldBand::VoxelApproximant approximant = band.approximantFactory()();
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
+                            const openvdb::Coord ijk = voxel.getCoord();
+                            const Approximant a = approximant(ijk, voxelCentre(frame, ijk));
+                            if (std::abs(a.distance) >= limit) continue;  // NaN is checked
+                            checkApproximant(a, ijk, source);
+                            kept[i].offsets.push_back(static_cast<std::uint16_t>(voxel.pos()));
+                            kept[i].records.push_back(encodeWorld(codec, a));
+                          }
                         }
-                      }
-                    });
+                      });
+    if (progress) progress("field: approximants", 0.8 * static_cast<double>(block + 1) / blocks);
+  }
   std::uint64_t keptCount = 0;
   for (const Kept& leaf : kept) keptCount += leaf.offsets.size();
   if (keptCount == 0) {
     throw InputError("the target has no voxel within the band at this voxel size");
   }
   checkBudget(static_cast<double>(keptCount), maxActiveVoxels, "the band of " + source);
-  if (progress) progress("field: approximants", 0.8);
   // The distance grid, leaf by leaf in candidate order.
   auto grid = openvdb::FloatGrid::create(static_cast<float>(limit));
   grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
@@ -295,6 +301,7 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
                                   records.begin() + entries[i].base);
                       }
                     });
+  if (progress) progress("field: approximants", 1.0);
   return {std::move(layout), std::move(records)};
 }
 

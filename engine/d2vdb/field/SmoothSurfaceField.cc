@@ -1,16 +1,19 @@
 #include "d2vdb/field/SmoothSurfaceField.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/SmoothSurface.h"
-#include "d2vdb/field/detail/NearestPointTree.h"
 #include "d2vdb/manifold/SourceDistance.h"
 
 namespace d2vdb {
@@ -42,6 +45,173 @@ double largestLatticeStep(const std::vector<Eigen::Vector3d>& points, long inter
   }
   return largest;
 }
+
+/// Surface seeds grouped by the leaf-node block (8^3 voxels) of the voxel they lie in, for exact
+/// nearest-seed queries near one leaf at a time.
+class SeedBlocks {
+ public:
+  /// The nearest seed of a query: its index in the constructor's vector and its distance
+  /// (infinite when no seed lies within the radius near() was given).
+  struct Nearest {
+    std::uint32_t index = 0;
+    double distance = std::numeric_limits<double>::infinity();
+  };
+
+  /// The seeds within a radius of one leaf's voxel centres, as float offsets from the leaf's
+  /// first voxel centre (structure of arrays, so the distance loop vectorises).
+  class Near {
+   public:
+    /// The nearest of these seeds to `point` (ties to the first in the list), exact for seeds
+    /// within the radius; infinite distance when there is none that near.
+    Nearest nearest(const Eigen::Vector3d& point) const {
+      Nearest result;
+      const std::size_t count = index_.size();
+      if (count == 0) return result;
+      const Eigen::Vector3f q = (point - origin_).cast<float>();
+      // The distances (vectorised), their minimum in kLanes independent lanes (the arrays are
+      // padded to a multiple of kLanes with far-away points), then the first seed at it (the
+      // list's order depends only on the leaf).
+      const std::size_t padded = xs_.size();
+      squared_.resize(padded);
+      for (std::size_t i = 0; i < padded; ++i) {
+        const float dx = xs_[i] - q.x();
+        const float dy = ys_[i] - q.y();
+        const float dz = zs_[i] - q.z();
+        squared_[i] = dx * dx + dy * dy + dz * dz;
+      }
+      float lanes[kLanes];
+      for (std::size_t j = 0; j < kLanes; ++j) lanes[j] = squared_[j];
+      for (std::size_t i = kLanes; i < padded; i += kLanes) {
+        for (std::size_t j = 0; j < kLanes; ++j) {
+          lanes[j] = squared_[i + j] < lanes[j] ? squared_[i + j] : lanes[j];
+        }
+      }
+      float best = lanes[0];
+      for (std::size_t j = 1; j < kLanes; ++j) best = lanes[j] < best ? lanes[j] : best;
+      std::size_t first = 0;
+      while (squared_[first] != best) ++first;
+      const std::uint32_t bestIndex = index_[first];
+      if (static_cast<double>(best) > radius2_) return result;
+      result.index = bestIndex;
+      result.distance = std::sqrt(static_cast<double>(best));
+      return result;
+    }
+
+    /// Keeps the seeds of `from` within the radius of the voxel centres of the sub-block of
+    /// `from`'s leaf with voxel offsets lo..hi (inclusive, 0..7).
+    void restrict(const Near& from, const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
+                  double voxelSize) {
+      origin_ = from.origin_;
+      radius2_ = from.radius2_;
+      xs_.clear();
+      ys_.clear();
+      zs_.clear();
+      index_.clear();
+      const Eigen::Vector3f low = (lo.cast<double>() * voxelSize).cast<float>();
+      const Eigen::Vector3f high = (hi.cast<double>() * voxelSize).cast<float>();
+      const double radius = std::sqrt(radius2_) + 1e-3 * voxelSize;
+      const auto keep = static_cast<float>(radius * radius);
+      for (std::size_t i = 0; i < from.index_.size(); ++i) {
+        const Eigen::Vector3f p(from.xs_[i], from.ys_[i], from.zs_[i]);
+        const Eigen::Vector3f gap = (low - p).cwiseMax(p - high).cwiseMax(Eigen::Vector3f::Zero());
+        if (gap.squaredNorm() > keep) continue;
+        xs_.push_back(p.x());
+        ys_.push_back(p.y());
+        zs_.push_back(p.z());
+        index_.push_back(from.index_[i]);
+      }
+      pad();
+    }
+
+   private:
+    friend class SeedBlocks;
+    /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
+    void pad() {
+      while (xs_.size() % kLanes != 0) {
+        xs_.push_back(std::numeric_limits<float>::max());
+        ys_.push_back(0.0f);
+        zs_.push_back(0.0f);
+      }
+    }
+    static constexpr std::size_t kLanes = 8;
+    Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+    double radius2_ = 0.0;
+    std::vector<float> xs_, ys_, zs_;
+    std::vector<std::uint32_t> index_;
+    mutable std::vector<float> squared_;
+  };
+
+  SeedBlocks(const std::vector<Eigen::Vector3d>& seeds, double voxelSize) : voxelSize_(voxelSize) {
+    std::vector<std::pair<openvdb::Coord, std::uint32_t>> keyed(seeds.size());
+    tbb::parallel_for(std::size_t{0}, seeds.size(), [&](std::size_t i) {
+      keyed[i] = {blockOf(seeds[i]), static_cast<std::uint32_t>(i)};
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first < b.first : a.second < b.second;
+    });
+    order_.resize(keyed.size());
+    positions_.resize(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+      order_[i] = keyed[i].second;
+      positions_[i] = seeds[keyed[i].second];
+      if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+        ranges_.emplace(keyed[i].first, std::make_pair(i, i));
+      }
+      ranges_[keyed[i].first].second = i + 1;
+    }
+  }
+
+  /// Fills `out` with the seeds within `radius` of the voxel centres of the leaf at `origin`
+  /// (a multiple of 8 in every coordinate).
+  void near(const openvdb::Coord& origin, double radius, Near& out) const {
+    out.origin_ = Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
+    out.radius2_ = radius * radius;
+    out.xs_.clear();
+    out.ys_.clear();
+    out.zs_.clear();
+    out.index_.clear();
+    const Eigen::Vector3d lo = out.origin_;
+    const Eigen::Vector3d hi = out.origin_ + Eigen::Vector3d::Constant(7.0 * voxelSize_);
+    const int reach = static_cast<int>(std::ceil(radius / (8.0 * voxelSize_))) + 1;
+    const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
+    // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
+    // nearest-seed test could need.
+    const double keep = (radius + 1e-3 * voxelSize_) * (radius + 1e-3 * voxelSize_);
+    for (int dx = -reach; dx <= reach; ++dx) {
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dz = -reach; dz <= reach; ++dz) {
+          const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
+          if (found == ranges_.end()) continue;
+          for (std::size_t i = found->second.first; i < found->second.second; ++i) {
+            const Eigen::Vector3d& p = positions_[i];
+            const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
+            if (gap.squaredNorm() > keep) continue;
+            const Eigen::Vector3f offset = (p - out.origin_).cast<float>();
+            out.xs_.push_back(offset.x());
+            out.ys_.push_back(offset.y());
+            out.zs_.push_back(offset.z());
+            out.index_.push_back(order_[i]);
+          }
+        }
+      }
+    }
+    out.pad();
+  }
+
+ private:
+  openvdb::Coord blockOf(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d index = p / voxelSize_;
+    const openvdb::Coord voxel(static_cast<int>(std::lround(index.x())),
+                               static_cast<int>(std::lround(index.y())),
+                               static_cast<int>(std::lround(index.z())));
+    return {voxel.x() >> 3, voxel.y() >> 3, voxel.z() >> 3};
+  }
+
+  double voxelSize_;
+  std::vector<std::uint32_t> order_;        ///< seed indices, sorted by block and index
+  std::vector<Eigen::Vector3d> positions_;  ///< in that order
+  std::unordered_map<openvdb::Coord, std::pair<std::size_t, std::size_t>> ranges_;
+};
 
 }  // namespace
 
@@ -117,30 +287,138 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
     }
     std::vector<Eigen::Vector3d>().swap(facePositions[f]);
   }
-  std::vector<Eigen::Vector3f> seedFloats(seeds.size());
-  for (std::size_t i = 0; i < seeds.size(); ++i) seedFloats[i] = seeds[i].cast<float>();
-  const detail::NearestPointTree tree(seedFloats);
+  // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
+  // by block and index, for the seeds near each leaf (SeedBlocks).
+  const SeedBlocks blocks(seeds, voxelSize);
 
   FieldBand band =
       FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth);
   const double clamp = 1.0 / voxelSize;
+  // The field stores curvatures in half precision: their O(1e-6) error from an extrapolated last
+  // step does not show.
+  SmoothProjectionOptions projectionOptions;
+  projectionOptions.extrapolateLastStep = true;
+  // Voxels certainly beyond the band are discarded without converging.
+  projectionOptions.stopBeyond = halfWidth * voxelSize;
+  // Every surface point lies within `spacing` of a seed (its lattice triangle's corners are at
+  // most that far apart), so a voxel whose nearest seed is further than the half-width plus
+  // `spacing` (plus a fifth of a voxel for the curvature of a lattice triangle and the seeds'
+  // float rounding) cannot be in the band: it is not projected.
+  const double skipBeyond = halfWidth * voxelSize + spacing + 0.2 * voxelSize;
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
-        // The hint only speeds up the nearest-seed search; its answer (ties to the lowest index)
-        // and hence every voxel's approximant do not depend on it.
-        return [&, hint = std::uint32_t{0}](const openvdb::Coord&,
-                                            const Eigen::Vector3d& centre) mutable {
-          const detail::NearestPointTree::Nearest nearest =
-              tree.nearest(centre.cast<float>(), hint);
-          hint = nearest.index;
-          Approximant a = SmoothSurface::approximantOf(
-              centre, surface.project(centre, seedPoints[nearest.index]));
-          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-            a.k1 = std::clamp(a.k1, -clamp, clamp);
-            a.k2 = std::clamp(a.k2, -clamp, clamp);
-            a.flags |= kFlagCurvatureClamped;
-          }
-          return a;
+        // Everything below depends only on the current leaf node (8^3 voxels, visited in offset
+        // order, all in one call sequence), so the field does not depend on the order of the
+        // leaves or the thread count: the seeds within skipBeyond of the leaf (the nearest seed of
+        // a voxel, ties to the lowest index, is exact up to that distance), and the projections
+        // of the leaf's voxels: each voxel's Newton iteration starts from its projected
+        // neighbour at -z, -y or -x in the same leaf.
+        struct State {
+          openvdb::Coord leaf = openvdb::Coord::max();
+          std::uint32_t generation = 0;
+          std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
+          std::vector<PseudoManifold::Projection> projections =
+              std::vector<PseudoManifold::Projection>(512);
+          /// How each voxel's projection started: 0 from a seed, 1, 2, 3 from its neighbour at
+          /// -z, -y, -x.
+          std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
+          SeedBlocks::Near near;        // the seeds near the leaf
+          SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
+          std::uint32_t subGeneration[8] = {};
         };
+        return
+            [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
+              const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+              if (leaf != state.leaf) {
+                state.leaf = leaf;
+                ++state.generation;
+                blocks.near(leaf, skipBeyond, state.near);
+              }
+              const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+              if (state.subGeneration[sub] != state.generation) {
+                state.subGeneration[sub] = state.generation;
+                const Eigen::Vector3i lo(ijk.x() & 4, ijk.y() & 4, ijk.z() & 4);
+                state.subNear[sub].restrict(state.near, lo, lo + Eigen::Vector3i::Constant(3),
+                                            voxelSize);
+              }
+              const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+              if (!(nearest.distance <= skipBeyond)) {
+                // Outside the band (a lower bound of the distance, which the band discards).
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = skipBeyond - spacing - 0.2 * voxelSize;
+                if (std::isfinite(nearest.distance)) {
+                  outside.distance = nearest.distance - spacing - 0.2 * voxelSize;
+                }
+                return outside;
+              }
+              const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+              const auto projected = [&](int neighbour) {
+                return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
+              };
+              int neighbour = -1;
+              std::uint8_t direction = 0;
+              if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
+                neighbour = offset - 1;
+                direction = 1;
+              } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
+                neighbour = offset - 8;
+                direction = 2;
+              } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
+                neighbour = offset - 64;
+                direction = 3;
+              }
+              PseudoManifold::Projection projection;
+              if (neighbour >= 0) {
+                const auto n = static_cast<std::size_t>(neighbour);
+                const PseudoManifold::Projection& nearby = state.projections[n];
+                // The neighbour started from its own neighbour one voxel further the same way: its
+                // first step's miss is the second-order term of this one's.
+                projection =
+                    state.startedFrom[n] == direction && nearby.hasFirstStepMiss
+                        ? surface.project(centre, nearby, nearby.firstStepMiss, projectionOptions)
+                        : surface.project(centre, nearby, projectionOptions);
+                // A surface point (the nearest seed) is nearer than the local minimum found from
+                // the neighbour: that minimum is not the closest point (the voxel is near the
+                // medial axis); start from the seed instead. (A projection stopped beyond the band
+                // is unconverged: there only a seed inside the band is a sign of a nearer part of
+                // the surface.)
+                if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond
+                                      : projection.distance > nearest.distance) {
+                  PseudoManifold::Projection fromSeed =
+                      surface.project(centre, seedPoints[nearest.index], projectionOptions);
+                  if (fromSeed.distance < projection.distance) {
+                    projection = std::move(fromSeed);
+                    direction = 0;
+                  }
+                }
+              } else {
+                projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
+              }
+              const auto at = static_cast<std::size_t>(offset);
+              if (projection.beyond) {
+                // Outside the band (its distance is above the half-width; the band discards it).
+                // Its last iterate still starts its neighbours' projections.
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = projection.distance;
+                state.projections[at] = std::move(projection);
+                state.stamp[at] = state.generation;
+                state.startedFrom[at] = 0;
+                return outside;
+              }
+              Approximant a = SmoothSurface::approximantOf(centre, projection);
+              state.projections[at] = std::move(projection);
+              state.stamp[at] = state.generation;
+              state.startedFrom[at] = direction;
+              if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
+                a.k1 = std::clamp(a.k1, -clamp, clamp);
+                a.k2 = std::clamp(a.k2, -clamp, clamp);
+                a.flags |= kFlagCurvatureClamped;
+              }
+              return a;
+            };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")
       .setLabel("smooth surface (" + surface.sourceName() + ") of " + std::to_string(faceCount) +

@@ -19,10 +19,18 @@ inline constexpr const char* kSmoothSurfaceEstimator =
 /// distance to the surface is below halfWidth voxels, found from seeds on the surface at most 0.8
 /// voxel apart (a barycentric lattice per face, refined until neighbouring seeds are that close);
 /// each voxel's approximant is SmoothSurface::approximantOf() the voxel centre's projection onto
-/// the surface (PseudoManifold::project(), Newton's method from the nearest seed, ties to the
-/// lowest seed, so it does not depend on the order of the voxels or the thread count): the exact
-/// footpoint, signed distance, the surface's own normal, k1 >= k2 and e1 there, not second
-/// differences of a level set. Curvatures beyond 1 / voxel are clamped to it and flagged
+/// the surface: the exact footpoint, signed distance, the surface's own normal, k1 >= k2 and e1
+/// there, not second differences of a level set. Candidate voxels whose nearest seed is further
+/// than halfWidth + 1 voxel (a bound on their distance to the surface) are not projected. The
+/// projection (PseudoManifold::project(), Newton's method) starts from the projection of the
+/// voxel's neighbour at -z, -y or -x in the same 8^3 leaf node, with that projection's
+/// derivatives and, along a line of such starts, its second-order correction; from the nearest
+/// seed for the first voxel of a leaf, and again from the nearest seed when the result is further
+/// than that seed (near the medial axis). Every start depends only on the leaf, so the field does
+/// not depend on the order of the voxels or the thread count. The last Newton step's geometry is
+/// extrapolated (SmoothProjectionOptions::extrapolateLastStep): footpoints are converged to 1e-12
+/// of the chart radius, curvatures to about 1e-6 of their value, far below their half-precision
+/// storage. Curvatures beyond 1 / voxel are clamped to it and flagged
 /// kFlagCurvatureClamped, as the level-set estimator does; kFlagCutLocus and kFlagDegradedEstimate
 /// as SmoothSurface sets them. The working domain pads the bounding box of the seeds (options);
 /// `label` says what the field is of (describe(), e.g. the input file's name). Parallel (TBB),

@@ -701,12 +701,62 @@ SmoothDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int c
   return toDerivatives(evaluator.chart(point, corner));
 }
 
-PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
-                                                   const FacePoint& start) const {
+PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, const FacePoint& start,
+                                                   const SmoothProjectionOptions& options) const {
   if (!x.allFinite()) throw InputError("cannot project a non-finite point");
   if (start.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(start.face) + " does not exist");
   }
+  return projectFrom(x, start, nullptr, 0, nullptr, options);
+}
+
+PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
+                                                   const Projection& nearby,
+                                                   const SmoothProjectionOptions& options) const {
+  if (!x.allFinite()) throw InputError("cannot project a non-finite point");
+  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2) {
+    throw InputError("the projection to start from has no face " +
+                     std::to_string(nearby.point.face) + " or corner " +
+                     std::to_string(nearby.chartCorner));
+  }
+  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, nullptr, options);
+}
+
+PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
+                                                   const Projection& nearby,
+                                                   const Eigen::Vector2d& firstStepOffset,
+                                                   const SmoothProjectionOptions& options) const {
+  if (!x.allFinite() || !firstStepOffset.allFinite()) {
+    throw InputError("cannot project a non-finite point or with a non-finite step offset");
+  }
+  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2) {
+    throw InputError("the projection to start from has no face " +
+                     std::to_string(nearby.point.face) + " or corner " +
+                     std::to_string(nearby.chartCorner));
+  }
+  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, &firstStepOffset,
+                     options);
+}
+
+namespace {
+
+template <int Order>
+Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
+  Jet3<Order> jet;
+  jet.v = x.position;
+  for (int i = 0; i < 2; ++i) jet.d[i] = x.d[i];
+  for (int i = 0; i < 3; ++i) jet.h[i] = x.dd[i];
+  return jet;
+}
+
+}  // namespace
+
+PseudoManifold::Projection PseudoManifold::projectFrom(
+    const Eigen::Vector3d& x, const FacePoint& start, const SmoothDerivatives* startDerivatives,
+    int startCorner, const Eigen::Vector2d* firstStepOffset,
+    const SmoothProjectionOptions& options) const {
+  constexpr double tolerance = 1e-12;
+  const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
   Projection result;
   FacePoint current = start;
@@ -714,20 +764,42 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
   double previousValue = std::numeric_limits<double>::infinity();
   bool careful = false;    // set once an unchecked step went uphill
   bool checkLast = false;  // the last step was taken unchecked and must lower the distance
+  bool finalStep = false;  // the last step was predicted to converge: evaluate there and stop
+  double lastStep = 0.0;   // length of the last Newton step taken in the quadratic regime, 0: none
+  // The derivatives at `current` when already known (the given start), else evaluated.
+  bool known = startDerivatives != nullptr;
   Jet3<2> jet;
+  int centre = startCorner;
+  // Where the first step from the given derivatives ended (chart point of firstVertex).
+  bool firstFromStart = startDerivatives != nullptr;
+  Index firstVertex = 0;
+  Eigen::Vector2d firstEnd = Eigen::Vector2d::Zero();
+  bool haveFirstEnd = false;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    result.iterations = iteration + 1;
-    const int centre = nearestCorner(current.bary);
+    if (known) {
+      jet = fromDerivatives<2>(*startDerivatives);
+      known = false;
+    } else {
+      centre = nearestCorner(current.bary);
+      jet = evaluator.chart(current, centre);
+      ++result.iterations;
+    }
+    if (finalStep) {
+      // Evaluated where the converging step ended: the answer (an uphill step cannot happen
+      // here, the step being far below anything the distance could resolve).
+      result.converged = true;
+      break;
+    }
     const ChartPoint chartPoint = atlas_.toChart(current, centre);
     const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
-    jet = evaluator.chart(current, centre);
     const Eigen::Vector3d residual = jet.v - x;
     const double value = 0.5 * residual.squaredNorm();
     if (checkLast && value > previousValue) {
       // The last (unchecked) Newton step went uphill: go back and search carefully from there.
       careful = true;
       checkLast = false;
+      lastStep = 0.0;
       current = previous;
       continue;
     }
@@ -748,6 +820,9 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
     const bool definite = newton.info() == Eigen::Success;
     step = definite ? Eigen::Vector2d(-newton.solve(gradient))
                     : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
+    const bool first = firstFromStart;
+    firstFromStart = false;
+    if (first && firstStepOffset) step += *firstStepOffset;
     if (!step.allFinite()) {
       result.converged = true;  // a degenerate point: stay (the jet there is the answer)
       break;
@@ -755,9 +830,19 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
     // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
     const double maxStep = 0.5 * radius;
     if (step.norm() > maxStep) step *= maxStep / step.norm();
-    if (step.norm() <= 1e-12 * radius) {
+    const double length = step.norm();
+    if (length <= 1e-12 * radius) {
       result.converged = true;  // `current` and its jet are the answer
       break;
+    }
+    if (definite && length < 1e-2 * radius && options.stopBeyond < previousValue) {
+      // The quadratic model's minimum of |X - x|^2 is 2 value + gradient . step; four times
+      // that decrease is a safe bound this close to the minimum.
+      const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
+      if (lowest > options.stopBeyond * options.stopBeyond) {
+        result.beyond = true;
+        break;
+      }
     }
     const auto target = [&](const Eigen::Vector2d& move) {
       Eigen::Vector2d p = chartPoint.p + move;
@@ -765,15 +850,59 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
       return atlas_.fromChart({chartPoint.vertex, p});
     };
     // A tiny Newton step (positive definite Hessian) is taken as it is: there the quadratic
-    // model is exact to far below what comparing distances could resolve. Until a step has gone
-    // uphill, Newton steps up to a tenth of the radius are taken too, checked by the next
-    // iteration's distance. Other steps are halved until the distance falls.
-    const bool tiny = definite && step.norm() < 1e-4 * radius;
-    if (tiny || (!careful && definite && step.norm() <= 0.1 * radius)) {
-      checkLast = !tiny;
+    // model is exact to far below what comparing distances could resolve. Where Newton's
+    // quadratic convergence (the ratio of this step to the square of the last one, or a factor
+    // 10 / radius for a first step) predicts that the next step would be below 1e-12 of the
+    // radius, this step is the last: the answer is where it ends. Until a step has gone uphill,
+    // Newton steps up to a tenth of the radius are taken too, checked by the next iteration's
+    // distance. Other steps are halved until the distance falls.
+    const bool tiny = definite && length < 1e-4 * radius;
+    if (tiny) {
+      const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
+                                              : 10.0 * length * length / radius;
+      finalStep = predicted <= tolerance * radius;
+      lastStep = length;
+      checkLast = false;
+      Eigen::Vector2d p = chartPoint.p + step;
+      if (first) {
+        firstVertex = chartPoint.vertex;
+        firstEnd = p;
+        haveFirstEnd = true;
+      }
+      if (finalStep && extrapolate && length <= 1e-6 * radius && p.norm() < 0.99 * radius) {
+        // Taylor expansion of the jet along the step.
+        const double a = step.x(), b = step.y();
+        Jet3<2> moved = jet;
+        moved.v += jet.d[0] * a + jet.d[1] * b +
+                   0.5 * (jet.h[0] * (a * a) + 2.0 * jet.h[1] * (a * b) + jet.h[2] * (b * b));
+        moved.d[0] += jet.h[0] * a + jet.h[1] * b;
+        moved.d[1] += jet.h[1] * a + jet.h[2] * b;
+        current = atlas_.fromChart({chartPoint.vertex, p});
+        for (int c = 0; c < 3; ++c) {
+          if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+            centre = c;
+        }
+        jet = moved;
+        result.converged = true;
+        break;
+      }
       current = target(step);
       continue;
     }
+    if (!careful && definite) {
+      if (first) {
+        Eigen::Vector2d p = chartPoint.p + step;
+        if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
+        firstVertex = chartPoint.vertex;
+        firstEnd = p;
+        haveFirstEnd = true;
+      }
+      lastStep = length;
+      checkLast = true;
+      current = target(step);
+      continue;
+    }
+    lastStep = 0.0;
     checkLast = false;
     bool accepted = false;
     for (int halving = 0; halving < 40 && !accepted; ++halving) {
@@ -790,11 +919,21 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
       break;
     }
   }
-  if (!result.converged) jet = evaluator.chart(current, nearestCorner(current.bary));
+  if (!result.converged && !result.beyond) {
+    centre = nearestCorner(current.bary);
+    jet = evaluator.chart(current, centre);
+    ++result.iterations;
+  }
   result.point = current;
   result.position = jet.v;
   result.distance = (jet.v - x).norm();
-  result.geometry = surfaceGeometry(toDerivatives(jet));
+  result.derivatives = toDerivatives(jet);
+  result.chartCorner = centre;
+  result.geometry = surfaceGeometry(result.derivatives);
+  if (haveFirstEnd && mesh_->from(3 * current.face + static_cast<Index>(centre)) == firstVertex) {
+    result.firstStepMiss = atlas_.toChart(current, centre).p - firstEnd;
+    result.hasFirstStepMiss = result.firstStepMiss.allFinite();
+  }
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -66,6 +67,22 @@ struct SmoothDerivatives {
 /// surface from its first and second derivatives, conventions as in SmoothPoint. The tangent
 /// vectors must be linearly independent (the result is not finite otherwise).
 SmoothPoint surfaceGeometry(const SmoothDerivatives& derivatives);
+
+/// How PseudoManifold::project() finishes.
+struct SmoothProjectionOptions {
+  /// When the last Newton step is below 1e-6 of the chart radius, take the derivatives where
+  /// it ends from a second-order Taylor expansion of those before it (position, first
+  /// derivatives; the second derivatives are kept) instead of evaluating the surface there:
+  /// one evaluation fewer. The footpoint is the same; position and normal are exact to
+  /// O(step^2) of the chart radius (round-off), the curvatures to O(step), i.e. about 1e-6 of
+  /// their value. Off: the surface is evaluated at the footpoint.
+  bool extrapolateLastStep = false;
+  /// Stop as soon as the distance is certainly above this (world units): when a Newton step
+  /// below 1e-2 of the chart radius leaves, by four times the decrease the quadratic model
+  /// predicts, a distance above it. The projection then ends unconverged with `beyond` set.
+  /// Infinite: never.
+  double stopBeyond = std::numeric_limits<double>::infinity();
+};
 
 /// The parametric pseudo-manifold (PPS) of a closed mesh fitted to a source surface: a
 /// C-infinity surface that approximates the source, evaluated at (face, barycentric) points.
@@ -156,17 +173,50 @@ class PseudoManifold {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< surface point there
     double distance = 0.0;                               ///< |x - position|
     SmoothPoint geometry;  ///< position, normal, curvatures and directions there
-    int iterations = 0;
-    /// The last Newton step was below 1e-12 of the chart radius, or no step lowered the distance.
+    /// Derivatives of the surface at `point` with respect to the chart coordinates of the face's
+    /// corner `chartCorner` (0..2), the corner with the largest barycentric coordinate there.
+    SmoothDerivatives derivatives;
+    int chartCorner = 0;
+    /// For a projection started from a nearby one: the footpoint minus the end of the first
+    /// Newton step (taken from the nearby projection's derivatives), in the chart coordinates of
+    /// `chartCorner`; hasFirstStepMiss is false otherwise, or when that chart is not the one the
+    /// first step was taken in.
+    Eigen::Vector2d firstStepMiss = Eigen::Vector2d::Zero();
+    bool hasFirstStepMiss = false;
+    int iterations = 0;  ///< surface evaluations made (the start's included unless it was given)
+    /// The footpoint is a minimum of the distance to within 1e-12 of the chart radius (see
+    /// project()), or no step lowered the distance.
     bool converged = false;
+    /// Stopped early: the distance is certainly above SmoothProjectionOptions::stopBeyond (the
+    /// footpoint and geometry are those of the last iterate).
+    bool beyond = false;
   };
   /// Local projection of `x` onto the surface from `start` (a local minimum of the distance near
   /// start, not necessarily the global one). Newton steps (Gauss-Newton where the Hessian of the
   /// squared distance is not positive definite) of at most half the chart radius. Newton steps
   /// below 1e-4 of the radius are always taken; until one has gone uphill, Newton steps below a
   /// tenth of the radius are taken and checked by the next iterate's distance (an uphill one is
-  /// undone); other steps are halved until the distance falls. Throws InputError for non-finite x.
-  Projection project(const Eigen::Vector3d& x, const FacePoint& start) const;
+  /// undone); other steps are halved until the distance falls. Converged: a Newton step below
+  /// 1e-12 of the chart radius (the iterate is the answer), or a Newton step s_k after which the
+  /// quadratic convergence observed so far predicts a next step below 1e-12 of the radius
+  /// (|s_k|^3 / |s_(k-1)|^2, or 10 |s_k|^2 / radius for the first step): that step is taken and
+  /// the geometry is evaluated where it ends. Throws InputError for non-finite x.
+  Projection project(const Eigen::Vector3d& x, const FacePoint& start,
+                     const SmoothProjectionOptions& options = {}) const;
+  /// project() from the footpoint of a projection already made onto this surface (of a nearby
+  /// point, typically): the first Newton step is taken from that projection's derivatives, without
+  /// evaluating the surface there. Throws InputError for non-finite x or a projection whose face
+  /// or chart corner does not exist.
+  Projection project(const Eigen::Vector3d& x, const Projection& nearby,
+                     const SmoothProjectionOptions& options = {}) const;
+  /// project(x, nearby) with `firstStepOffset` (chart coordinates of nearby.chartCorner) added to
+  /// the first Newton step, which is checked like any other. Along a line of equally spaced
+  /// points, each projected from the one before, nearby.firstStepMiss is the second-order term
+  /// the first (Newton, first-order) step leaves out: adding it makes the start third-order
+  /// accurate in the spacing, saving Newton iterations.
+  Projection project(const Eigen::Vector3d& x, const Projection& nearby,
+                     const Eigen::Vector2d& firstStepOffset,
+                     const SmoothProjectionOptions& options = {}) const;
 
   /// Bytes held (control points, tables).
   std::size_t memoryBytes() const;
@@ -177,6 +227,12 @@ class PseudoManifold {
   struct Evaluator;
 
   const DegreeFit& fitFor(int degree) const;
+  /// project() from `start`; when `startDerivatives` is given it holds the derivatives at start
+  /// in the chart of start's corner `startCorner`.
+  Projection projectFrom(const Eigen::Vector3d& x, const FacePoint& start,
+                         const SmoothDerivatives* startDerivatives, int startCorner,
+                         const Eigen::Vector2d* firstStepOffset,
+                         const SmoothProjectionOptions& options) const;
   /// The least-squares tables of one (degree, bidegree, density), computed once per process and
   /// shared (they do not depend on the mesh).
   static std::shared_ptr<const DegreeFit> sharedFit(int degree, int bidegree,
