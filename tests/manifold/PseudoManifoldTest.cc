@@ -474,6 +474,97 @@ TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
   }
 }
 
+// Projections started from a nearby projection (its derivatives, no evaluation there), with the
+// last step's geometry extrapolated, and stopped beyond a distance: the same footpoints as the
+// projection from the nearest sample (the brute-force reference of the test above), geometry
+// against an evaluation at the footpoint.
+TEST(PseudoManifold, ProjectionFromANearbyProjection) {
+  const Built b = buildLoop(test::icosphere(1));
+  const HalfEdgeMesh& mesh = *b.mesh;
+  std::vector<std::pair<FacePoint, Eigen::Vector3d>> samples;
+  for (Index f = 0; f < mesh.faceCount(); ++f) {
+    for (const Eigen::Vector3d& bary : faceLattice(24)) {
+      samples.push_back({{f, bary}, b.pps->position({f, bary})});
+    }
+  }
+  const auto nearestSample = [&](const Eigen::Vector3d& x) {
+    auto nearest = samples.front();
+    for (const auto& s : samples) {
+      if ((s.second - x).norm() < (nearest.second - x).norm()) nearest = s;
+    }
+    return nearest.first;
+  };
+  const auto fromNearestSample = [&](const Eigen::Vector3d& x) {
+    return b.pps->project(x, nearestSample(x));
+  };
+  SmoothProjectionOptions extrapolate;
+  extrapolate.extrapolateLastStep = true;
+  // A line of equally spaced points outside and inside the surface, each projected from the one
+  // before.
+  for (const double offset : {0.15, -0.1}) {
+    const Eigen::Vector3d direction = Eigen::Vector3d(0.3, 1.0, 0.2).normalized();
+    const Eigen::Vector3d across = direction.cross(Eigen::Vector3d::UnitX()).normalized();
+    PseudoManifold::Projection previous;
+    bool havePrevious = false;
+    int nearbyEvaluations = 0, sampleEvaluations = 0;
+    for (int i = 0; i < 12; ++i) {
+      const Eigen::Vector3d x = (1.0 + offset) * direction + 0.04 * i * across;
+      const PseudoManifold::Projection reference = fromNearestSample(x);
+      ASSERT_TRUE(reference.converged);
+      if (havePrevious) {
+        const PseudoManifold::Projection plain = b.pps->project(x, previous);
+        EXPECT_TRUE(plain.converged);
+        EXPECT_LT((plain.position - reference.position).norm(), 1e-11);
+        EXPECT_NEAR(plain.distance, reference.distance, 1e-13);
+        EXPECT_LT((plain.geometry.normal - reference.geometry.normal).norm(), 1e-10);
+        EXPECT_NEAR(plain.geometry.k1, reference.geometry.k1, 1e-9);
+        EXPECT_NEAR(plain.geometry.k2, reference.geometry.k2, 1e-9);
+        nearbyEvaluations += plain.iterations;
+        sampleEvaluations += reference.iterations;
+        // Extrapolated: the same footpoint; position and normal to round-off, curvatures to
+        // 1e-5 of their value (the sphere-like surface has k ~ 1).
+        const PseudoManifold::Projection fast = b.pps->project(x, previous, extrapolate);
+        EXPECT_TRUE(fast.converged);
+        EXPECT_LE(fast.iterations, plain.iterations);
+        EXPECT_LT((fast.position - reference.position).norm(), 1e-11);
+        EXPECT_LT((fast.geometry.normal - reference.geometry.normal).norm(), 1e-10);
+        EXPECT_NEAR(fast.geometry.k1, reference.geometry.k1,
+                    1e-5 * std::abs(reference.geometry.k1));
+        EXPECT_NEAR(fast.geometry.k2, reference.geometry.k2,
+                    1e-5 * std::abs(reference.geometry.k2));
+        const SmoothPoint exact = b.pps->evaluate(fast.point, Derivatives::Second);
+        EXPECT_LT((exact.position - fast.position).norm(), 1e-11);
+        previous = plain;
+      } else {
+        previous = reference;
+      }
+      havePrevious = true;
+    }
+    // No evaluation at the start: fewer along the line than from the nearest samples.
+    EXPECT_LT(nearbyEvaluations, sampleEvaluations);
+  }
+  // Stopping beyond a distance: a far point stops early with a distance above the bound; a point
+  // within it converges as without the bound.
+  SmoothProjectionOptions bounded;
+  bounded.stopBeyond = 0.3;
+  const Eigen::Vector3d far = 1.6 * Eigen::Vector3d(0.2, -0.5, 0.8).normalized();
+  const PseudoManifold::Projection reference = fromNearestSample(far);
+  ASSERT_GT(reference.distance, 0.5);
+  const PseudoManifold::Projection stopped = b.pps->project(far, nearestSample(far), bounded);
+  EXPECT_TRUE(stopped.beyond);
+  EXPECT_FALSE(stopped.converged);
+  EXPECT_GT(stopped.distance, 0.3);
+  const Eigen::Vector3d near = 1.1 * Eigen::Vector3d(0.2, -0.5, 0.8).normalized();
+  const PseudoManifold::Projection inside = b.pps->project(near, nearestSample(near), bounded);
+  EXPECT_FALSE(inside.beyond);
+  EXPECT_TRUE(inside.converged);
+  EXPECT_NEAR(inside.distance, fromNearestSample(near).distance, 1e-13);
+  EXPECT_THROW(b.pps->project(Eigen::Vector3d(std::nan(""), 0.0, 0.0), reference), InputError);
+  PseudoManifold::Projection broken = reference;
+  broken.chartCorner = 3;
+  EXPECT_THROW(b.pps->project(far, broken), InputError);
+}
+
 TEST(PseudoManifold, RefusesBadOptions) {
   const auto mesh = test::octahedron().build();
   const LoopLimitSurface loop(mesh);

@@ -318,107 +318,89 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
           std::vector<PseudoManifold::Projection> projections =
               std::vector<PseudoManifold::Projection>(512);
-          /// How each voxel's projection started: 0 from a seed, 1, 2, 3 from its neighbour at
-          /// -z, -y, -x.
-          std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
           SeedBlocks::Near near;        // the seeds near the leaf
           SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
           std::uint32_t subGeneration[8] = {};
         };
-        return
-            [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
-              const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
-              if (leaf != state.leaf) {
-                state.leaf = leaf;
-                ++state.generation;
-                blocks.near(leaf, skipBeyond, state.near);
-              }
-              const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-              if (state.subGeneration[sub] != state.generation) {
-                state.subGeneration[sub] = state.generation;
-                const Eigen::Vector3i lo(ijk.x() & 4, ijk.y() & 4, ijk.z() & 4);
-                state.subNear[sub].restrict(state.near, lo, lo + Eigen::Vector3i::Constant(3),
-                                            voxelSize);
-              }
-              const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
-              if (!(nearest.distance <= skipBeyond)) {
-                // Outside the band (a lower bound of the distance, which the band discards).
-                Approximant outside;
-                outside.kind = TargetKind::Surface;
-                outside.origin = centre;
-                outside.distance = skipBeyond - spacing - 0.2 * voxelSize;
-                if (std::isfinite(nearest.distance)) {
-                  outside.distance = nearest.distance - spacing - 0.2 * voxelSize;
-                }
-                return outside;
-              }
-              const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
-              const auto projected = [&](int neighbour) {
-                return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
-              };
-              int neighbour = -1;
-              std::uint8_t direction = 0;
-              if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
-                neighbour = offset - 1;
-                direction = 1;
-              } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
-                neighbour = offset - 8;
-                direction = 2;
-              } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
-                neighbour = offset - 64;
-                direction = 3;
-              }
-              PseudoManifold::Projection projection;
-              if (neighbour >= 0) {
-                const auto n = static_cast<std::size_t>(neighbour);
-                const PseudoManifold::Projection& nearby = state.projections[n];
-                // The neighbour started from its own neighbour one voxel further the same way: its
-                // first step's miss is the second-order term of this one's.
-                projection =
-                    state.startedFrom[n] == direction && nearby.hasFirstStepMiss
-                        ? surface.project(centre, nearby, nearby.firstStepMiss, projectionOptions)
-                        : surface.project(centre, nearby, projectionOptions);
-                // A surface point (the nearest seed) is nearer than the local minimum found from
-                // the neighbour: that minimum is not the closest point (the voxel is near the
-                // medial axis); start from the seed instead. (A projection stopped beyond the band
-                // is unconverged: there only a seed inside the band is a sign of a nearer part of
-                // the surface.)
-                if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond
-                                      : projection.distance > nearest.distance) {
-                  PseudoManifold::Projection fromSeed =
-                      surface.project(centre, seedPoints[nearest.index], projectionOptions);
-                  if (fromSeed.distance < projection.distance) {
-                    projection = std::move(fromSeed);
-                    direction = 0;
-                  }
-                }
-              } else {
-                projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
-              }
-              const auto at = static_cast<std::size_t>(offset);
-              if (projection.beyond) {
-                // Outside the band (its distance is above the half-width; the band discards it).
-                // Its last iterate still starts its neighbours' projections.
-                Approximant outside;
-                outside.kind = TargetKind::Surface;
-                outside.origin = centre;
-                outside.distance = projection.distance;
-                state.projections[at] = std::move(projection);
-                state.stamp[at] = state.generation;
-                state.startedFrom[at] = 0;
-                return outside;
-              }
-              Approximant a = SmoothSurface::approximantOf(centre, projection);
-              state.projections[at] = std::move(projection);
-              state.stamp[at] = state.generation;
-              state.startedFrom[at] = direction;
-              if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-                a.k1 = std::clamp(a.k1, -clamp, clamp);
-                a.k2 = std::clamp(a.k2, -clamp, clamp);
-                a.flags |= kFlagCurvatureClamped;
-              }
-              return a;
-            };
+        return [&, state = State{}](const openvdb::Coord& ijk,
+                                    const Eigen::Vector3d& centre) mutable {
+          const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+          if (leaf != state.leaf) {
+            state.leaf = leaf;
+            ++state.generation;
+            blocks.near(leaf, skipBeyond, state.near);
+          }
+          const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+          if (state.subGeneration[sub] != state.generation) {
+            state.subGeneration[sub] = state.generation;
+            const Eigen::Vector3i lo(ijk.x() & 4, ijk.y() & 4, ijk.z() & 4);
+            state.subNear[sub].restrict(state.near, lo, lo + Eigen::Vector3i::Constant(3),
+                                        voxelSize);
+          }
+          const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+          if (!(nearest.distance <= skipBeyond)) {
+            // Outside the band (a lower bound of the distance, which the band discards).
+            Approximant outside;
+            outside.kind = TargetKind::Surface;
+            outside.origin = centre;
+            outside.distance = skipBeyond - spacing - 0.2 * voxelSize;
+            if (std::isfinite(nearest.distance)) {
+              outside.distance = nearest.distance - spacing - 0.2 * voxelSize;
+            }
+            return outside;
+          }
+          const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+          const auto projected = [&](int neighbour) {
+            return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
+          };
+          int neighbour = -1;
+          if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
+            neighbour = offset - 1;
+          } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
+            neighbour = offset - 8;
+          } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
+            neighbour = offset - 64;
+          }
+          PseudoManifold::Projection projection;
+          if (neighbour >= 0) {
+            projection = surface.project(
+                centre, state.projections[static_cast<std::size_t>(neighbour)], projectionOptions);
+            // A surface point (the nearest seed) is nearer than the local minimum found from
+            // the neighbour: that minimum is not the closest point (the voxel is near the
+            // medial axis); start from the seed instead. (A projection stopped beyond the band
+            // is unconverged: there only a seed inside the band is a sign of a nearer part of
+            // the surface.)
+            if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond
+                                  : projection.distance > nearest.distance) {
+              PseudoManifold::Projection fromSeed =
+                  surface.project(centre, seedPoints[nearest.index], projectionOptions);
+              if (fromSeed.distance < projection.distance) projection = std::move(fromSeed);
+            }
+          } else {
+            projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
+          }
+          const auto at = static_cast<std::size_t>(offset);
+          if (projection.beyond) {
+            // Outside the band (its distance is above the half-width; the band discards it).
+            // Its last iterate still starts its neighbours' projections.
+            Approximant outside;
+            outside.kind = TargetKind::Surface;
+            outside.origin = centre;
+            outside.distance = projection.distance;
+            state.projections[at] = std::move(projection);
+            state.stamp[at] = state.generation;
+            return outside;
+          }
+          Approximant a = SmoothSurface::approximantOf(centre, projection);
+          state.projections[at] = std::move(projection);
+          state.stamp[at] = state.generation;
+          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
+            a.k1 = std::clamp(a.k1, -clamp, clamp);
+            a.k2 = std::clamp(a.k2, -clamp, clamp);
+            a.flags |= kFlagCurvatureClamped;
+          }
+          return a;
+        };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")
       .setLabel("smooth surface (" + surface.sourceName() + ") of " + std::to_string(faceCount) +

@@ -707,7 +707,7 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, con
   if (start.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(start.face) + " does not exist");
   }
-  return projectFrom(x, start, nullptr, 0, nullptr, options);
+  return projectFrom(x, start, nullptr, 0, options);
 }
 
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
@@ -719,23 +719,7 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
                      std::to_string(nearby.point.face) + " or corner " +
                      std::to_string(nearby.chartCorner));
   }
-  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, nullptr, options);
-}
-
-PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
-                                                   const Projection& nearby,
-                                                   const Eigen::Vector2d& firstStepOffset,
-                                                   const SmoothProjectionOptions& options) const {
-  if (!x.allFinite() || !firstStepOffset.allFinite()) {
-    throw InputError("cannot project a non-finite point or with a non-finite step offset");
-  }
-  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2) {
-    throw InputError("the projection to start from has no face " +
-                     std::to_string(nearby.point.face) + " or corner " +
-                     std::to_string(nearby.chartCorner));
-  }
-  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, &firstStepOffset,
-                     options);
+  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, options);
 }
 
 namespace {
@@ -753,8 +737,7 @@ Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
 
 PseudoManifold::Projection PseudoManifold::projectFrom(
     const Eigen::Vector3d& x, const FacePoint& start, const SmoothDerivatives* startDerivatives,
-    int startCorner, const Eigen::Vector2d* firstStepOffset,
-    const SmoothProjectionOptions& options) const {
+    int startCorner, const SmoothProjectionOptions& options) const {
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
@@ -770,11 +753,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   bool known = startDerivatives != nullptr;
   Jet3<2> jet;
   int centre = startCorner;
-  // Where the first step from the given derivatives ended (chart point of firstVertex).
-  bool firstFromStart = startDerivatives != nullptr;
-  Index firstVertex = 0;
-  Eigen::Vector2d firstEnd = Eigen::Vector2d::Zero();
-  bool haveFirstEnd = false;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     if (known) {
@@ -820,9 +798,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     const bool definite = newton.info() == Eigen::Success;
     step = definite ? Eigen::Vector2d(-newton.solve(gradient))
                     : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
-    const bool first = firstFromStart;
-    firstFromStart = false;
-    if (first && firstStepOffset) step += *firstStepOffset;
     if (!step.allFinite()) {
       result.converged = true;  // a degenerate point: stay (the jet there is the answer)
       break;
@@ -835,7 +810,8 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       result.converged = true;  // `current` and its jet are the answer
       break;
     }
-    if (definite && length < 1e-2 * radius && options.stopBeyond < previousValue) {
+    if (definite && length < 1e-2 * radius &&
+        2.0 * value > options.stopBeyond * options.stopBeyond) {
       // The quadratic model's minimum of |X - x|^2 is 2 value + gradient . step; four times
       // that decrease is a safe bound this close to the minimum.
       const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
@@ -863,12 +839,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       finalStep = predicted <= tolerance * radius;
       lastStep = length;
       checkLast = false;
-      Eigen::Vector2d p = chartPoint.p + step;
-      if (first) {
-        firstVertex = chartPoint.vertex;
-        firstEnd = p;
-        haveFirstEnd = true;
-      }
+      const Eigen::Vector2d p = chartPoint.p + step;
       if (finalStep && extrapolate && length <= 1e-6 * radius && p.norm() < 0.99 * radius) {
         // Taylor expansion of the jet along the step.
         const double a = step.x(), b = step.y();
@@ -890,13 +861,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       continue;
     }
     if (!careful && definite) {
-      if (first) {
-        Eigen::Vector2d p = chartPoint.p + step;
-        if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
-        firstVertex = chartPoint.vertex;
-        firstEnd = p;
-        haveFirstEnd = true;
-      }
       lastStep = length;
       checkLast = true;
       current = target(step);
@@ -930,10 +894,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   result.derivatives = toDerivatives(jet);
   result.chartCorner = centre;
   result.geometry = surfaceGeometry(result.derivatives);
-  if (haveFirstEnd && mesh_->from(3 * current.face + static_cast<Index>(centre)) == firstVertex) {
-    result.firstStepMiss = atlas_.toChart(current, centre).p - firstEnd;
-    result.hasFirstStepMiss = result.firstStepMiss.allFinite();
-  }
   return result;
 }
 

@@ -177,12 +177,6 @@ class PseudoManifold {
     /// corner `chartCorner` (0..2), the corner with the largest barycentric coordinate there.
     SmoothDerivatives derivatives;
     int chartCorner = 0;
-    /// For a projection started from a nearby one: the footpoint minus the end of the first
-    /// Newton step (taken from the nearby projection's derivatives), in the chart coordinates of
-    /// `chartCorner`; hasFirstStepMiss is false otherwise, or when that chart is not the one the
-    /// first step was taken in.
-    Eigen::Vector2d firstStepMiss = Eigen::Vector2d::Zero();
-    bool hasFirstStepMiss = false;
     int iterations = 0;  ///< surface evaluations made (the start's included unless it was given)
     /// The footpoint is a minimum of the distance to within 1e-12 of the chart radius (see
     /// project()), or no step lowered the distance.
@@ -209,15 +203,6 @@ class PseudoManifold {
   /// or chart corner does not exist.
   Projection project(const Eigen::Vector3d& x, const Projection& nearby,
                      const SmoothProjectionOptions& options = {}) const;
-  /// project(x, nearby) with `firstStepOffset` (chart coordinates of nearby.chartCorner) added to
-  /// the first Newton step, which is checked like any other. Along a line of equally spaced
-  /// points, each projected from the one before, nearby.firstStepMiss is the second-order term
-  /// the first (Newton, first-order) step leaves out: adding it makes the start third-order
-  /// accurate in the spacing, saving Newton iterations.
-  Projection project(const Eigen::Vector3d& x, const Projection& nearby,
-                     const Eigen::Vector2d& firstStepOffset,
-                     const SmoothProjectionOptions& options = {}) const;
-
   /// Bytes held (control points, tables).
   std::size_t memoryBytes() const;
 
@@ -231,7 +216,6 @@ class PseudoManifold {
   /// in the chart of start's corner `startCorner`.
   Projection projectFrom(const Eigen::Vector3d& x, const FacePoint& start,
                          const SmoothDerivatives* startDerivatives, int startCorner,
-                         const Eigen::Vector2d* firstStepOffset,
                          const SmoothProjectionOptions& options) const;
   /// The least-squares tables of one (degree, bidegree, density), computed once per process and
   /// shared (they do not depend on the mesh).
