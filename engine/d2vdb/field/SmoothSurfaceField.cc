@@ -368,9 +368,9 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             // A surface point (the nearest seed) is nearer than the local minimum found from
             // the neighbour: that minimum is not the closest point (the voxel is near the
             // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there only a seed inside the band is a sign of a nearer part of
-            // the surface.)
-            if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond
+            // is unconverged: there a seed within the band plus the seeds' spacing, which may
+            // stand for a surface point inside the band, is the sign of a nearer part.)
+            if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond + spacing
                                   : projection.distance > nearest.distance) {
               PseudoManifold::Projection fromSeed =
                   surface.project(centre, seedPoints[nearest.index], projectionOptions);
