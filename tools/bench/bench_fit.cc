@@ -551,7 +551,7 @@ double waveHeight(double x, double y) {
 }
 
 /// `count` points of the wave z = waveHeight(x, y), uniform on [0, 2]^2, with Gaussian noise of
-/// `sigma` per coordinate (seed 4, as waveCloud()); sigma 0 = the clean points.
+/// `sigma` per coordinate (random seed 4, as waveCloud()); sigma 0 = the clean points.
 std::vector<Eigen::Vector3d> waveSamples(int count, double sigma) {
   std::mt19937 engine(4);
   std::uniform_real_distribution<double> unit(0.0, 2.0);
