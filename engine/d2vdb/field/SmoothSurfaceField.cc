@@ -249,7 +249,9 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
     return count;
   };
   std::vector<std::vector<Eigen::Vector3d>> facePositions(faceCount);
-  std::vector<bool> done(faceCount, false);
+  // One byte per face, not std::vector<bool>: the faces' tasks write their flags concurrently, and
+  // neighbouring bits of a bit vector share a word (a data race ThreadSanitizer reports).
+  std::vector<std::uint8_t> done(faceCount, 0);
   for (int round = 0; round < 8; ++round) {
     if (seedCount() > seedBudget) {
       throw InputError("smooth-surface field: " + std::to_string(seedCount()) +
@@ -266,14 +268,14 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
       for (std::size_t i = 0; i < lattice.size(); ++i)
         points[i] = surface.position({face, lattice[i]});
       if (largestLatticeStep(points, intervals[f]) <= spacing) {
-        done[f] = true;
+        done[f] = 1;
       } else {
         intervals[f] *= 2;
       }
     });
-    if (std::all_of(done.begin(), done.end(), [](bool d) { return d; })) break;
+    if (std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) break;
   }
-  if (!std::all_of(done.begin(), done.end(), [](bool d) { return d; })) {
+  if (!std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) {
     throw InputError("smooth-surface field: the surface could not be sampled at voxel size " +
                      std::to_string(voxelSize) + " (a face stretches too far)");
   }
