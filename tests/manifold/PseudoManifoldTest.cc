@@ -448,23 +448,38 @@ TEST(PseudoManifold, SameResultForAnyThreadCount) {
   }
 }
 
-TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
-  const Built b = buildLoop(test::icosphere(1));
-  const HalfEdgeMesh& mesh = *b.mesh;
-  // Dense samples of the surface as a brute-force reference.
-  std::vector<std::pair<FacePoint, Eigen::Vector3d>> samples;
-  for (Index f = 0; f < mesh.faceCount(); ++f) {
-    for (const Eigen::Vector3d& bary : faceLattice(24)) {
-      samples.push_back({{f, bary}, b.pps->position({f, bary})});
+/// Dense samples of a pseudo-manifold (a lattice of 24 intervals per face), the brute-force
+/// reference of the projection tests.
+class DenseSurfaceSamples {
+ public:
+  explicit DenseSurfaceSamples(const Built& b) {
+    for (Index f = 0; f < b.mesh->faceCount(); ++f) {
+      for (const Eigen::Vector3d& bary : faceLattice(24)) {
+        samples_.push_back({{f, bary}, b.pps->position({f, bary})});
+      }
     }
   }
+
+  /// The sample nearest to `x`: its (face, barycentric) point and its position.
+  const std::pair<FacePoint, Eigen::Vector3d>& nearest(const Eigen::Vector3d& x) const {
+    const auto* best = &samples_.front();
+    for (const auto& s : samples_) {
+      if ((s.second - x).norm() < (best->second - x).norm()) best = &s;
+    }
+    return *best;
+  }
+
+ private:
+  std::vector<std::pair<FacePoint, Eigen::Vector3d>> samples_;
+};
+
+TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
+  const Built b = buildLoop(test::icosphere(1));
+  const DenseSurfaceSamples samples(b);
   for (const Eigen::Vector3d& x :
        {Eigen::Vector3d(1.3, 0.2, -0.1), Eigen::Vector3d(-0.2, 0.5, 0.6),
         Eigen::Vector3d(0.1, -1.1, 0.9), Eigen::Vector3d(0.0, 0.0, -2.0)}) {
-    auto nearest = samples.front();
-    for (const auto& s : samples) {
-      if ((s.second - x).norm() < (nearest.second - x).norm()) nearest = s;
-    }
+    const auto& nearest = samples.nearest(x);
     const PseudoManifold::Projection p = b.pps->project(x, nearest.first);
     EXPECT_TRUE(p.converged);
     EXPECT_LE(p.distance, (nearest.second - x).norm() + 1e-15);
@@ -480,22 +495,9 @@ TEST(PseudoManifold, ProjectionFindsTheClosestPoint) {
 // against an evaluation at the footpoint.
 TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   const Built b = buildLoop(test::icosphere(1));
-  const HalfEdgeMesh& mesh = *b.mesh;
-  std::vector<std::pair<FacePoint, Eigen::Vector3d>> samples;
-  for (Index f = 0; f < mesh.faceCount(); ++f) {
-    for (const Eigen::Vector3d& bary : faceLattice(24)) {
-      samples.push_back({{f, bary}, b.pps->position({f, bary})});
-    }
-  }
-  const auto nearestSample = [&](const Eigen::Vector3d& x) {
-    auto nearest = samples.front();
-    for (const auto& s : samples) {
-      if ((s.second - x).norm() < (nearest.second - x).norm()) nearest = s;
-    }
-    return nearest.first;
-  };
+  const DenseSurfaceSamples samples(b);
   const auto fromNearestSample = [&](const Eigen::Vector3d& x) {
-    return b.pps->project(x, nearestSample(x));
+    return b.pps->project(x, samples.nearest(x).first);
   };
   SmoothProjectionOptions extrapolate;
   extrapolate.extrapolateLastStep = true;
@@ -550,12 +552,14 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   const Eigen::Vector3d far = 1.6 * Eigen::Vector3d(0.2, -0.5, 0.8).normalized();
   const PseudoManifold::Projection reference = fromNearestSample(far);
   ASSERT_GT(reference.distance, 0.5);
-  const PseudoManifold::Projection stopped = b.pps->project(far, nearestSample(far), bounded);
+  const PseudoManifold::Projection stopped =
+      b.pps->project(far, samples.nearest(far).first, bounded);
   EXPECT_TRUE(stopped.beyond);
   EXPECT_FALSE(stopped.converged);
   EXPECT_GT(stopped.distance, 0.3);
   const Eigen::Vector3d near = 1.1 * Eigen::Vector3d(0.2, -0.5, 0.8).normalized();
-  const PseudoManifold::Projection inside = b.pps->project(near, nearestSample(near), bounded);
+  const PseudoManifold::Projection inside =
+      b.pps->project(near, samples.nearest(near).first, bounded);
   EXPECT_FALSE(inside.beyond);
   EXPECT_TRUE(inside.converged);
   EXPECT_NEAR(inside.distance, fromNearestSample(near).distance, 1e-13);
