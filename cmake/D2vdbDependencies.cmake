@@ -41,6 +41,14 @@ if(NOT TARGET Blosc::blosc OR NOT TARGET ZLIB::ZLIB)
   d2vdb_missing("Blosc and zlib as found by OpenVDB's find module" "libblosc-dev zlib1g-dev")
 endif()
 
+# CHOLMOD factorises the fitting systems (supernodal, BLAS level 3); Debian's OpenBLAS (serial
+# build: deterministic, one thread) makes its dense kernels fast. Only CHOLMOD is a build
+# requirement: any BLAS that Debian's alternatives provide works, OpenBLAS only faster.
+find_package(CHOLMOD QUIET)
+if(NOT TARGET SuiteSparse::CHOLMOD)
+  d2vdb_missing("CHOLMOD (SuiteSparse)" libsuitesparse-dev)
+endif()
+
 find_package(nlohmann_json 3.9 QUIET)
 if(NOT TARGET nlohmann_json::nlohmann_json)
   d2vdb_missing("nlohmann-json" nlohmann-json3-dev)

@@ -21,4 +21,5 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/d2vdbConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/d2vdbConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/d2vdbConfig.cmake ${PROJECT_BINARY_DIR}/d2vdbConfigVersion.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/FindCHOLMOD.cmake
         DESTINATION ${d2vdb_cmake_dir})

@@ -20,7 +20,7 @@ build_dir=${D2VDB_BUILD_DIR:-build}
 jobs=${D2VDB_JOBS:-$(nproc 2>/dev/null || echo 2)}
 packages=(g++ cmake ninja-build pkg-config
           libopenvdb-dev libboost-iostreams-dev libtbb-dev libeigen3-dev libblosc-dev zlib1g-dev
-          libcli11-dev nlohmann-json3-dev libnanoflann-dev
+          libcli11-dev nlohmann-json3-dev libnanoflann-dev libsuitesparse-dev libopenblas0-serial
           libgtest-dev libbenchmark-dev libopenvdb-tools)
 # shellcheck disable=SC2206  # a list of package names
 packages+=(${EXTRA_PACKAGES:-})

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "FitTestSupport.h"
@@ -16,10 +17,10 @@
 namespace d2vdb {
 namespace {
 
-BSplineCurve closedCurve() {
+BSplineCurve closedCurve(int controlPoints = 14) {
   std::vector<Eigen::Vector3d> controls;
-  for (int i = 0; i < 14; ++i) {
-    const double angle = test::kTwoPi * i / 14;
+  for (int i = 0; i < controlPoints; ++i) {
+    const double angle = test::kTwoPi * i / controlPoints;
     controls.emplace_back(std::cos(angle), 0.8 * std::sin(angle), 0.1 * std::sin(3 * angle));
   }
   return BSplineCurve::closed(3, controls, 3);
@@ -105,7 +106,8 @@ TEST(QuadraticModel, SolveMatchesADenseSolveAndSurvivesNewSpans) {
 }
 
 /// The model's pieces as dense matrices over the stacked displacement (unknown 3 i + a): H and g
-/// of m(c) = m(0) + g . c + c^T H c (no damping), from one Jacobian per sensor.
+/// of m(c) = m(0) + g . c + c^T H c (no damping), summed sensor by sensor over the 3 x 3 blocks
+/// of each pair of its control points.
 struct DenseModel {
   Eigen::MatrixXd H;
   Eigen::VectorXd g;
@@ -119,46 +121,42 @@ DenseModel denseModel(const std::vector<SensorTerms>& sets, double rankOneScale,
   for (const SensorTerms& set : sets) {
     const SensorMap& basis = *set.basis;
     for (int k = 0; k < basis.sensorCount(); ++k) {
-      Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(3, 3 * n);
-      Eigen::MatrixXd local = Eigen::MatrixXd::Zero(3 * basis.order(), 3 * n);
       Eigen::Vector3d x = Eigen::Vector3d::Zero();
       for (int j = 0; j < basis.order(); ++j) {
-        const int i = basis.index(k, j);
-        jacobian.middleCols(3 * i, 3) += basis.weight(k, j) * Eigen::Matrix3d::Identity();
-        local.block(3 * j, 3 * i, 3, 3) = Eigen::Matrix3d::Identity();
-        x += basis.weight(k, j) * points[static_cast<std::size_t>(i)];
+        x += basis.weight(k, j) * points[static_cast<std::size_t>(basis.index(k, j))];
       }
       const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
-      model.H += set.weight * jacobian.transpose() * form.A * jacobian;
-      model.g += set.weight * 2.0 * jacobian.transpose() * (form.A * x - form.b);
+      for (int a = 0; a < basis.order(); ++a) {
+        const int row = 3 * basis.index(k, a);
+        model.g.segment<3>(row) += set.weight * 2.0 * basis.weight(k, a) * (form.A * x - form.b);
+        for (int b = 0; b < basis.order(); ++b) {
+          model.H.block<3, 3>(row, 3 * basis.index(k, b)) +=
+              set.weight * basis.weight(k, a) * basis.weight(k, b) * form.A;
+        }
+      }
       if (set.rankOne == nullptr) continue;
       const RankOneTerms& terms = *set.rankOne;
       for (int t = terms.start[static_cast<std::size_t>(k)];
            t < terms.start[static_cast<std::size_t>(k) + 1]; ++t) {
         const Eigen::Map<const Eigen::VectorXd> u(
             terms.vectors.data() + static_cast<std::size_t>(t) * terms.length, terms.length);
-        const Eigen::VectorXd v = local.transpose() * u;
-        model.H += set.weight * rankOneScale * terms.coefficients[static_cast<std::size_t>(t)] * v *
-                   v.transpose();
+        const double scale =
+            set.weight * rankOneScale * terms.coefficients[static_cast<std::size_t>(t)];
+        for (int a = 0; a < basis.order(); ++a) {
+          for (int b = 0; b < basis.order(); ++b) {
+            model.H.block<3, 3>(3 * basis.index(k, a), 3 * basis.index(k, b)) +=
+                scale * u.segment<3>(3 * a) * u.segment<3>(3 * b).transpose();
+          }
+        }
       }
     }
   }
-  Eigen::VectorXd stacked(3 * n);
-  for (int i = 0; i < n; ++i) stacked.segment<3>(3 * i) = points[static_cast<std::size_t>(i)];
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       model.H.block<3, 3>(3 * i, 3 * j) += smoothing(i, j) * Eigen::Matrix3d::Identity();
+      model.g.segment<3>(3 * i) += 2.0 * smoothing(i, j) * points[static_cast<std::size_t>(j)];
     }
   }
-  model.g += 2.0 * [&] {
-    Eigen::VectorXd s = Eigen::VectorXd::Zero(3 * n);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        s.segment<3>(3 * i) += smoothing(i, j) * points[static_cast<std::size_t>(j)];
-      }
-    }
-    return s;
-  }();
   return model;
 }
 
@@ -170,8 +168,24 @@ std::vector<Eigen::Vector3d> unstack(const Eigen::VectorXd& v) {
   return points;
 }
 
-TEST(QuadraticModel, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchADenseModel) {
-  const BSplineCurve curve = closedCurve();
+/// The normwise backward error of the displacement c as a solution of H c = right (infinity
+/// norms): |H c - right| / (|H| |c| + |right|), round-off (about n eps) for a stable solver.
+double backwardError(const Eigen::MatrixXd& H, const std::vector<Eigen::Vector3d>& c,
+                     const Eigen::VectorXd& right) {
+  Eigen::VectorXd x(3 * static_cast<Eigen::Index>(c.size()));
+  for (std::size_t i = 0; i < c.size(); ++i) x.segment<3>(3 * static_cast<Eigen::Index>(i)) = c[i];
+  const double matrixNorm = H.cwiseAbs().rowwise().sum().maxCoeff();
+  return (H * x - right).lpNorm<Eigen::Infinity>() /
+         (matrixNorm * x.lpNorm<Eigen::Infinity>() + right.lpNorm<Eigen::Infinity>());
+}
+
+/// The curve's control-point count selects the solver: 14 (42 unknowns, a dense pattern) the
+/// dense Cholesky, 200 (600 unknowns) the simplicial LDLT, 410 (1230 unknowns, over
+/// QuadraticModel::kSimplicialUnknowns) the supernodal Cholesky.
+class QuadraticModelSolvers : public ::testing::TestWithParam<int> {};
+
+TEST_P(QuadraticModelSolvers, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchADenseModel) {
+  const BSplineCurve curve = closedCurve(GetParam());
   const int n = curve.controlPointCount();
   const std::vector<Eigen::Vector3d>& points = curve.controlPoints();
   // Two sets: one with rank-one terms (one positive, one negative per sensor), one without.
@@ -195,42 +209,67 @@ TEST(QuadraticModel, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchADenseModel
                                       {&second, &secondForms, 0.2, nullptr}};
   const Eigen::SparseMatrix<double> fixed = 1e-3 * derivativeGramMatrix(curve, 1);
   const Eigen::SparseMatrix<double> bending = derivativeGramMatrix(curve, 2);
+  const auto bendingForce = [&](double scale) {
+    const Eigen::MatrixXd bendingDense = scale * Eigen::MatrixXd(bending);
+    Eigen::VectorXd force(3 * n);
+    for (int i = 0; i < n; ++i) {
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      for (int j = 0; j < n; ++j) f += bendingDense(i, j) * points[static_cast<std::size_t>(j)];
+      force.segment<3>(3 * i) = f;
+    }
+    return force;
+  };
   QuadraticModel model(n, 3, fixed, bending);
   model.setSmoothingScale(2e-4);
   model.assemble(sets, points);
   for (const double rankOneScale : {0.0, 0.5, 1.0}) {
     const std::vector<Eigen::Vector3d> step = model.solveAssembled(rankOneScale, 0.0);
+    EXPECT_TRUE(model.lastSolvePositiveDefinite());
     const Eigen::MatrixXd smoothing = Eigen::MatrixXd(fixed) + 2e-4 * Eigen::MatrixXd(bending);
     const DenseModel dense = denseModel(sets, rankOneScale, smoothing, points);
-    const Eigen::VectorXd reference = dense.H.ldlt().solve(-0.5 * dense.g);
-    EXPECT_LT(largestDifference(step, unstack(reference)), 1e-9) << rankOneScale;
+    EXPECT_LT(backwardError(dense.H, step, -0.5 * dense.g), 1e-12) << rankOneScale;
+    const Eigen::VectorXd minimiser = dense.H.partialPivLu().solve(-0.5 * dense.g);
+    // The same system again (its factorisation is kept), and as a minimiser.
+    EXPECT_EQ(model.solveAssembled(rankOneScale, 0.0), step);
+    const std::optional<std::vector<Eigen::Vector3d>> minimised =
+        model.minimizeAssembled(rankOneScale, 0.0);
+    ASSERT_TRUE(minimised.has_value());
+    EXPECT_EQ(*minimised, step);
     // m(0) - m(c) for the solution and for another displacement.
-    const Eigen::VectorXd other = 0.3 * reference + 0.01 * Eigen::VectorXd::Ones(3 * n);
-    for (const Eigen::VectorXd& c : {reference, other}) {
+    const Eigen::VectorXd other = 0.3 * minimiser + 0.01 * Eigen::VectorXd::Ones(3 * n);
+    for (const Eigen::VectorXd& c : {minimiser, other}) {
       const double expected = -(dense.g.dot(c) + c.dot(dense.H * c));
       EXPECT_NEAR(model.predictedDecrease(unstack(c)), expected, 1e-9 * std::abs(expected));
     }
     // The scaled smoothing's shift of the minimiser: H^-1 (sigma T P).
-    Eigen::VectorXd bendingForce(3 * n);
-    const Eigen::MatrixXd bendingDense = 2e-4 * Eigen::MatrixXd(bending);
-    for (int i = 0; i < n; ++i) {
-      Eigen::Vector3d f = Eigen::Vector3d::Zero();
-      for (int j = 0; j < n; ++j) f += bendingDense(i, j) * points[static_cast<std::size_t>(j)];
-      bendingForce.segment<3>(3 * i) = f;
-    }
-    EXPECT_LT(largestDifference(model.scaledSmoothingShift(),
-                                unstack(dense.H.ldlt().solve(bendingForce))),
-              1e-9);
+    EXPECT_LT(backwardError(dense.H, model.scaledSmoothingShift(), bendingForce(2e-4)), 1e-12);
   }
-  // A dominant negative rank-one term makes the system indefinite, and the model says so.
+  // A new smoothing scale is a new system, not the kept factorisation's.
+  model.setSmoothingScale(3e-3);
+  const std::vector<Eigen::Vector3d> smoother = model.solveAssembled(1.0, 0.0);
+  const DenseModel denseSmoother =
+      denseModel(sets, 1.0, Eigen::MatrixXd(fixed) + 3e-3 * Eigen::MatrixXd(bending), points);
+  EXPECT_LT(backwardError(denseSmoother.H, smoother, -0.5 * denseSmoother.g), 1e-12);
+
+  // A dominant negative rank-one term makes the system indefinite, and the model says so: no
+  // minimiser, and the stationary point on request.
   RankOneTerms negative = terms;
   for (double& alpha : negative.coefficients) alpha = -50.0;
-  model.assemble({{&first, &firstForms, 0.7, &negative}}, points);
-  model.solveAssembled(1.0, 0.0);
+  const std::vector<SensorTerms> indefiniteSets{{&first, &firstForms, 0.7, &negative}};
+  model.assemble(indefiniteSets, points);
+  EXPECT_FALSE(model.minimizeAssembled(1.0, 0.0).has_value());
   EXPECT_FALSE(model.lastSolvePositiveDefinite());
+  const std::vector<Eigen::Vector3d> stationary = model.solveAssembled(1.0, 0.0);
+  EXPECT_FALSE(model.lastSolvePositiveDefinite());
+  const DenseModel denseIndefinite = denseModel(
+      indefiniteSets, 1.0, Eigen::MatrixXd(fixed) + 3e-3 * Eigen::MatrixXd(bending), points);
+  EXPECT_LT(backwardError(denseIndefinite.H, stationary, -0.5 * denseIndefinite.g), 1e-12);
   model.solveAssembled(0.0, 0.0);
   EXPECT_TRUE(model.lastSolvePositiveDefinite());
 }
+
+INSTANTIATE_TEST_SUITE_P(DenseSimplicialAndSupernodal, QuadraticModelSolvers,
+                         ::testing::Values(14, 200, 410));
 
 }  // namespace
 }  // namespace d2vdb

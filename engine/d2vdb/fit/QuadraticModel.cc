@@ -9,6 +9,7 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/fit/detail/SupernodalCholesky.h"
 
 namespace d2vdb {
 
@@ -37,6 +38,8 @@ QuadraticModel::QuadraticModel(int controlPointCount, int dimension,
   smoothing_ = sized(std::move(smoothing), controlPointCount, "smoothing matrix");
   scaledSmoothing_ = sized(std::move(scaledSmoothing), controlPointCount, "smoothing matrix");
 }
+
+QuadraticModel::~QuadraticModel() = default;
 
 void QuadraticModel::setStepRegularizer(Eigen::SparseMatrix<double> regularizer, double rho) {
   if (regularizer.rows() != controlPointCount_ || regularizer.cols() != controlPointCount_) {
@@ -264,10 +267,27 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
   }
   expansionPoint_ = stacked(controlPoints);
   assembled_ = true;
+  factorized_ = false;  // a new system: the last factorisation is not reused
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::solveAssembled(double rankOneScale, double damping) {
+  return *solveSystem(rankOneScale, damping, true);
+}
+
+std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::minimizeAssembled(double rankOneScale,
+                                                                              double damping) {
+  return solveSystem(rankOneScale, damping, false);
+}
+
+std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double rankOneScale,
+                                                                        double damping,
+                                                                        bool indefiniteToo) {
   if (!assembled_) throw RuntimeFailure("the fitting model was solved before it was assembled");
+  const SolveKey key{rankOneScale, damping, smoothingScale_, regularizerWeight_};
+  if (factorized_ && key == factorizedKey_) {  // the system of the last solve: reuse it
+    if (!indefiniteToo && !positiveDefinite_) return std::nullopt;
+    return unstacked(solveFactored(factorizedResidual_));
+  }
   const std::size_t nonZeros = formValues_.size();
   double* const values = system_.valuePtr();
   for (std::size_t e = 0; e < nonZeros; ++e) {
@@ -292,46 +312,74 @@ std::vector<Eigen::Vector3d> QuadraticModel::solveAssembled(double rankOneScale,
                 regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0, values);
     }
   }
+  factorized_ = false;
+  solverUsed_ = Solver::none;
   dense_ = unknowns <= kDenseUnknowns &&
            20.0 * static_cast<double>(system_.nonZeros()) >=
                static_cast<double>(unknowns) * static_cast<double>(unknowns);
-  bool denseDefinite = false;
   if (dense_) {
     // A blocked Cholesky factorisation when the system is positive definite (the common case),
     // else the pivoted LDLT, whose D tells the inertia.
     const Eigen::MatrixXd matrix(system_);
     denseCholeskySolver_.compute(matrix);
-    denseCholesky_ = denseCholeskySolver_.info() == Eigen::Success &&
-                     denseCholeskySolver_.matrixLLT().diagonal().allFinite() &&
-                     denseCholeskySolver_.matrixLLT().diagonal().minCoeff() > 0.0;
-    if (denseCholesky_) {
-      factorized_ = true;
-      denseDefinite = true;
+    if (denseCholeskySolver_.info() == Eigen::Success &&
+        denseCholeskySolver_.matrixLLT().diagonal().allFinite() &&
+        denseCholeskySolver_.matrixLLT().diagonal().minCoeff() > 0.0) {
+      solverUsed_ = Solver::denseCholesky;
     } else {
       denseSolver_.compute(matrix);
-      factorized_ = denseSolver_.info() == Eigen::Success && denseSolver_.vectorD().allFinite();
+      if (denseSolver_.info() == Eigen::Success && denseSolver_.vectorD().allFinite()) {
+        solverUsed_ = Solver::denseLdlt;
+      }
     }
   } else {
-    if (!analyzed_) {
-      solver_.analyzePattern(system_);
-      analyzed_ = true;
+    if (unknowns > kSimplicialUnknowns) {
+      if (!cholesky_) cholesky_ = std::make_unique<detail::SupernodalCholesky>();
+      if (!analyzed_) {
+        cholesky_->analyzePattern(system_);
+        analyzed_ = true;
+      }
+      if (cholesky_->factorize(system_)) solverUsed_ = Solver::supernodalCholesky;
     }
-    solver_.factorize(system_);
-    factorized_ = solver_.info() == Eigen::Success;
+    // Small, or indefinite: the LDLT, which tells the inertia (not needed to learn only that a
+    // large system is indefinite).
+    if (solverUsed_ == Solver::none && (unknowns <= kSimplicialUnknowns || indefiniteToo)) {
+      if (!ldltAnalyzed_) {
+        solver_.analyzePattern(system_);
+        ldltAnalyzed_ = true;
+      }
+      solver_.factorize(system_);
+      if (solver_.info() == Eigen::Success) solverUsed_ = Solver::sparseLdlt;
+    }
   }
-  if (!factorized_) {
+  switch (solverUsed_) {
+    case Solver::none:
+      positiveDefinite_ = false;
+      break;
+    case Solver::denseCholesky:
+    case Solver::supernodalCholesky:
+      positiveDefinite_ = true;
+      break;
+    case Solver::denseLdlt:
+      positiveDefinite_ =
+          denseSolver_.vectorD().size() == 0 || denseSolver_.vectorD().minCoeff() > 0.0;
+      break;
+    case Solver::sparseLdlt:
+      positiveDefinite_ = solver_.vectorD().size() == 0 || solver_.vectorD().minCoeff() > 0.0;
+      break;
+  }
+  if (!indefiniteToo && !positiveDefinite_) return std::nullopt;
+  if (solverUsed_ == Solver::none) {
     throw RuntimeFailure(
         "the fitting system could not be factorised (non-finite or indefinite "
         "quadratic forms)");
   }
-  if (dense_) {
-    positiveDefinite_ = denseDefinite || denseSolver_.vectorD().size() == 0 ||
-                        denseSolver_.vectorD().minCoeff() > 0.0;
-  } else {
-    positiveDefinite_ = solver_.vectorD().size() == 0 || solver_.vectorD().minCoeff() > 0.0;
-  }
+  factorized_ = true;
+  factorizedKey_ = key;
+  factorizedResidual_ = residual;
   const Eigen::VectorXd step = solveFactored(residual);
-  if ((!dense_ && solver_.info() != Eigen::Success) || !step.allFinite()) {
+  if ((solverUsed_ == Solver::sparseLdlt && solver_.info() != Eigen::Success) ||
+      !step.allFinite()) {
     throw RuntimeFailure("the fitting system could not be solved (non-finite step)");
   }
   return unstacked(step);
@@ -372,9 +420,19 @@ std::vector<Eigen::Vector3d> QuadraticModel::scaledSmoothingShift() const {
 }
 
 Eigen::VectorXd QuadraticModel::solveFactored(const Eigen::VectorXd& right) const {
-  if (dense_ && denseCholesky_) return denseCholeskySolver_.solve(right);
-  if (dense_) return denseSolver_.solve(right);
-  return solver_.solve(right);
+  switch (solverUsed_) {
+    case Solver::denseCholesky:
+      return denseCholeskySolver_.solve(right);
+    case Solver::denseLdlt:
+      return denseSolver_.solve(right);
+    case Solver::supernodalCholesky:
+      return cholesky_->solve(right);
+    case Solver::sparseLdlt:
+      return solver_.solve(right);
+    case Solver::none:
+      break;
+  }
+  throw RuntimeFailure("the fitting system was solved before it was factorised");
 }
 
 Eigen::VectorXd QuadraticModel::stacked(const std::vector<Eigen::Vector3d>& controlPoints) const {
@@ -453,7 +511,9 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
     for (int a = 0; a < d; ++a) diagonalIndices_.push_back(valueIndex(patternRank(j, j), j, a, a));
   }
   analyzed_ = false;
+  ldltAnalyzed_ = false;
   factorized_ = false;
+  solverUsed_ = Solver::none;
 }
 
 std::vector<int> QuadraticModel::valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const {

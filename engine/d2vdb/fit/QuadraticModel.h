@@ -6,6 +6,8 @@
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -13,6 +15,10 @@
 #include "d2vdb/fit/SensorMap.h"
 
 namespace d2vdb {
+
+namespace detail {
+class SupernodalCholesky;
+}
 
 /// Rank-one terms alpha (u . c_k)^2 attached to the sensors of a SensorMap, with c_k the
 /// displacements of sensor k's control points: u has order() * dimension entries, entry
@@ -61,23 +67,33 @@ struct SensorTerms {
 /// assemble() sums the sensors' blocks once (in parallel over the sets' span groups; each group's
 /// sensors in index order, the groups in set and span order, so results are bitwise identical for
 /// any thread count); solveAssembled() then adds the smoothing, rank-one scale, damping and
-/// regulariser and solves with Eigen's SimplicialLDLT (dense LDLT for small systems whose pattern
-/// is dense: at most kDenseUnknowns unknowns and a twentieth of the entries), so that several of
+/// regulariser and solves it, so that several of
 /// these weights can be tried on one assembly. The system's sparsity pattern (control points
 /// sharing a knot span, plus the smoothing and regulariser patterns) is kept between assemblies,
 /// and with it the fill-reducing ordering and symbolic factorisation: an assembly whose sensors
 /// couple no new pair of control points only scatters its blocks into the stored pattern. The
 /// system may be indefinite (negative rank-one terms): lastSolvePositiveDefinite() tells.
+/// Solvers: a dense Cholesky (pivoted LDLT when indefinite) for small systems whose pattern is
+/// dense anyway (at most kDenseUnknowns unknowns and a twentieth of the entries); Eigen's
+/// SimplicialLDLT for other systems of at most kSimplicialUnknowns unknowns (curves: narrow
+/// bands, little fill); a supernodal sparse Cholesky (CHOLMOD) for larger ones (surfaces, whose
+/// two-dimensional nets fill in), with the SimplicialLDLT when that finds the system indefinite.
+/// Every solver is serial, so the result does not depend on the thread count.
 class QuadraticModel {
  public:
   /// Largest system (control points x dimension) that may be factorised densely.
   static constexpr int kDenseUnknowns = 1200;
+  /// Largest sparse system factorised by the simplicial LDLT rather than the supernodal Cholesky.
+  static constexpr int kSimplicialUnknowns = 1200;
 
   /// `smoothing` and `scaledSmoothing` must be controlPointCount x controlPointCount (or empty,
   /// 0 x 0, for none), symmetric PSD. InputError for a dimension other than 2 or 3 or a smoothing
   /// matrix of the wrong size.
   QuadraticModel(int controlPointCount, int dimension, Eigen::SparseMatrix<double> smoothing,
                  Eigen::SparseMatrix<double> scaledSmoothing = {});
+  ~QuadraticModel();
+  QuadraticModel(const QuadraticModel&) = delete;
+  QuadraticModel& operator=(const QuadraticModel&) = delete;
 
   /// assemble({{&basis, &forms, 1 / N}}, controlPoints), then solveAssembled(1, damping): the
   /// minimising displacement c for the mean of the forms, one vector per control point (z = 0 in
@@ -99,6 +115,12 @@ class QuadraticModel {
   /// RuntimeFailure when nothing was assembled, the factorisation fails or the step is not
   /// finite.
   std::vector<Eigen::Vector3d> solveAssembled(double rankOneScale, double damping);
+
+  /// As solveAssembled(), but only when the system is positive definite: otherwise nothing (and
+  /// lastSolvePositiveDefinite() is false), without the second factorisation that the stationary
+  /// point of an indefinite large system costs.
+  std::optional<std::vector<Eigen::Vector3d>> minimizeAssembled(double rankOneScale,
+                                                                double damping);
 
   /// m(0) - m(c) for the last assembly and rank-one scale, without the damping and
   /// step-regulariser terms: the decrease of the modelled objective the displacement `step`
@@ -152,6 +174,9 @@ class QuadraticModel {
   Eigen::VectorXd stacked(const std::vector<Eigen::Vector3d>& controlPoints) const;
   /// The inverse of stacked().
   std::vector<Eigen::Vector3d> unstacked(const Eigen::VectorXd& vector) const;
+  /// solveAssembled() (`indefiniteToo`) or minimizeAssembled().
+  std::optional<std::vector<Eigen::Vector3d>> solveSystem(double rankOneScale, double damping,
+                                                          bool indefiniteToo);
 
   int controlPointCount_;
   int dimension_;
@@ -178,17 +203,34 @@ class QuadraticModel {
   Eigen::VectorXd rankOneRight_;
   Eigen::VectorXd expansionPoint_;
   double rankOneScale_ = 1.0;
-  bool analyzed_ = false;
-  bool factorized_ = false;
+  bool analyzed_ = false;      ///< the supernodal factorisation has the current pattern
+  bool ldltAnalyzed_ = false;  ///< the LDLT factorisation has the current pattern
+  bool factorized_ = false;    ///< the last solve's system is factorised (positive definite or not)
+  /// What decides the system of a solve of the current assembly.
+  struct SolveKey {
+    double rankOneScale = 0.0;
+    double damping = 0.0;
+    double smoothingScale = 0.0;
+    double regularizerWeight = 0.0;
+    bool operator==(const SolveKey& other) const {
+      return rankOneScale == other.rankOneScale && damping == other.damping &&
+             smoothingScale == other.smoothingScale && regularizerWeight == other.regularizerWeight;
+    }
+  };
+  SolveKey factorizedKey_;              ///< the factorised system's
+  Eigen::VectorXd factorizedResidual_;  ///< its right-hand side
   bool positiveDefinite_ = true;
   /// Dense factorisation for small systems whose pattern is dense anyway (closed surfaces with
   /// few control points, short curves), where the simplicial factorisation's fill makes it slow.
   bool dense_ = false;
+  /// The factorisation that holds the last system.
+  enum class Solver { none, denseCholesky, denseLdlt, sparseLdlt, supernodalCholesky };
+  Solver solverUsed_ = Solver::none;
+  std::unique_ptr<detail::SupernodalCholesky> cholesky_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
-  bool denseCholesky_ = false;  ///< the dense system was positive definite: a blocked Cholesky
   Eigen::LLT<Eigen::MatrixXd> denseCholeskySolver_;
   Eigen::LDLT<Eigen::MatrixXd> denseSolver_;
-  /// solver_'s or denseSolver_'s solution for `right`.
+  /// The last factorisation's solution for `right`.
   Eigen::VectorXd solveFactored(const Eigen::VectorXd& right) const;
 };
 

@@ -106,9 +106,10 @@ double fitResolution(double rms, int controlPoints, int count) {
 }
 
 /// Chooses the automatic bending weight (detail/FitLoop.h): solves the plain-form model at the
-/// current weight, measures the shift of its minimiser that the bending term causes, and moves
-/// the weight towards the one whose shift is the target (a secant step in log-log, the exponent
-/// remembered between iterations), until within kBiasSlack or kBendingRounds solves.
+/// current weight (the last one, scaled as the target changed since), measures the shift of its
+/// minimiser that the bending term causes, and moves the weight towards the one whose shift is
+/// the target (a secant step in log-log, the exponent remembered between iterations), until
+/// within kBiasSlack or kBendingRounds solves.
 class AutomaticBending {
  public:
   explicit AutomaticBending(double weight) : weight_(weight) {}
@@ -116,6 +117,14 @@ class AutomaticBending {
 
   void choose(QuadraticModel& model, const FitLinearization& linearization, double target,
               int dimension) {
+    // The bias grows with the weight as weight^exponent: when the target moved (it follows the
+    // RMS distance), start from the weight that would keep the last bias on the new target.
+    if (previousTarget_ > 0.0 && target > 0.0 && weight_ > kMinimumAutomaticBending) {
+      const double factor =
+          std::clamp(std::pow(target / previousTarget_, 1.0 / exponent_), 0.1, 10.0);
+      weight_ = std::clamp(weight_ * factor, kMinimumAutomaticBending, kMaximumAutomaticBending);
+    }
+    previousTarget_ = target;
     for (int round = 0; round < kBendingRounds; ++round) {
       model.setSmoothingScale(weight_);
       model.solveAssembled(0.0, 0.0);
@@ -163,6 +172,7 @@ class AutomaticBending {
   double weight_;
   double previousWeight_ = 0.0;
   double previousBias_ = 0.0;
+  double previousTarget_ = 0.0;  ///< the target of the last choice
   double exponent_ = 1.0;
 };
 
@@ -386,11 +396,15 @@ FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
     } else if (secondOrder) {
       int failures = 0;
       for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
-        std::vector<Eigen::Vector3d> step = model.solveAssembled(1.0 - formShare, 0.0);
-        if (!model.lastSolvePositiveDefinite() && formShare < 1.0) {
+        // With second-order terms (share < 1) only a positive definite model gives a step.
+        std::optional<std::vector<Eigen::Vector3d>> solved =
+            formShare < 1.0 ? model.minimizeAssembled(1.0 - formShare, 0.0)
+                            : model.solveAssembled(0.0, 0.0);
+        if (!solved) {
           formShare = moreForms(formShare);
           continue;
         }
+        std::vector<Eigen::Vector3d> step = std::move(*solved);
         usedShare = formShare;
         double length = largestMove(step);
         const bool truncated = formShare < 1.0 && length > radius;
