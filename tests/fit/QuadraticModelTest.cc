@@ -268,6 +268,60 @@ TEST_P(QuadraticModelSolvers, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchAD
   EXPECT_TRUE(model.lastSolvePositiveDefinite());
 }
 
+TEST_P(QuadraticModelSolvers, SeparableTermsSumLikeTheirExpandedVectors) {
+  const BSplineCurve curve = closedCurve(GetParam());
+  const int n = curve.controlPointCount();
+  const std::vector<Eigen::Vector3d>& points = curve.controlPoints();
+  const SensorBasis basis(curve, sensorsIn(curve, 0.0, 1.0));
+  const std::vector<QuadraticForm> forms = randomForms(basis.sensorCount(), 6);
+  // Up to two terms alpha ((w (x) t) . c)^2 per sensor, stored once by their directions t and
+  // once expanded to u = w (x) t.
+  RankOneTerms separable;
+  RankOneTerms expanded;
+  separable.reset(basis.sensorCount(), 3, true);
+  expanded.reset(basis.sensorCount(), 3 * basis.order());
+  std::mt19937 engine(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 0; k < basis.sensorCount(); ++k) {
+    for (int t = 0; t < k % 3; ++t) {
+      const Eigen::Vector3d direction =
+          Eigen::Vector3d(uniform(engine), uniform(engine), uniform(engine)).normalized();
+      const double alpha = t == 0 ? 0.4 : -0.08;
+      separable.coefficients.push_back(alpha);
+      expanded.coefficients.push_back(alpha);
+      for (int c = 0; c < 3; ++c) separable.vectors.push_back(direction[c]);
+      for (int j = 0; j < basis.order(); ++j) {
+        for (int c = 0; c < 3; ++c) expanded.vectors.push_back(basis.weight(k, j) * direction[c]);
+      }
+    }
+    separable.start[static_cast<std::size_t>(k) + 1] =
+        static_cast<int>(separable.coefficients.size());
+    expanded.start[static_cast<std::size_t>(k) + 1] =
+        static_cast<int>(expanded.coefficients.size());
+  }
+  const Eigen::SparseMatrix<double> fixed = 1e-3 * derivativeGramMatrix(curve, 2);
+  QuadraticModel withSeparable(n, 3, fixed);
+  QuadraticModel withExpanded(n, 3, fixed);
+  withSeparable.assemble({{&basis, &forms, 0.5, &separable}}, points);
+  withExpanded.assemble({{&basis, &forms, 0.5, &expanded}}, points);
+  for (const double rankOneScale : {0.0, 0.7, 1.0}) {
+    const std::vector<Eigen::Vector3d> step = withSeparable.solveAssembled(rankOneScale, 0.0);
+    const DenseModel dense = denseModel({{&basis, &forms, 0.5, &expanded}}, rankOneScale,
+                                        Eigen::MatrixXd(fixed), points);
+    EXPECT_LT(backwardError(dense.H, step, -0.5 * dense.g), 1e-12) << rankOneScale;
+    EXPECT_LT(
+        largestDifference(step, withExpanded.solveAssembled(rankOneScale, 0.0)),
+        1e-9 * std::max(1.0, largestDifference(step, std::vector<Eigen::Vector3d>(
+                                                         step.size(), Eigen::Vector3d::Zero()))))
+        << rankOneScale;
+    EXPECT_EQ(withSeparable.lastSolvePositiveDefinite(), withExpanded.lastSolvePositiveDefinite());
+  }
+  // A separable set whose direction length is not the dimension is refused.
+  RankOneTerms wrong = separable;
+  wrong.length = 2;
+  EXPECT_THROW(withSeparable.assemble({{&basis, &forms, 0.5, &wrong}}, points), InputError);
+}
+
 INSTANTIATE_TEST_SUITE_P(DenseSimplicialAndSupernodal, QuadraticModelSolvers,
                          ::testing::Values(14, 200, 410));
 

@@ -87,7 +87,7 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
       throw InputError("a sensor set of the fitting model does not match its basis or net");
     }
     if (set.rankOne != nullptr && !set.rankOne->empty() &&
-        (set.rankOne->length != set.basis->order() * d ||
+        (set.rankOne->length != (set.rankOne->separable ? d : set.basis->order() * d) ||
          static_cast<int>(set.rankOne->start.size()) != set.basis->sensorCount() + 1 ||
          set.rankOne->vectors.size() !=
              set.rankOne->coefficients.size() * static_cast<std::size_t>(set.rankOne->length) ||
@@ -144,8 +144,38 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
   std::atomic<bool> outsidePattern{false};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>& range) {
-        Eigen::VectorXd w;
+        Eigen::MatrixXd weights;  // sensors x order: each sensor's basis weights
+        Eigen::MatrixXd entries;  // sensors x d(d+1)/2: each sensor's symmetric d x d matrix
+        Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
+        Eigen::MatrixXd scaled;
+        Eigen::MatrixXd gram;
         Eigen::VectorXd local;
+        // block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and
+        // r the rows of `entries` (S(r, c), r <= c) and `rights`: for each entry of S one
+        // weighted Gram matrix W^T diag(S_rc) W (a dense product), read from its upper triangle so
+        // that the block is exactly symmetric.
+        const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
+          block.resize(order * d, order * d);
+          int entry = 0;
+          for (int r = 0; r < d; ++r) {
+            for (int c = r; c < d; ++c, ++entry) {
+              scaled = weights.array().colwise() * entries.col(entry).array();
+              gram.noalias() = weights.transpose() * scaled;
+              for (int b = 0; b < order; ++b) {
+                for (int a = 0; a < order; ++a) {
+                  const double value = a <= b ? gram(a, b) : gram(b, a);
+                  block(a * d + r, b * d + c) = value;
+                  block(a * d + c, b * d + r) = value;
+                }
+              }
+            }
+          }
+          const Eigen::MatrixXd sums = weights.transpose() * rights;  // order x d
+          right.resize(order * d);
+          for (int b = 0; b < order; ++b) {
+            for (int r = 0; r < d; ++r) right[b * d + r] = sums(b, r);
+          }
+        };
         for (int i = range.begin(); i != range.end(); ++i) {
           if (!findRanks(i)) outsidePattern = true;
           const SensorTerms& set = setOf(i);
@@ -153,67 +183,91 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
           const int g = groupList[static_cast<std::size_t>(i)].second;
           const int order = basis.order();
           const int blockSize = order * d;
-          w.resize(order);
           GroupSums& sum = sums[static_cast<std::size_t>(i)];
-          sum.block = Eigen::MatrixXd::Zero(blockSize, blockSize);
-          sum.right = Eigen::VectorXd::Zero(blockSize);
-          double* const entries = sum.block.data();  // column-major
           const int first = basis.spanBegin()[static_cast<std::size_t>(g)];
           const int last = basis.spanBegin()[static_cast<std::size_t>(g) + 1];
+          const int count = last - first;
+          weights.resize(count, order);
+          entries.resize(count, d * (d + 1) / 2);
+          rights.resize(count, d);
           for (int j = first; j < last; ++j) {
             const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
             const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
-            for (int a = 0; a < order; ++a) w[a] = basis.weight(k, a);
-            for (int b = 0; b < order; ++b) {
-              for (int r = 0; r < d; ++r) sum.right[b * d + r] += w[b] * form.b[r];
-              for (int a = 0; a <= b; ++a) {
-                const double wab = w[a] * w[b];
-                for (int c = 0; c < d; ++c) {
-                  double* const column = entries + (b * d + c) * blockSize + a * d;
-                  for (int r = 0; r < d; ++r) column[r] += wab * form.A(r, c);
-                }
-              }
+            const int row = j - first;
+            for (int a = 0; a < order; ++a) weights(row, a) = basis.weight(k, a);
+            int entry = 0;
+            for (int r = 0; r < d; ++r) {
+              rights(row, r) = form.b[r];
+              for (int c = r; c < d; ++c) entries(row, entry++) = form.A(r, c);
             }
           }
-          for (int column = 0; column < blockSize; ++column) {
-            for (int row = column + 1; row < blockSize; ++row) {
-              sum.block(row, column) = sum.block(column, row);
-            }
-          }
+          kroneckerSums(order, sum.block, sum.right);
           sum.block *= set.weight;
           sum.right *= set.weight;
           if (set.rankOne == nullptr || set.rankOne->empty()) continue;
           // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
           // b += alpha u (u . x_now).
           const RankOneTerms& rankOne = *set.rankOne;
-          int termCount = 0;
-          for (int j = first; j < last; ++j) {
-            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-            termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
-                         rankOne.start[static_cast<std::size_t>(k)];
-          }
-          local.resize(blockSize);
           const int k0 = basis.spanOrder()[static_cast<std::size_t>(first)];
-          for (int a = 0; a < order; ++a) {
-            local.segment(a * d, d) =
-                controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
-          }
-          // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
-          // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
-          Eigen::MatrixXd U(blockSize, termCount);
-          Eigen::MatrixXd W(blockSize, termCount);
-          int column = 0;
-          for (int j = first; j < last; ++j) {
-            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-            for (int t = rankOne.start[static_cast<std::size_t>(k)];
-                 t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
-              U.col(column) = Eigen::Map<const Eigen::VectorXd>(
-                  rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
-              W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
+          if (rankOne.separable) {
+            // u = w (x) t: per sensor S = sum alpha t t^T and r = S x_k (x_k = sum_j w_j x_now_j,
+            // the sensor's point), summed like the forms.
+            for (int j = first; j < last; ++j) {
+              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+              const int row = j - first;
+              Eigen::Vector3d point = Eigen::Vector3d::Zero();
+              for (int a = 0; a < order; ++a) {
+                point.head(d) +=
+                    weights(row, a) *
+                    controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
+              }
+              Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+              for (int t = rankOne.start[static_cast<std::size_t>(k)];
+                   t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t) {
+                Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+                for (int a = 0; a < d; ++a) {
+                  direction[a] = rankOne.vectors[static_cast<std::size_t>(t) * d + a];
+                }
+                S += rankOne.coefficients[static_cast<std::size_t>(t)] * direction *
+                     direction.transpose();
+              }
+              const Eigen::Vector3d right = S * point;
+              int entry = 0;
+              for (int r = 0; r < d; ++r) {
+                rights(row, r) = right[r];
+                for (int c = r; c < d; ++c) entries(row, entry++) = S(r, c);
+              }
             }
+            kroneckerSums(order, sum.rankOneBlock, sum.rankOneRight);
+          } else {
+            int termCount = 0;
+            for (int j = first; j < last; ++j) {
+              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+              termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
+                           rankOne.start[static_cast<std::size_t>(k)];
+            }
+            local.resize(blockSize);
+            for (int a = 0; a < order; ++a) {
+              local.segment(a * d, d) =
+                  controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
+            }
+            // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
+            // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
+            Eigen::MatrixXd U(blockSize, termCount);
+            Eigen::MatrixXd W(blockSize, termCount);
+            int column = 0;
+            for (int j = first; j < last; ++j) {
+              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+              for (int t = rankOne.start[static_cast<std::size_t>(k)];
+                   t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
+                U.col(column) = Eigen::Map<const Eigen::VectorXd>(
+                    rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
+                W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
+              }
+            }
+            sum.rankOneBlock.noalias() = U * W.transpose();
+            sum.rankOneRight.noalias() = W * (U.transpose() * local);
           }
-          sum.rankOneBlock.noalias() = U * W.transpose();
-          sum.rankOneRight.noalias() = W * (U.transpose() * local);
           sum.rankOneBlock *= set.weight;
           sum.rankOneRight *= set.weight;
         }

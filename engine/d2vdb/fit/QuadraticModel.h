@@ -26,15 +26,21 @@ class SupernodalCholesky;
 /// start[k] .. start[k + 1] - 1. A fitter uses them for second-order terms that no quadratic form
 /// in the sensor position can express (e.g. how a footpoint's parameter follows the control
 /// points); alpha may be negative.
+/// Separable terms (a sensor's basis weights w_j times one direction t: u_{j d + a} = w_j t_a,
+/// so (u . c_k)^2 = (t . sum_j w_j c_kj)^2, a move of the sensor's point along t) store only t:
+/// `length` = dimension; the model then sums them like the forms, at a fraction of the cost.
 struct RankOneTerms {
-  int length = 0;                    ///< entries per vector u (order * dimension)
+  int length = 0;                    ///< entries per vector u (order * dimension, or dimension)
+  bool separable = false;            ///< vectors hold the directions t of separable terms
   std::vector<int> start{0};         ///< sensor count + 1 offsets into coefficients
   std::vector<double> coefficients;  ///< alpha per term
-  std::vector<double> vectors;       ///< u per term, `length` entries each
+  std::vector<double> vectors;       ///< u (or t) per term, `length` entries each
 
-  /// No terms for `sensorCount` sensors, vectors of `vectorLength` entries.
-  void reset(int sensorCount, int vectorLength) {
+  /// No terms for `sensorCount` sensors, vectors of `vectorLength` entries (separable: the
+  /// dimension).
+  void reset(int sensorCount, int vectorLength, bool separableTerms = false) {
     length = vectorLength;
+    separable = separableTerms;
     start.assign(static_cast<std::size_t>(sensorCount) + 1, 0);
     coefficients.clear();
     vectors.clear();

@@ -56,11 +56,8 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
     const std::vector<Approximant>& approximants = approximantsAt(controlPoints);
     setForms(approximants, linearization);
     const std::size_t count = approximants.size();
-    const SensorMap& basis = sensors();
-    const int order = basis.order();
-    const int length = 3 * order;
     RankOneTerms& secondOrder = linearization.secondOrder;
-    secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? length : 0);
+    secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? 3 : 0, true);
     if (!exactSecondOrder_) return;
     std::vector<double> weights(2 * count, 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
@@ -90,11 +87,8 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
         const Approximant& approximant = approximants[k];
         const Eigen::Vector3d direction =
             i == 0 ? approximant.tangent : Eigen::Vector3d(approximant.bitangent());
-        secondOrder.coefficients.push_back(alpha);
-        for (int j = 0; j < order; ++j) {
-          const double w = basis.weight(static_cast<int>(k), j);
-          for (int c = 0; c < 3; ++c) secondOrder.vectors.push_back(w * direction[c]);
-        }
+        secondOrder.coefficients.push_back(alpha);  // u = (basis weights) (x) direction
+        for (int c = 0; c < 3; ++c) secondOrder.vectors.push_back(direction[c]);
         ++terms;
       }
       secondOrder.start[k + 1] = secondOrder.start[k] + terms;
