@@ -2,54 +2,63 @@
 // where its Debian packages are installed; tools/bench/CMakeLists.txt). The shape is an open patch
 // of the torus R = 2, r = 0.5 about the z axis,
 //   T(a, b) = ((R + r cos b) cos a, (R + r cos b) sin a, r sin b),  a in [0, pi/2], b in [0, pi]
-// (a quarter of the major circle times the upper half of the tube: it runs from the outer equator
-// over the top to the inner equator, so it holds both elliptic and hyperbolic points).
-//  - BM_Occt/tol_exp: GeomAPI_PointsToBSplineSurface on the kGridU x kGridV grid of exact samples
-//    T(a_i, b_j) (uniform in a and b; TColgp_Array2OfPnt), degree 3 exactly (DegMin = DegMax =
-//    3), C2, Tol3D = 10^-tol_exp, default (chord-length) parametrisation. OCCT chooses its knots
-//    from the tolerance; counters poles_u x poles_v give the control net it produced.
-//  - BM_D2vdbPoints/tol_exp/threads: d2vdb SDM II (fitSurfaceToPoints, default options) on the
-//    same grid of samples as a point cloud, bicubic open x open with the net OCCT produced at that
-//    tolerance (clamped uniform knots), from the start below.
-//  - BM_D2vdbField/tol_exp/threads: d2vdb SDM I (fitSurface, default options) on the torus's
-//    level set (primitiveLevelSet, voxel 0.01, through the approximant field), same net and start.
-//    The field holds the whole torus, so nothing holds the patch's edges to the patch: the fit
-//    settles where its sensors and the smoothing put them (see coverage and edge_shift).
-// The d2vdb start: the control net at the Greville abscissae of T with the wrong radii 1.7 and 0.8
-// over the same angles (the torus start, here open).
+// (a quarter of the major circle times the upper half of the tube: from the outer equator over
+// the top to the inner equator, so it holds both elliptic and hyperbolic points).
+//  - BM_Occt/tol_exp: GeomAPI_PointsToBSplineSurface on the 41 x 41 grid of exact samples
+//    T(a_i, b_j) (uniform in a and b; TColgp_Array2OfPnt), degree exactly 3 (DegMin = DegMax = 3),
+//    C2, Tol3D = 10^-tol_exp, default (chord-length) parametrisation. OCCT chooses its knots from
+//    the tolerance; poles_u x poles_v is the control net it produced. One thread.
+//  - BM_D2vdbPoints/tol_exp/start/threads: d2vdb SDM II (fitSurfaceToPoints, default options) on
+//    the same 1681 samples as a point cloud, bicubic open x open with the net OCCT produced at that
+//    tolerance (clamped uniform knots).
+//  - BM_D2vdbField/tol_exp/start/threads: d2vdb SDM I (fitSurface, default options) on the torus's
+//    level set (primitiveLevelSet, voxel 0.01, through the approximant field), same net.
+//  - BM_D2vdbPatch/tol_exp/start/threads: SDM I on the patch itself as an exact target
+//    (ExactPatchTarget: the torus's exact approximants on the patch, point distances to its edges
+//    beyond them), same net. SDM I measures the distance from the surface to the target only, so
+//    nothing in its objective makes an open surface span the whole patch (a smaller surface on the
+//    torus is as close); coverage and edge_shift show where its edges end up.
+// The d2vdb start (start 0): the control net at the Greville abscissae of T with the wrong radii
+// 1.7 and 0.8 over the same angles (the torus start, here open); start 1: the same with
+// the right radii (what the fit reaches apart from the start).
 //
 // Each d2vdb benchmark iteration times the OCCT fit (one thread) right before the d2vdb fit, so
-// both see the same machine load; counters occt_ms and ms are medians, ratio = ms / occt_ms. Time
-// is wall time (manual). Accuracy, for every surface alike (OCCT's converted exactly to a d2vdb
-// surface, checked by evaluating both):
-//  - max_error, rms_error: exact distance |sqrt((rho - R)^2 + z^2) - r| from the fitted surface to
-//    the analytic torus at 201 x 201 points of the surface's whole parameter domain (edges
-//    included);
+// both see the same machine load: occt_ms and ms are medians, ratio = ms / occt_ms. Times are wall
+// times (manual). Accuracy, for every surface alike (OCCT's converted exactly to a d2vdb surface;
+// conversion_error checks it against OCCT's own evaluation, corner_error its corners against the
+// grid's):
+//  - max_error, rms_error: exact distance |sqrt((rho - R)^2 + z^2) - r| to the analytic torus at
+//    the points of a 201 x 201 grid over the fitted surface's whole parameter domain (edges
+//    included) that lie over the patch (the torus point nearest to them has a in [0, pi/2] and b
+//    in [0, pi]); inside = the fraction of the grid that does (1 when the surface does not
+//    overhang the patch); max_error_all = the largest distance over the whole grid;
 //  - coverage: the largest distance from 101 x 101 exact points of the patch (edges included) to
-//    the fitted surface (SurfaceProjector: exact nearest point, edges included), so a fit that is
-//    close to the torus but does not span the patch shows;
-//  - edge_shift (field fits): the largest angle, in radians of the tube or major circle, by which
-//    the fitted surface's four edge midpoints lie away from the patch's edges.
+//    the fitted surface (exact nearest point), so a fit that lies on the torus but does not span
+//    the patch shows;
+//  - edge_shift: the largest angle (radians of the major or the tube circle) between a
+//    midpoint of one of the fitted surface's edges and the patch edge it should lie on.
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 #include <GeomAPI_PointsToBSplineSurface.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
-#include <benchmark/benchmark.h>
 #include <gp_Pnt.hxx>
-#include <tbb/global_control.h>
 
 #include <Eigen/Core>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "common/ExactApproximant.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/Primitives.h"
@@ -107,7 +116,16 @@ const std::vector<Eigen::Vector3d>& patchPoints() {
   return points;
 }
 
-/// The torus's level set, voxel 0.01, as an approximant field (built once).
+/// Torus angles (a, b) of the point of the torus nearest to p: a around the axis, b around the
+/// tube (b in (-pi, pi], 0 on the outer equator).
+double angleA(const Eigen::Vector3d& p) {
+  return std::atan2(p.y(), p.x());
+}
+double angleB(const Eigen::Vector3d& p) {
+  return std::atan2(p.z(), std::hypot(p.x(), p.y()) - kMajor);
+}
+
+/// The torus's level set, voxel 0.01, as an approximant field with its coarse levels (built once).
 const d2vdb::ApproximantField& torusField() {
   static const d2vdb::ApproximantField field = [] {
     d2vdb::PrimitiveLevelSetOptions options;
@@ -116,8 +134,63 @@ const d2vdb::ApproximantField& torusField() {
     const d2vdb::Torus torus(Eigen::Vector3d::Zero(), kMajor, kMinor);
     return d2vdb::ApproximantField::fromLevelSet(d2vdb::primitiveLevelSet(torus, options));
   }();
+  field.buildCoarseLevels();  // else the first fit that queries beyond the band builds them
   return field;
 }
+
+/// The patch itself as an exact target (SDM I without a field): where the torus point nearest to
+/// x lies on the patch, the torus's exact approximant there (Torus::closestSurfacePoint); else the
+/// nearest point of the patch's four edge arcs (closed form per arc), as a point distance
+/// (kFlagEndPoint), which holds the fitted surface's edges to the patch's.
+class ExactPatchTarget final : public d2vdb::SquaredDistanceTarget {
+ public:
+  d2vdb::TargetKind kind() const override { return d2vdb::TargetKind::Surface; }
+  Eigen::AlignedBox3d domain() const override {
+    return Eigen::AlignedBox3d(Eigen::Vector3d(-4, -4, -3), Eigen::Vector3d(4, 4, 3));
+  }
+  d2vdb::Approximant approximantAt(const Eigen::Vector3d& x) const override {
+    const d2vdb::SurfacePoint s = torus_.closestSurfacePoint(x);
+    const double a = angleA(s.point), b = angleB(s.point);
+    if (a >= kStartA && a <= kEndA && b >= kStartB && b <= kEndB) {
+      return d2vdb::test::approximantFrom(s, x);
+    }
+    Eigen::Vector3d best = Eigen::Vector3d::Zero();
+    double bestDistance = std::numeric_limits<double>::infinity();
+    const auto arc = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& e1,
+                         const Eigen::Vector3d& e2, double radius, double t0, double t1) {
+      const Eigen::Vector3d w = x - centre;
+      const double t = std::clamp(std::atan2(w.dot(e2), w.dot(e1)), t0, t1);
+      for (const double angle : {t, t0, t1}) {
+        const Eigen::Vector3d p = centre + radius * (std::cos(angle) * e1 + std::sin(angle) * e2);
+        const double d = (x - p).norm();
+        if (d < bestDistance) bestDistance = d, best = p;
+      }
+    };
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    for (const double a0 : {kStartA, kEndA}) {  // meridian arcs: tube circles at a = a0
+      const Eigen::Vector3d radial(std::cos(a0), std::sin(a0), 0.0);
+      arc(kMajor * radial, radial, z, kMinor, kStartB, kEndB);
+    }
+    for (const double b0 : {kStartB, kEndB}) {  // parallel arcs: circles at b = b0
+      arc(Eigen::Vector3d(0, 0, kMinor * std::sin(b0)), Eigen::Vector3d::UnitX(),
+          Eigen::Vector3d::UnitY(), kMajor + kMinor * std::cos(b0), kStartA, kEndA);
+    }
+    d2vdb::Approximant result;
+    result.kind = d2vdb::TargetKind::Surface;
+    result.origin = x;
+    result.footpoint = best;
+    result.flags |= d2vdb::kFlagEndPoint;
+    result.distance = bestDistance;
+    result.normal =
+        bestDistance > 0 ? Eigen::Vector3d((x - best) / bestDistance) : Eigen::Vector3d(s.normal);
+    result.tangent = result.normal.unitOrthogonal();
+    return result;
+  }
+  std::string describe() const override { return "exact torus patch"; }
+
+ private:
+  d2vdb::Torus torus_{Eigen::Vector3d::Zero(), kMajor, kMinor};
+};
 
 /// The control net OCCT produced, and its time.
 struct OcctFit {
@@ -191,9 +264,9 @@ OcctFit occtFit(double tolerance) {
             gridSamples()[static_cast<std::size_t>(i * kGridV + j)])
         .norm();
   };
-  result.cornerError = std::max({corner(u0, v0, 0, 0), corner(u1, v0, kGridU - 1, 0),
-                                 corner(u0, v1, 0, kGridV - 1),
-                                 corner(u1, v1, kGridU - 1, kGridV - 1)});
+  result.cornerError =
+      std::max({corner(u0, v0, 0, 0), corner(u1, v0, kGridU - 1, 0), corner(u0, v1, 0, kGridV - 1),
+                corner(u1, v1, kGridU - 1, kGridV - 1)});
   return result;
 }
 
@@ -207,8 +280,8 @@ const OcctFit& occtNet(int exponent) {
 }
 
 /// The d2vdb start: a clamped bicubic net of countU x countV control points at the Greville
-/// abscissae of the patch on the torus of radii 1.7 and 0.8.
-d2vdb::BSplineSurface startSurface(int countU, int countV) {
+/// abscissae of the patch on the torus of radii `major` and `minor` (same angles).
+d2vdb::BSplineSurface startSurface(int countU, int countV, double major, double minor) {
   const auto greville = [](int count) {
     const std::vector<double> knots = d2vdb::KnotVector::clamped(3, count).values();
     std::vector<double> abscissae;
@@ -225,17 +298,49 @@ d2vdb::BSplineSurface startSurface(int countU, int countV) {
   for (const double si : s) {
     for (const double tj : t) {
       points.push_back(torusPoint(kStartA + (kEndA - kStartA) * si,
-                                  kStartB + (kEndB - kStartB) * tj, 1.7, 0.8));
+                                  kStartB + (kEndB - kStartB) * tj, major, minor));
     }
   }
   return d2vdb::BSplineSurface::clamped(3, 3, countU, countV, std::move(points));
 }
 
-/// Torus angles (a, b) of the point of the torus nearest to p: a around the axis, b around the
-/// tube (b in (-pi, pi], 0 on the outer equator).
-double angleA(const Eigen::Vector3d& p) { return std::atan2(p.y(), p.x()); }
-double angleB(const Eigen::Vector3d& p) {
-  return std::atan2(p.z(), std::hypot(p.x(), p.y()) - kMajor);
+/// The largest distance from patchPoints() to `surface`: each point's nearest point found by
+/// SurfaceProjector, started (as its hint) from the nearest of 101 x 101 samples of the surface,
+/// so that a folded or overhanging fit cannot trap it in a far local minimum.
+double coverage(const d2vdb::BSplineSurface& surface) {
+  const d2vdb::SurfaceProjector projector(surface);
+  const std::vector<Eigen::Vector3d> samples = surface.sample(101, 101);
+  const std::vector<Eigen::Vector3d>& points = patchPoints();
+  std::vector<d2vdb::SurfaceFootpoint> hints(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::size_t nearest = 0;
+    for (std::size_t m = 1; m < samples.size(); ++m) {
+      if ((samples[m] - points[k]).squaredNorm() < (samples[nearest] - points[k]).squaredNorm()) {
+        nearest = m;
+      }
+    }
+    d2vdb::SurfaceFootpoint& hint = hints[k];
+    hint.u = surface.domainU().at(static_cast<double>(nearest / 101) / 100.0);
+    hint.v = surface.domainV().at(static_cast<double>(nearest % 101) / 100.0);
+    hint.point = samples[nearest];
+    hint.squaredDistance = (samples[nearest] - points[k]).squaredNorm();
+    const std::vector<d2vdb::BezierPatch>& patches = projector.patches();
+    for (std::size_t patch = 0; patch < patches.size(); ++patch) {
+      const d2vdb::BezierPatch& piece = patches[patch];
+      if (hint.u >= piece.intervalU.start && hint.u <= piece.intervalU.end &&
+          hint.v >= piece.intervalV.start && hint.v <= piece.intervalV.end) {
+        hint.patch = static_cast<int>(patch);
+        break;
+      }
+    }
+  }
+  double largest = 0.0;
+  const std::vector<d2vdb::SurfaceFootpoint> found = projector.nearest(points, hints);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    largest =
+        std::max(largest, std::sqrt(std::min(found[k].squaredDistance, hints[k].squaredDistance)));
+  }
+  return largest;
 }
 
 /// The accuracy counters of the header comment.
@@ -256,12 +361,7 @@ void accuracyCounters(benchmark::State& state, const d2vdb::BSplineSurface& surf
   state.counters["inside"] = static_cast<double>(inside) / static_cast<double>(points.size());
   state.counters["max_error"] = largest;
   state.counters["rms_error"] = std::sqrt(sum / std::max(inside, 1));
-  const d2vdb::SurfaceProjector projector(surface);
-  double coverage = 0.0;
-  for (const d2vdb::SurfaceFootpoint& f : projector.nearest(patchPoints())) {
-    coverage = std::max(coverage, std::sqrt(f.squaredDistance));
-  }
-  state.counters["coverage"] = coverage;
+  state.counters["coverage"] = coverage(surface);
   // Edge midpoints: their torus angles against the patch's edges.
   const d2vdb::ParameterInterval du = surface.domainU(), dv = surface.domainV();
   const double um = 0.5 * (du.start + du.end), vm = 0.5 * (dv.start + dv.end);
@@ -303,14 +403,18 @@ void BM_Occt(benchmark::State& state) {
   state.counters["corner_error"] = fit.cornerError;
 }
 
-/// The d2vdb benchmarks: each iteration times OCCT (one thread) and then the d2vdb fit on
-/// `threads` threads.
+/// The d2vdb benchmarks (arguments tol_exp, start, threads): each iteration times OCCT (one
+/// thread) and then the d2vdb fit on `threads` threads, from startSurface() with radii 1.7 and 0.8
+/// (start 0) or the torus's own 2 and 0.5 (start 1: the attainable accuracy, apart from the start).
 template <typename Fit>
 void pairedWithOcct(benchmark::State& state, Fit&& fit) {
   const int exponent = static_cast<int>(state.range(0));
-  const std::size_t threads = static_cast<std::size_t>(state.range(1));
+  const bool exactStart = state.range(1) == 1;
+  const std::size_t threads = static_cast<std::size_t>(state.range(2));
   const OcctFit& net = occtNet(exponent);
-  const d2vdb::BSplineSurface initial = startSurface(net.surface.countU(), net.surface.countV());
+  const d2vdb::BSplineSurface initial =
+      startSurface(net.surface.countU(), net.surface.countV(), exactStart ? kMajor : 1.7,
+                   exactStart ? kMinor : 0.8);
   std::vector<double> occtTimes, times;
   std::optional<d2vdb::SurfaceFitResult> result;
   for (auto _ : state) {
@@ -329,6 +433,7 @@ void pairedWithOcct(benchmark::State& state, Fit&& fit) {
   accuracyCounters(state, result->surface);
   state.counters["iterations"] = result->iterations();
   state.counters["converged"] = result->status == d2vdb::FitStatus::Converged ? 1.0 : 0.0;
+  state.counters["data_rms"] = result->history.back().rmsDistance;
   state.counters["occt_ms"] = 1e3 * median(occtTimes);
   state.counters["ms"] = 1e3 * median(times);
   state.counters["ratio"] = median(times) / median(occtTimes);
@@ -348,13 +453,23 @@ void BM_D2vdbField(benchmark::State& state) {
   });
 }
 
+void BM_D2vdbPatch(benchmark::State& state) {
+  static const ExactPatchTarget target;
+  pairedWithOcct(state, [](const d2vdb::BSplineSurface& initial) {
+    return d2vdb::fitSurface(initial, target, {});
+  });
+}
+
 /// The tolerances 10^-k.
 void tolerances(benchmark::internal::Benchmark* b) {
   for (int exponent = 2; exponent <= 6; ++exponent) b->Args({exponent});
 }
-void tolerancesAndThreads(benchmark::internal::Benchmark* b) {
+/// The tolerances, the start of radii 1.7 and 0.8 on 1 and 2 threads, the exact start on 1.
+void tolerancesStartsThreads(benchmark::internal::Benchmark* b) {
   for (int exponent = 2; exponent <= 6; ++exponent) {
-    for (int threads = 1; threads <= 2; ++threads) b->Args({exponent, threads});
+    b->Args({exponent, 0, 1});
+    b->Args({exponent, 0, 2});
+    b->Args({exponent, 1, 1});
   }
 }
 
@@ -365,14 +480,21 @@ BENCHMARK(BM_Occt)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
 BENCHMARK(BM_D2vdbPoints)
-    ->ArgNames({"tol_exp", "threads"})
-    ->Apply(tolerancesAndThreads)
+    ->ArgNames({"tol_exp", "start", "threads"})
+    ->Apply(tolerancesStartsThreads)
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
 BENCHMARK(BM_D2vdbField)
-    ->ArgNames({"tol_exp", "threads"})
-    ->Apply(tolerancesAndThreads)
+    ->ArgNames({"tol_exp", "start", "threads"})
+    ->Apply(tolerancesStartsThreads)
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime();
+
+BENCHMARK(BM_D2vdbPatch)
+    ->ArgNames({"tol_exp", "start", "threads"})
+    ->Apply(tolerancesStartsThreads)
     ->Iterations(3)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
