@@ -18,6 +18,9 @@
 //    beyond them), same net. SDM I measures the distance from the surface to the target only, so
 //    nothing in its objective makes an open surface span the whole patch (a smaller surface on the
 //    torus is as close); coverage and edge_shift show where its edges end up.
+//  - BM_D2vdbPointsToOcctRms/tol_exp/0/1: SDM II as above (start 0, one thread) stopped when its
+//    RMS distance from the samples reaches OCCT's (distanceTolerance, cap 1000 iterations): the
+//    time d2vdb needs to be as close to the samples as OCCT is; reached = 1 when it got there.
 // The d2vdb start (start 0): the control net at the Greville abscissae of T with the wrong radii
 // 1.7 and 0.8 over the same angles (the torus start, here open); start 1: the same with
 // the right radii (what the fit reaches apart from the start).
@@ -35,6 +38,9 @@
 //  - coverage: the largest distance from 101 x 101 exact points of the patch (edges included) to
 //    the fitted surface (exact nearest point), so a fit that lies on the torus but does not span
 //    the patch shows;
+//  - data_rms: SDM II, the RMS distance from the 1681 samples to the fit (the fitter's own figure);
+//    OCCT, the same measured by exact projection; SDM I, the RMS distance of the sensors to the
+//    target;
 //  - edge_shift: the largest angle (radians of the major or the tube circle) between a
 //    midpoint of one of the fitted surface's edges and the patch edge it should lie on.
 #include <benchmark/benchmark.h>
@@ -304,13 +310,13 @@ d2vdb::BSplineSurface startSurface(int countU, int countV, double major, double 
   return d2vdb::BSplineSurface::clamped(3, 3, countU, countV, std::move(points));
 }
 
-/// The largest distance from patchPoints() to `surface`: each point's nearest point found by
-/// SurfaceProjector, started (as its hint) from the nearest of 101 x 101 samples of the surface,
-/// so that a folded or overhanging fit cannot trap it in a far local minimum.
-double coverage(const d2vdb::BSplineSurface& surface) {
+/// The distance from each of `points` to `surface`: its nearest point found by SurfaceProjector,
+/// started (as its hint) from the nearest of 101 x 101 samples of the surface, so that a folded
+/// or overhanging fit cannot trap it in a far local minimum.
+std::vector<double> distancesTo(const d2vdb::BSplineSurface& surface,
+                                const std::vector<Eigen::Vector3d>& points) {
   const d2vdb::SurfaceProjector projector(surface);
   const std::vector<Eigen::Vector3d> samples = surface.sample(101, 101);
-  const std::vector<Eigen::Vector3d>& points = patchPoints();
   std::vector<d2vdb::SurfaceFootpoint> hints(points.size());
   for (std::size_t k = 0; k < points.size(); ++k) {
     std::size_t nearest = 0;
@@ -334,13 +340,25 @@ double coverage(const d2vdb::BSplineSurface& surface) {
       }
     }
   }
-  double largest = 0.0;
   const std::vector<d2vdb::SurfaceFootpoint> found = projector.nearest(points, hints);
+  std::vector<double> distances;
   for (std::size_t k = 0; k < points.size(); ++k) {
-    largest =
-        std::max(largest, std::sqrt(std::min(found[k].squaredDistance, hints[k].squaredDistance)));
+    distances.push_back(std::sqrt(std::min(found[k].squaredDistance, hints[k].squaredDistance)));
   }
-  return largest;
+  return distances;
+}
+
+/// The largest distance from patchPoints() to `surface`.
+double coverage(const d2vdb::BSplineSurface& surface) {
+  const std::vector<double> distances = distancesTo(surface, patchPoints());
+  return *std::max_element(distances.begin(), distances.end());
+}
+
+/// RMS distance from gridSamples() to `surface` (what SDM II's data_rms measures).
+double dataRms(const d2vdb::BSplineSurface& surface) {
+  double sum = 0.0;
+  for (const double d : distancesTo(surface, gridSamples())) sum += d * d;
+  return std::sqrt(sum / static_cast<double>(gridSamples().size()));
 }
 
 /// The accuracy counters of the header comment.
@@ -401,6 +419,7 @@ void BM_Occt(benchmark::State& state) {
   state.counters["degrees"] = 10 * fit.degreeU + fit.degreeV;
   state.counters["conversion_error"] = fit.conversionError;
   state.counters["corner_error"] = fit.cornerError;
+  state.counters["data_rms"] = dataRms(fit.surface);
 }
 
 /// The d2vdb benchmarks (arguments tol_exp, start, threads): each iteration times OCCT (one
@@ -460,6 +479,21 @@ void BM_D2vdbPatch(benchmark::State& state) {
   });
 }
 
+/// BM_D2vdbPointsToOcctRms/tol_exp: SDM II as BM_D2vdbPoints from the start of radii 1.7 and 0.8
+/// on one thread, stopped when its data RMS reaches OCCT's at that tolerance
+/// (SurfaceFitOptions::distanceTolerance; cap 1000 iterations): the time d2vdb needs to be as
+/// close to the samples as OCCT. Counter reached = 1 when it got there.
+void BM_D2vdbPointsToOcctRms(benchmark::State& state) {
+  d2vdb::SurfaceFitOptions options;
+  options.distanceTolerance = dataRms(occtNet(static_cast<int>(state.range(0))).surface);
+  options.maxIterations = 1000;
+  pairedWithOcct(state, [&](const d2vdb::BSplineSurface& initial) {
+    return d2vdb::fitSurfaceToPoints(initial, gridSamples(), options);
+  });
+  state.counters["occt_data_rms"] = options.distanceTolerance;
+  state.counters["reached"] = state.counters["data_rms"] <= options.distanceTolerance ? 1.0 : 0.0;
+}
+
 /// The tolerances 10^-k.
 void tolerances(benchmark::internal::Benchmark* b) {
   for (int exponent = 2; exponent <= 6; ++exponent) b->Args({exponent});
@@ -496,6 +530,15 @@ BENCHMARK(BM_D2vdbPatch)
     ->ArgNames({"tol_exp", "start", "threads"})
     ->Apply(tolerancesStartsThreads)
     ->Iterations(3)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime();
+
+BENCHMARK(BM_D2vdbPointsToOcctRms)
+    ->ArgNames({"tol_exp", "start", "threads"})
+    ->Apply([](benchmark::internal::Benchmark* b) {
+      for (int exponent = 2; exponent <= 6; ++exponent) b->Args({exponent, 0, 1});
+    })
+    ->Iterations(1)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime();
 
