@@ -292,6 +292,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
   // by block and index, for the seeds near each leaf (SeedBlocks).
   const SeedBlocks blocks(seeds, voxelSize);
+  // The seeds' positions by index (the band takes the vector itself).
+  const std::vector<Eigen::Vector3d> seedPositions = seeds;
 
   FieldBand band =
       FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth);
@@ -302,11 +304,22 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   projectionOptions.extrapolateLastStep = true;
   // Voxels certainly beyond the band are discarded without converging.
   projectionOptions.stopBeyond = halfWidth * voxelSize;
-  // Every surface point lies within `spacing` of a seed (its lattice triangle's corners are at
-  // most that far apart), so a voxel whose nearest seed is further than the half-width plus
-  // `spacing` (plus a fifth of a voxel for the curvature of a lattice triangle and the seeds'
-  // float rounding) cannot be in the band: it is not projected.
-  const double skipBeyond = halfWidth * voxelSize + spacing + 0.2 * voxelSize;
+  // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle
+  // are at most `spacing` apart, every point of a flat triangle whose edges are at most L long is
+  // within L / sqrt(3) of a corner (the circumradius of the equilateral triangle bounds that of
+  // any acute one; an obtuse one's farthest point lies on its longest edge, within L / 2), plus a
+  // fifth of a voxel for the curvature of a lattice triangle and the seeds' float rounding. So a
+  // voxel whose nearest seed is further than the half-width plus seedReach cannot be in the
+  // band: it is not projected.
+  const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
+  const double skipBeyond = halfWidth * voxelSize + seedReach;
+  // A projection stopped beyond the band from the neighbour's footpoint is repeated from the
+  // nearest seed only when that seed may stand for another part of the surface: when it is
+  // nearer than the iterate (so it is not on the iterate's sheet near its local minimum) or
+  // further than this from the iterate's surface point (the nearest seeds of the iterate's own
+  // sheet lie within seedReach of its footpoint, the iterate within a few hundredths of a voxel
+  // of that).
+  const double sameSheet = 1.5 * seedReach;
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
         // Everything below depends only on the current leaf node (8^3 voxels, visited in offset
         // order, all in one call sequence), so the field does not depend on the order of the
@@ -345,10 +358,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             Approximant outside;
             outside.kind = TargetKind::Surface;
             outside.origin = centre;
-            outside.distance = skipBeyond - spacing - 0.2 * voxelSize;
-            if (std::isfinite(nearest.distance)) {
-              outside.distance = nearest.distance - spacing - 0.2 * voxelSize;
-            }
+            outside.distance = skipBeyond - seedReach;
+            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
             return outside;
           }
           const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
@@ -370,10 +381,13 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             // A surface point (the nearest seed) is nearer than the local minimum found from
             // the neighbour: that minimum is not the closest point (the voxel is near the
             // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there a seed within the band plus the seeds' spacing, which may
-            // stand for a surface point inside the band, is the sign of a nearer part.)
-            if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond + spacing
-                                  : projection.distance > nearest.distance) {
+            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
+            // may stand for a surface point inside the band, is the sign of a nearer part.)
+            const bool elsewhere =
+                projection.distance > nearest.distance ||
+                (projection.beyond &&
+                 (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
+            if (elsewhere) {
               PseudoManifold::Projection fromSeed =
                   surface.project(centre, seedPoints[nearest.index], projectionOptions);
               if (fromSeed.distance < projection.distance) projection = std::move(fromSeed);
