@@ -34,45 +34,79 @@ namespace {
 
 constexpr int kMaxBidegree = 12;
 
-/// Bernstein basis of fixed degree D at s, with first (Order >= 1) and second (Order >= 2)
-/// derivatives; the loops have known trip counts, so the compiler unrolls them.
-template <int D, int Order>
-inline void fixedBernstein(double s, double* b, double* db, double* ddb) {
-  // B^m_i = C(m, i) s^i (1 - s)^(m - i) for m = D, D - 1, D - 2 from the powers of s and 1 - s:
-  // independent products, no long recurrence.
-  static constexpr auto binomials = [] {
+/// Two doubles in one SIMD register (GCC/Clang vector extension; plain SSE2 on x86-64). May
+/// alias double and needs only a double's alignment, so rows of a double array can be read as
+/// pairs.
+typedef double Pair __attribute__((vector_size(16), aligned(8), may_alias));
+
+/// Number of Pairs per row of a bidegree-d patch: d + 1 values padded to an even count.
+constexpr int pairsPerRow(int d) {
+  return (d + 2) / 2;
+}
+
+/// The binomial coefficients C(N, i), i = 0..N, zero-padded to 2 pairsPerRow(D) entries.
+template <int D, int N>
+struct PairBinomials {
+  static constexpr std::array<double, 2 * pairsPerRow(D)> values = [] {
     std::array<std::array<double, D + 1>, D + 1> c{};
     for (int n = 0; n <= D; ++n) {
       c[n][0] = c[n][n] = 1.0;
       for (int k = 1; k < n; ++k) c[n][k] = c[n - 1][k - 1] + c[n - 1][k];
     }
-    return c;
+    std::array<double, 2 * pairsPerRow(D)> out{};
+    for (int i = 0; i <= N; ++i) out[i] = c[N][i];
+    return out;
   }();
-  const double r = 1.0 - s;
-  double ps[D + 1], pr[D + 1];
-  ps[0] = pr[0] = 1.0;
-  for (int i = 1; i <= D; ++i) {
-    ps[i] = ps[i - 1] * s;
-    pr[i] = pr[i - 1] * r;
+};
+
+/// The Bernstein basis of degree N <= D at s, B^N_i = C(N, i) s^i (1 - s)^(N - i), as pairs
+/// (B_2k, B_2k+1), zero beyond N. powers[k] = (s^2k, s^2k+1); r = 1 - s, r2 = r^2. Independent
+/// products in registers: no long recurrence, no scalar stores read back as pairs.
+template <int D, int N>
+inline void pairBasis(const Pair* powers, double r, double r2, Pair* out) {
+  constexpr int count = pairsPerRow(D);
+  constexpr int top = N / 2;  // the pair holding B_N
+  constexpr auto& binomials = PairBinomials<D, N>::values;
+  for (int k = count - 1; k > top; --k) out[k] = Pair{0.0, 0.0};
+  // (r^(N - 2k), r^(N - 2k - 1)), with r^-1 read as 0.
+  Pair rPowers = (N % 2 == 0) ? Pair{1.0, 0.0} : Pair{r, 1.0};
+  for (int k = top; k >= 0; --k) {
+    out[k] = Pair{binomials[2 * k], binomials[2 * k + 1]} * powers[k] * rPowers;
+    rPowers = (N % 2 == 0 && k == top) ? Pair{r2, r} : rPowers * r2;
   }
-  for (int i = 0; i <= D; ++i) b[i] = binomials[D][i] * ps[i] * pr[D - i];
+}
+
+/// The Bernstein basis of fixed degree D at s with first (Order >= 1) and second (Order >= 2)
+/// derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
+/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i).
+template <int D, int Order>
+inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
+  constexpr int count = pairsPerRow(D);
+  const double r = 1.0 - s;
+  const double s2 = s * s;
+  const double r2 = r * r;
+  Pair powers[count];
+  powers[0] = Pair{1.0, s};
+  for (int k = 1; k < count; ++k) powers[k] = powers[k - 1] * s2;
+  pairBasis<D, D>(powers, r, r2, b);
   if constexpr (Order >= 1) {
-    // dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i).
-    double lower[D + 1];
-    for (int i = 0; i < D; ++i) lower[i] = binomials[D - 1][i] * ps[i] * pr[D - 1 - i];
-    db[0] = -D * lower[0];
-    for (int i = 1; i < D; ++i) db[i] = D * (lower[i - 1] - lower[i]);
-    db[D] = D * lower[D - 1];
+    Pair lower[count];
+    pairBasis<D, D - 1>(powers, r, r2, lower);
+    Pair previous = Pair{0.0, 0.0};
+    for (int k = 0; k < count; ++k) {
+      const Pair shifted = Pair{previous[1], lower[k][0]};  // (B_2k-1, B_2k)
+      db[k] = static_cast<double>(D) * (shifted - lower[k]);
+      previous = lower[k];
+    }
   }
   if constexpr (Order >= 2) {
-    double lower[D + 1];
-    for (int i = 0; i < D - 1; ++i) lower[i] = binomials[D - 2][i] * ps[i] * pr[D - 2 - i];
-    constexpr double kScale = D * (D - 1);
-    for (int i = 0; i <= D; ++i) {
-      const double a = i >= 2 ? lower[i - 2] : 0.0;
-      const double m = (i >= 1 && i - 1 <= D - 2) ? lower[i - 1] : 0.0;
-      const double c = i <= D - 2 ? lower[i] : 0.0;
-      ddb[i] = kScale * (a - 2.0 * m + c);
+    Pair lower[count];
+    pairBasis<D, D - 2>(powers, r, r2, lower);
+    Pair previous = Pair{0.0, 0.0};
+    for (int k = 0; k < count; ++k) {
+      const Pair shifted = Pair{previous[1], lower[k][0]};
+      ddb[k] = static_cast<double>(D * (D - 1)) * (previous - 2.0 * shifted + lower[k]);
+      previous = lower[k];
     }
   }
 }
@@ -80,28 +114,51 @@ inline void fixedBernstein(double s, double* b, double* db, double* ddb) {
 /// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
 /// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
 /// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
-/// (D + 1)^2 values, rows of equal t-index with the s-index contiguous.
+/// D + 1 rows of equal t-index, each row the D + 1 values of increasing s-index padded to
+/// 2 pairsPerRow(D) doubles (the padding is never read into a result: its basis values are 0).
+/// The rows are combined a pair of columns at a time.
 template <int D, int Order>
 void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
   constexpr int m = D + 1;
-  double bx[m], dbx[m], ddbx[m], by[m], dby[m], ddby[m];
-  fixedBernstein<D, Order>(s, bx, dbx, ddbx);
-  fixedBernstein<D, Order>(t, by, dby, ddby);
+  constexpr int count = pairsPerRow(D);
+  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby);
   for (int c = 0; c < 3; ++c) {
-    const double* block = controls + c * m * m;
-    double t0[m] = {}, t1[m] = {}, t2[m] = {};
-    for (int k = 0; k < m; ++k) {
-      const double* row = block + k * m;
-      for (int j = 0; j < m; ++j) t0[j] += by[k] * row[j];
+    const Pair* block = reinterpret_cast<const Pair*>(controls) + c * m * count;
+    // t0, t1, t2: the rows weighted by the t-basis and its derivatives.
+    Pair t0[count], t1[count], t2[count];
+    for (int j = 0; j < count; ++j) {
+      const Pair row = block[j];
+      t0[j] = by[0][0] * row;
+      if constexpr (Order >= 1) t1[j] = dby[0][0] * row;
+      if constexpr (Order >= 2) t2[j] = ddby[0][0] * row;
+    }
+    for (int k = 1; k < m; ++k) {
+      const Pair* row = block + k * count;
+      const double a = by[k / 2][k % 2];
+      for (int j = 0; j < count; ++j) t0[j] += a * row[j];
       if constexpr (Order >= 1) {
-        for (int j = 0; j < m; ++j) t1[j] += dby[k] * row[j];
+        const double b = dby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t1[j] += b * row[j];
       }
       if constexpr (Order >= 2) {
-        for (int j = 0; j < m; ++j) t2[j] += ddby[k] * row[j];
+        const double e = ddby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t2[j] += e * row[j];
       }
     }
-    double v = 0, gs = 0, gt = 0, hss = 0, hst = 0, htt = 0;
-    for (int j = 0; j < m; ++j) {
+    Pair v = bx[0] * t0[0];
+    Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
+    if constexpr (Order >= 1) {
+      gs = dbx[0] * t0[0];
+      gt = bx[0] * t1[0];
+    }
+    if constexpr (Order >= 2) {
+      hss = ddbx[0] * t0[0];
+      hst = dbx[0] * t1[0];
+      htt = bx[0] * t2[0];
+    }
+    for (int j = 1; j < count; ++j) {
       v += bx[j] * t0[j];
       if constexpr (Order >= 1) {
         gs += dbx[j] * t0[j];
@@ -113,12 +170,12 @@ void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
         htt += bx[j] * t2[j];
       }
     }
-    out[0][c] = v;
-    out[1][c] = gs;
-    out[2][c] = gt;
-    out[3][c] = hss;
-    out[4][c] = hst;
-    out[5][c] = htt;
+    out[0][c] = v[0] + v[1];
+    out[1][c] = gs[0] + gs[1];
+    out[2][c] = gt[0] + gt[1];
+    out[3][c] = hss[0] + hss[1];
+    out[4][c] = hst[0] + hst[1];
+    out[5][c] = htt[0] + htt[1];
   }
 }
 
@@ -452,8 +509,10 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   controlOffset_.assign(vertexCount + 1, 0);
   for (Index v = 0; v < vertexCount; ++v) {
     const int n = mesh.degree(v);
-    const std::size_t count =
-        n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * (fits_[n]->bidegree + 1)) : 0;
+    // (bidegree + 1) rows of 2 pairsPerRow(bidegree) doubles (fixedPatch's layout).
+    const std::size_t count = n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * 2 *
+                                                               pairsPerRow(fits_[n]->bidegree))
+                                    : 0;
     controlOffset_[v + 1] = controlOffset_[v] + 3 * count;
   }
   const std::size_t bytes = controlOffset_[vertexCount] * sizeof(double);
@@ -516,11 +575,16 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
             // One dot product per coefficient (row-major pseudo-inverse, column samples): no
             // packing of the large matrix for a three-column product.
             fitted.noalias() = fit.pseudoInverse.lazyProduct(samples);
+            // Coefficient k (d + 1) + j (k: t-index, j: s-index) to row k, column j of the
+            // padded layout; the padding stays 0.
             double* out = controls_.data() + controlOffset_[v];
-            const Eigen::Index nn = fitted.rows();
+            const int m = fit.bidegree + 1;
+            const int width = 2 * pairsPerRow(fit.bidegree);
             for (int axis = 0; axis < 3; ++axis) {
-              for (Eigen::Index c = 0; c < nn; ++c) {
-                out[axis * nn + c] = fitted(c, axis) + centre[axis];
+              for (int k = 0; k < m; ++k) {
+                for (int j = 0; j < m; ++j) {
+                  out[(axis * m + k) * width + j] = fitted(k * m + j, axis) + centre[axis];
+                }
               }
             }
           }
@@ -558,11 +622,12 @@ std::vector<Eigen::Vector3d> PseudoManifold::controlPoints(Index vertex) const {
   const int d = bidegree(vertex);
   if (d == 0) return points;
   const int m = d + 1;
+  const int width = 2 * pairsPerRow(d);
   const double* base = controls_.data() + controlOffset_[vertex];
   for (int j = 0; j <= d; ++j) {
     for (int k = 0; k <= d; ++k) {
-      const int i = k * m + j;
-      points.emplace_back(base[i], base[m * m + i], base[2 * m * m + i]);
+      const int i = k * width + j;
+      points.emplace_back(base[i], base[m * width + i], base[2 * m * width + i]);
     }
   }
   return points;

@@ -29,7 +29,8 @@ struct PseudoManifoldOptions {
   /// are used. Range 2..8.
   int samplesPerControl = 2;
   /// Refuse (InputError, before allocating) when the control points would take more bytes than
-  /// this: 3 doubles per control point, (bidegree + 1)^2 per vertex (1536 bytes at bidegree 7).
+  /// this: 3 doubles per control point, (bidegree + 1)^2 per vertex, each row of bidegree + 1
+  /// padded to an even count (1536 bytes at bidegree 7, 1344 at bidegree 6).
   std::size_t maxBytes = std::size_t{8} << 30;
 };
 
