@@ -68,29 +68,38 @@ class SeedBlocks {
       const std::size_t count = index_.size();
       if (count == 0) return result;
       const Eigen::Vector3f q = (point - origin_).cast<float>();
-      // The distances (vectorised), their minimum in kLanes independent lanes (the arrays are
-      // padded to a multiple of kLanes with far-away points), then the first seed at it (the
-      // list's order depends only on the leaf).
+      // The distances and their minimum in kLanes independent lanes, each with the first
+      // position where its minimum occurs (the arrays are padded to a multiple of kLanes with
+      // far-away points; branch-free, so the loop vectorises); then the first position of the
+      // overall minimum (the list's order depends only on the leaf).
       const std::size_t padded = xs_.size();
-      squared_.resize(padded);
-      for (std::size_t i = 0; i < padded; ++i) {
-        const float dx = xs_[i] - q.x();
-        const float dy = ys_[i] - q.y();
-        const float dz = zs_[i] - q.z();
-        squared_[i] = dx * dx + dy * dy + dz * dz;
-      }
-      float lanes[kLanes];
-      for (std::size_t j = 0; j < kLanes; ++j) lanes[j] = squared_[j];
-      for (std::size_t i = kLanes; i < padded; i += kLanes) {
-        for (std::size_t j = 0; j < kLanes; ++j) {
-          lanes[j] = squared_[i + j] < lanes[j] ? squared_[i + j] : lanes[j];
+      Floats lanes[2] = {Floats{} + kFar, Floats{} + kFar};
+      Ints at[2] = {Ints{0, 1, 2, 3}, Ints{4, 5, 6, 7}};
+      Ints position[2] = {Ints{0, 1, 2, 3}, Ints{4, 5, 6, 7}};
+      for (std::size_t i = 0; i < padded; i += kLanes) {
+        for (int g = 0; g < 2; ++g) {
+          const std::size_t k = i + 4 * static_cast<std::size_t>(g);
+          const Floats dx = *reinterpret_cast<const Floats*>(xs_.data() + k) - q.x();
+          const Floats dy = *reinterpret_cast<const Floats*>(ys_.data() + k) - q.y();
+          const Floats dz = *reinterpret_cast<const Floats*>(zs_.data() + k) - q.z();
+          const Floats squared = dx * dx + dy * dy + dz * dz;
+          const Ints lower = squared < lanes[g];
+          lanes[g] = lower ? squared : lanes[g];
+          at[g] = lower ? position[g] : at[g];
+          position[g] += static_cast<std::int32_t>(kLanes);
         }
       }
-      float best = lanes[0];
-      for (std::size_t j = 1; j < kLanes; ++j) best = lanes[j] < best ? lanes[j] : best;
-      std::size_t first = 0;
-      while (squared_[first] != best) ++first;
-      const std::uint32_t bestIndex = index_[first];
+      float best = lanes[0][0];
+      std::int32_t first = at[0][0];
+      for (std::size_t j = 1; j < kLanes; ++j) {
+        const float value = lanes[j / 4][j % 4];
+        const std::int32_t where = at[j / 4][j % 4];
+        if (value < best || (value == best && where < first)) {
+          best = value;
+          first = where;
+        }
+      }
+      const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
       if (static_cast<double>(best) > radius2_) return result;
       result.index = bestIndex;
       result.distance = std::sqrt(static_cast<double>(best));
@@ -133,12 +142,15 @@ class SeedBlocks {
         zs_.push_back(0.0f);
       }
     }
-    static constexpr std::size_t kLanes = 8;
+    static constexpr std::size_t kLanes = 8;  // two groups of four
+    /// Four floats / four 32-bit integers in one SIMD register (GCC/Clang vector extension).
+    typedef float Floats __attribute__((vector_size(16), aligned(4), may_alias));
+    typedef std::int32_t Ints __attribute__((vector_size(16)));
+    static constexpr float kFar = std::numeric_limits<float>::infinity();
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     double radius2_ = 0.0;
     std::vector<float> xs_, ys_, zs_;
     std::vector<std::uint32_t> index_;
-    mutable std::vector<float> squared_;
   };
 
   SeedBlocks(const std::vector<Eigen::Vector3d>& seeds, double voxelSize) : voxelSize_(voxelSize) {
@@ -172,7 +184,10 @@ class SeedBlocks {
     out.index_.clear();
     const Eigen::Vector3d lo = out.origin_;
     const Eigen::Vector3d hi = out.origin_ + Eigen::Vector3d::Constant(7.0 * voxelSize_);
-    const int reach = static_cast<int>(std::ceil(radius / (8.0 * voxelSize_))) + 1;
+    // A seed is in the block of its nearest voxel, within half a voxel of it: the blocks of
+    // the seeds within `radius` (plus the margin below) of the leaf's voxel centres lie within
+    // `reach` blocks of the leaf's.
+    const int reach = static_cast<int>(std::ceil((radius / voxelSize_ + 0.501) / 8.0));
     const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
     // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
     // nearest-seed test could need.
