@@ -438,7 +438,10 @@ struct PseudoManifold::Evaluator {
 
   /// Derivatives with respect to the chart coordinates of corner `centre` (the point must lie in
   /// that chart).
-  Jet3<Order> chart(const FacePoint& point, int centre) const {
+  /// When `chartPoint` is given it receives the point's coordinates in that chart (as
+  /// ChartAtlas::toChart gives them).
+  Jet3<Order> chart(const FacePoint& point, int centre,
+                    Eigen::Vector2d* chartPoint = nullptr) const {
     const HalfEdgeMesh& mesh = *pps.mesh_;
     Index vertices[3];
     Jet<Order> px[3], py[3];
@@ -448,7 +451,9 @@ struct PseudoManifold::Evaluator {
     const int nc = mesh.degree(vertices[centre]);
     const PolarMap& centreMap = pps.fitFor(nc).map;
     const int kc = mesh.ringIndex(centreHalfEdge);
-    const Eigen::Vector2d p = centreMap.toChart(detail::canonicalPoint(point.bary, centre), kc);
+    const Eigen::Vector2d z = detail::canonicalPoint(point.bary, centre);
+    const Eigen::Vector2d p = centreMap.toChart(z, kc);
+    if (chartPoint != nullptr) *chartPoint = p;
     px[centre] = Jet<Order>::variable(p.x(), 0);
     py[centre] = Jet<Order>::variable(p.y(), 1);
     active[centre] = true;
@@ -464,7 +469,7 @@ struct PseudoManifold::Evaluator {
         // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
         // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
         Jet<Order> zx, zy;
-        centreMap.toCanonical(px[centre], py[centre], kc, zx, zy);
+        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy);
         const Jet<Order> after = (1.0 / kCos30) * zy;
         const Jet<Order> next = zx - 0.5 * after;
         bary[(centre + 1) % 3] = next;
@@ -820,12 +825,15 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   int centre = startCorner;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    ChartPoint chartPoint;
     if (known) {
       jet = fromDerivatives<2>(*startDerivatives);
       known = false;
+      chartPoint = atlas_.toChart(current, centre);
     } else {
       centre = nearestCorner(current.bary);
-      jet = evaluator.chart(current, centre);
+      jet = evaluator.chart(current, centre, &chartPoint.p);
+      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
       ++result.iterations;
     }
     if (finalStep) {
@@ -834,7 +842,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       result.converged = true;
       break;
     }
-    const ChartPoint chartPoint = atlas_.toChart(current, centre);
     const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
     const Eigen::Vector3d residual = jet.v - x;
     const double value = 0.5 * residual.squaredNorm();
