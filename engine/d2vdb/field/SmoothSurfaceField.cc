@@ -245,8 +245,10 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   const double spacing = 0.8 * voxelSize;
   const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
 
-  // Intervals per face edge from the mesh's edge lengths, then doubled until neighbouring seeds
-  // on the surface lie within `spacing`.
+  // Intervals per face edge: a pilot lattice from the mesh's edge lengths (half as dense as
+  // `spacing` asks for flat faces), then, from the largest step between neighbouring lattice
+  // points there, the intervals that bring it within `spacing` (the steps shrink about in
+  // proportion to the intervals), raised further until the steps are within `spacing`.
   std::vector<long> intervals(faceCount);
   tbb::parallel_for(std::size_t{0}, faceCount, [&](std::size_t f) {
     const auto face = static_cast<Index>(f);
@@ -256,7 +258,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
                                  mesh.position(mesh.corner(face, (k + 1) % 3)))
                                     .norm());
     }
-    intervals[f] = std::max(1L, static_cast<long>(std::ceil(1.25 * extent / spacing)));
+    intervals[f] = std::max(1L, static_cast<long>(std::ceil(0.5 * extent / spacing)));
   });
   const auto seedCount = [&]() {
     double count = 0.0;
@@ -282,10 +284,14 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
       points.resize(lattice.size());
       for (std::size_t i = 0; i < lattice.size(); ++i)
         points[i] = surface.position({face, lattice[i]});
-      if (largestLatticeStep(points, intervals[f]) <= spacing) {
+      const double largest = largestLatticeStep(points, intervals[f]);
+      if (largest <= spacing) {
         done[f] = 1;
       } else {
-        intervals[f] *= 2;
+        // Scaled by the excess and 5 % more, by at least one interval.
+        const double scaled =
+            std::ceil(static_cast<double>(intervals[f]) * 1.05 * largest / spacing);
+        intervals[f] = std::max(intervals[f] + 1, static_cast<long>(std::min(scaled, 1e6)));
       }
     });
     if (std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) break;
