@@ -777,19 +777,20 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, con
   if (start.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(start.face) + " does not exist");
   }
-  return projectFrom(x, start, nullptr, 0, options);
+  return projectFrom(x, start, nullptr, options);
 }
 
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
                                                    const Projection& nearby,
                                                    const SmoothProjectionOptions& options) const {
   if (!x.allFinite()) throw InputError("cannot project a non-finite point");
-  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2) {
+  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2 ||
+      !nearby.chartPoint.allFinite()) {
     throw InputError("the projection to start from has no face " +
                      std::to_string(nearby.point.face) + " or corner " +
                      std::to_string(nearby.chartCorner));
   }
-  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, options);
+  return projectFrom(x, nearby.point, &nearby, options);
 }
 
 namespace {
@@ -806,8 +807,8 @@ Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
 }  // namespace
 
 PseudoManifold::Projection PseudoManifold::projectFrom(
-    const Eigen::Vector3d& x, const FacePoint& start, const SmoothDerivatives* startDerivatives,
-    int startCorner, const SmoothProjectionOptions& options) const {
+    const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
+    const SmoothProjectionOptions& options) const {
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
@@ -820,16 +821,17 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   bool finalStep = false;  // the last step was predicted to converge: evaluate there and stop
   double lastStep = 0.0;   // length of the last Newton step taken in the quadratic regime, 0: none
   // The derivatives at `current` when already known (the given start), else evaluated.
-  bool known = startDerivatives != nullptr;
+  bool known = nearby != nullptr;
   Jet3<2> jet;
-  int centre = startCorner;
+  int centre = known ? nearby->chartCorner : 0;
+  ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    ChartPoint chartPoint;
     if (known) {
-      jet = fromDerivatives<2>(*startDerivatives);
+      jet = fromDerivatives<2>(nearby->derivatives);
       known = false;
-      chartPoint = atlas_.toChart(current, centre);
+      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
+      chartPoint.p = nearby->chartPoint;
     } else {
       centre = nearestCorner(current.bary);
       jet = evaluator.chart(current, centre, &chartPoint.p);
@@ -926,6 +928,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
             centre = c;
         }
         jet = moved;
+        chartPoint.p = p;
         result.converged = true;
         break;
       }
@@ -957,10 +960,11 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   }
   if (!result.converged && !result.beyond) {
     centre = nearestCorner(current.bary);
-    jet = evaluator.chart(current, centre);
+    jet = evaluator.chart(current, centre, &chartPoint.p);
     ++result.iterations;
   }
   result.point = current;
+  result.chartPoint = chartPoint.p;
   result.position = jet.v;
   result.distance = (jet.v - x).norm();
   result.derivatives = toDerivatives(jet);
