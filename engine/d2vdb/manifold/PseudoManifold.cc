@@ -111,6 +111,43 @@ inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
   }
 }
 
+/// The s-direction stage of fixedPatch: out[.][c] from the rows combined by the t-basis (t0)
+/// and its derivatives (t1, t2), a pair of columns at a time.
+template <int D, int Order>
+inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* t0,
+                        const Pair* t1, const Pair* t2, int c, double out[6][3]) {
+  constexpr int count = pairsPerRow(D);
+  Pair v = bx[0] * t0[0];
+  Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
+  if constexpr (Order >= 1) {
+    gs = dbx[0] * t0[0];
+    gt = bx[0] * t1[0];
+  }
+  if constexpr (Order >= 2) {
+    hss = ddbx[0] * t0[0];
+    hst = dbx[0] * t1[0];
+    htt = bx[0] * t2[0];
+  }
+  for (int j = 1; j < count; ++j) {
+    v += bx[j] * t0[j];
+    if constexpr (Order >= 1) {
+      gs += dbx[j] * t0[j];
+      gt += bx[j] * t1[j];
+    }
+    if constexpr (Order >= 2) {
+      hss += ddbx[j] * t0[j];
+      hst += dbx[j] * t1[j];
+      htt += bx[j] * t2[j];
+    }
+  }
+  out[0][c] = v[0] + v[1];
+  out[1][c] = gs[0] + gs[1];
+  out[2][c] = gt[0] + gt[1];
+  out[3][c] = hss[0] + hss[1];
+  out[4][c] = hst[0] + hst[1];
+  out[5][c] = htt[0] + htt[1];
+}
+
 /// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
 /// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
 /// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
@@ -147,63 +184,118 @@ void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
         for (int j = 0; j < count; ++j) t2[j] += e * row[j];
       }
     }
-    Pair v = bx[0] * t0[0];
-    Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
-    if constexpr (Order >= 1) {
-      gs = dbx[0] * t0[0];
-      gt = bx[0] * t1[0];
+    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+  }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define D2VDB_WIDE_PATCH 1
+/// Four doubles in one AVX register (may alias double, a double's alignment).
+typedef double Quad __attribute__((vector_size(32), aligned(8), may_alias));
+
+/// fixedPatch with the rows combined four columns at a time (AVX2, for processors that have
+/// it). The same operations on every element in the same order, so the same results to the bit
+/// (no fused multiply-add: the target adds none and ISO C++ mode does not contract).
+template <int D, int Order>
+__attribute__((target("avx2"))) void fixedPatchWide(const double* controls, double s, double t,
+                                                    double out[6][3]) {
+  constexpr int m = D + 1;
+  constexpr int count = pairsPerRow(D);
+  constexpr int quads = count / 2;       // whole quads per row
+  constexpr bool tail = count % 2 != 0;  // and one pair after them
+  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby);
+  for (int c = 0; c < 3; ++c) {
+    const double* block = controls + c * m * 2 * count;
+    Quad q0[quads > 0 ? quads : 1], q1[quads > 0 ? quads : 1], q2[quads > 0 ? quads : 1];
+    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0;
+    for (int k = 0; k < m; ++k) {
+      const Quad* row = reinterpret_cast<const Quad*>(block + k * 2 * count);
+      const Pair* rest = reinterpret_cast<const Pair*>(block + k * 2 * count) + 2 * quads;
+      const double a = by[k / 2][k % 2];
+      const double b = dby[k / 2][k % 2];
+      const double e = ddby[k / 2][k % 2];
+      for (int j = 0; j < quads; ++j) {
+        if (k == 0) {
+          q0[j] = a * row[j];
+          if constexpr (Order >= 1) q1[j] = b * row[j];
+          if constexpr (Order >= 2) q2[j] = e * row[j];
+        } else {
+          q0[j] += a * row[j];
+          if constexpr (Order >= 1) q1[j] += b * row[j];
+          if constexpr (Order >= 2) q2[j] += e * row[j];
+        }
+      }
+      if constexpr (tail) {
+        if (k == 0) {
+          p0 = a * rest[0];
+          if constexpr (Order >= 1) p1 = b * rest[0];
+          if constexpr (Order >= 2) p2 = e * rest[0];
+        } else {
+          p0 += a * rest[0];
+          if constexpr (Order >= 1) p1 += b * rest[0];
+          if constexpr (Order >= 2) p2 += e * rest[0];
+        }
+      }
     }
-    if constexpr (Order >= 2) {
-      hss = ddbx[0] * t0[0];
-      hst = dbx[0] * t1[0];
-      htt = bx[0] * t2[0];
-    }
-    for (int j = 1; j < count; ++j) {
-      v += bx[j] * t0[j];
+    Pair t0[count], t1[count], t2[count];
+    for (int j = 0; j < quads; ++j) {
+      t0[2 * j] = Pair{q0[j][0], q0[j][1]};
+      t0[2 * j + 1] = Pair{q0[j][2], q0[j][3]};
       if constexpr (Order >= 1) {
-        gs += dbx[j] * t0[j];
-        gt += bx[j] * t1[j];
+        t1[2 * j] = Pair{q1[j][0], q1[j][1]};
+        t1[2 * j + 1] = Pair{q1[j][2], q1[j][3]};
       }
       if constexpr (Order >= 2) {
-        hss += ddbx[j] * t0[j];
-        hst += dbx[j] * t1[j];
-        htt += bx[j] * t2[j];
+        t2[2 * j] = Pair{q2[j][0], q2[j][1]};
+        t2[2 * j + 1] = Pair{q2[j][2], q2[j][3]};
       }
     }
-    out[0][c] = v[0] + v[1];
-    out[1][c] = gs[0] + gs[1];
-    out[2][c] = gt[0] + gt[1];
-    out[3][c] = hss[0] + hss[1];
-    out[4][c] = hst[0] + hst[1];
-    out[5][c] = htt[0] + htt[1];
+    if constexpr (tail) {
+      t0[count - 1] = p0;
+      t1[count - 1] = p1;
+      t2[count - 1] = p2;
+    }
+    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
   }
+}
+#endif
+
+template <int D, int Order>
+inline void dispatchPatch(const double* controls, double s, double t, double out[6][3]) {
+#ifdef D2VDB_WIDE_PATCH
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
+#endif
+  fixedPatch<D, Order>(controls, s, t, out);
 }
 
 template <int Order>
 void patch(int d, const double* controls, double s, double t, double out[6][3]) {
   switch (d) {
     case 2:
-      return fixedPatch<2, Order>(controls, s, t, out);
+      return dispatchPatch<2, Order>(controls, s, t, out);
     case 3:
-      return fixedPatch<3, Order>(controls, s, t, out);
+      return dispatchPatch<3, Order>(controls, s, t, out);
     case 4:
-      return fixedPatch<4, Order>(controls, s, t, out);
+      return dispatchPatch<4, Order>(controls, s, t, out);
     case 5:
-      return fixedPatch<5, Order>(controls, s, t, out);
+      return dispatchPatch<5, Order>(controls, s, t, out);
     case 6:
-      return fixedPatch<6, Order>(controls, s, t, out);
+      return dispatchPatch<6, Order>(controls, s, t, out);
     case 7:
-      return fixedPatch<7, Order>(controls, s, t, out);
+      return dispatchPatch<7, Order>(controls, s, t, out);
     case 8:
-      return fixedPatch<8, Order>(controls, s, t, out);
+      return dispatchPatch<8, Order>(controls, s, t, out);
     case 9:
-      return fixedPatch<9, Order>(controls, s, t, out);
+      return dispatchPatch<9, Order>(controls, s, t, out);
     case 10:
-      return fixedPatch<10, Order>(controls, s, t, out);
+      return dispatchPatch<10, Order>(controls, s, t, out);
     case 11:
-      return fixedPatch<11, Order>(controls, s, t, out);
+      return dispatchPatch<11, Order>(controls, s, t, out);
     default:
-      return fixedPatch<12, Order>(controls, s, t, out);
+      return dispatchPatch<12, Order>(controls, s, t, out);
   }
 }
 
