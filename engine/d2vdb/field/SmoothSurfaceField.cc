@@ -106,30 +106,43 @@ class SeedBlocks {
       return result;
     }
 
-    /// Keeps the seeds of `from` within the radius of the voxel centres of the sub-block of
-    /// `from`'s leaf with voxel offsets lo..hi (inclusive, 0..7).
-    void restrict(const Near& from, const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
-                  double voxelSize) {
-      origin_ = from.origin_;
-      radius2_ = from.radius2_;
-      xs_.clear();
-      ys_.clear();
-      zs_.clear();
-      index_.clear();
-      const Eigen::Vector3f low = (lo.cast<double>() * voxelSize).cast<float>();
-      const Eigen::Vector3f high = (hi.cast<double>() * voxelSize).cast<float>();
+    /// Splits these seeds (of one leaf) among its eight 4^3 sub-blocks: parts[b] keeps those
+    /// within the radius of the voxel centres of sub-block b (b = 4 [x >= 4] + 2 [y >= 4] +
+    /// [z >= 4]), in this list's order. One pass over the list.
+    void split(Near (&parts)[8], double voxelSize) const {
+      for (Near& part : parts) {
+        part.origin_ = origin_;
+        part.radius2_ = radius2_;
+        part.xs_.clear();
+        part.ys_.clear();
+        part.zs_.clear();
+        part.index_.clear();
+      }
+      // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
+      const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize); };
+      const float low[2] = {f(0), f(4)};
+      const float high[2] = {f(3), f(7)};
       const double radius = std::sqrt(radius2_) + 1e-3 * voxelSize;
       const auto keep = static_cast<float>(radius * radius);
-      for (std::size_t i = 0; i < from.index_.size(); ++i) {
-        const Eigen::Vector3f p(from.xs_[i], from.ys_[i], from.zs_[i]);
-        const Eigen::Vector3f gap = (low - p).cwiseMax(p - high).cwiseMax(Eigen::Vector3f::Zero());
-        if (gap.squaredNorm() > keep) continue;
-        xs_.push_back(p.x());
-        ys_.push_back(p.y());
-        zs_.push_back(p.z());
-        index_.push_back(from.index_[i]);
+      const auto squaredGap = [&](float p, int half) {
+        const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
+        return gap * gap;
+      };
+      for (std::size_t i = 0; i < index_.size(); ++i) {
+        const float x = xs_[i], y = ys_[i], z = zs_[i];
+        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
+        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
+        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
+        for (int b = 0; b < 8; ++b) {
+          if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keep) continue;
+          Near& part = parts[b];
+          part.xs_.push_back(x);
+          part.ys_.push_back(y);
+          part.zs_.push_back(z);
+          part.index_.push_back(index_[i]);
+        }
       }
-      pad();
+      for (Near& part : parts) part.pad();
     }
 
    private:
@@ -356,7 +369,6 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
               std::vector<PseudoManifold::Projection>(512);
           SeedBlocks::Near near;        // the seeds near the leaf
           SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
-          std::uint32_t subGeneration[8] = {};
         };
         return [&, state = State{}](const openvdb::Coord& ijk,
                                     const Eigen::Vector3d& centre) mutable {
@@ -365,14 +377,9 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             state.leaf = leaf;
             ++state.generation;
             blocks.near(leaf, skipBeyond, state.near);
+            state.near.split(state.subNear, voxelSize);
           }
           const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-          if (state.subGeneration[sub] != state.generation) {
-            state.subGeneration[sub] = state.generation;
-            const Eigen::Vector3i lo(ijk.x() & 4, ijk.y() & 4, ijk.z() & 4);
-            state.subNear[sub].restrict(state.near, lo, lo + Eigen::Vector3i::Constant(3),
-                                        voxelSize);
-          }
           const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
           if (!(nearest.distance <= skipBeyond)) {
             // Outside the band (a lower bound of the distance, which the band discards).
