@@ -46,6 +46,94 @@ double largestLatticeStep(const std::vector<Eigen::Vector3d>& points, long inter
   return largest;
 }
 
+/// The smallest squared distance from q to the points (xs, ys, zs) (count a multiple of 8, at
+/// least 8) and the first position where it occurs. The points are taken in 8 lanes (position
+/// mod 8), each keeping its minimum and the first position of it; then the lanes' first position
+/// of the overall minimum. Branch-free, vectorised.
+struct LaneMinimum {
+  float squared;
+  std::int32_t first;
+};
+
+/// The lanes' minima to the answer (the smallest value, then the first position).
+template <typename Values, typename Positions>
+LaneMinimum reduceLanes(const Values& values, const Positions& positions) {
+  LaneMinimum result{values(0), positions(0)};
+  for (int j = 1; j < 8; ++j) {
+    if (values(j) < result.squared ||
+        (values(j) == result.squared && positions(j) < result.first)) {
+      result.squared = values(j);
+      result.first = positions(j);
+    }
+  }
+  return result;
+}
+
+/// Four floats / four 32-bit integers in one SSE register (GCC/Clang vector extension).
+typedef float Floats4 __attribute__((vector_size(16), aligned(4), may_alias));
+typedef std::int32_t Ints4 __attribute__((vector_size(16)));
+
+/// nearestInLanes with two groups of four lanes (SSE2).
+LaneMinimum nearestInLanes4(const float* xs, const float* ys, const float* zs, std::size_t count,
+                            float qx, float qy, float qz) {
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  Floats4 lanes[2] = {Floats4{} + kFar, Floats4{} + kFar};
+  Ints4 at[2] = {Ints4{0, 1, 2, 3}, Ints4{4, 5, 6, 7}};
+  Ints4 position[2] = {Ints4{0, 1, 2, 3}, Ints4{4, 5, 6, 7}};
+  for (std::size_t i = 0; i < count; i += 8) {
+    for (int g = 0; g < 2; ++g) {
+      const std::size_t k = i + 4 * static_cast<std::size_t>(g);
+      const Floats4 dx = *reinterpret_cast<const Floats4*>(xs + k) - qx;
+      const Floats4 dy = *reinterpret_cast<const Floats4*>(ys + k) - qy;
+      const Floats4 dz = *reinterpret_cast<const Floats4*>(zs + k) - qz;
+      const Floats4 squared = dx * dx + dy * dy + dz * dz;
+      const Ints4 lower = squared < lanes[g];
+      lanes[g] = lower ? squared : lanes[g];
+      at[g] = lower ? position[g] : at[g];
+      position[g] += 8;
+    }
+  }
+  return reduceLanes([&](int j) { return lanes[j / 4][j % 4]; },
+                     [&](int j) { return at[j / 4][j % 4]; });
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define D2VDB_WIDE_NEAREST 1
+typedef float Floats8 __attribute__((vector_size(32), aligned(4), may_alias));
+typedef std::int32_t Ints8 __attribute__((vector_size(32)));
+
+/// nearestInLanes with all eight lanes in one AVX2 register: the same lanes, the same operations
+/// on each, so the same answer to the bit.
+__attribute__((target("avx2"))) LaneMinimum nearestInLanes8(const float* xs, const float* ys,
+                                                            const float* zs, std::size_t count,
+                                                            float qx, float qy, float qz) {
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  Floats8 lanes = Floats8{} + kFar;
+  Ints8 at = Ints8{0, 1, 2, 3, 4, 5, 6, 7};
+  Ints8 position = at;
+  for (std::size_t i = 0; i < count; i += 8) {
+    const Floats8 dx = *reinterpret_cast<const Floats8*>(xs + i) - qx;
+    const Floats8 dy = *reinterpret_cast<const Floats8*>(ys + i) - qy;
+    const Floats8 dz = *reinterpret_cast<const Floats8*>(zs + i) - qz;
+    const Floats8 squared = dx * dx + dy * dy + dz * dz;
+    const Ints8 lower = squared < lanes;
+    lanes = lower ? squared : lanes;
+    at = lower ? position : at;
+    position += 8;
+  }
+  return reduceLanes([&](int j) { return lanes[j]; }, [&](int j) { return at[j]; });
+}
+#endif
+
+LaneMinimum nearestInLanes(const float* xs, const float* ys, const float* zs, std::size_t count,
+                           float qx, float qy, float qz) {
+#ifdef D2VDB_WIDE_NEAREST
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return nearestInLanes8(xs, ys, zs, count, qx, qy, qz);
+#endif
+  return nearestInLanes4(xs, ys, zs, count, qx, qy, qz);
+}
+
 /// Surface seeds grouped by the leaf-node block (8^3 voxels) of the voxel they lie in, for exact
 /// nearest-seed queries near one leaf at a time.
 class SeedBlocks {
@@ -68,37 +156,12 @@ class SeedBlocks {
       const std::size_t count = index_.size();
       if (count == 0) return result;
       const Eigen::Vector3f q = (point - origin_).cast<float>();
-      // The distances and their minimum in kLanes independent lanes, each with the first
-      // position where its minimum occurs (the arrays are padded to a multiple of kLanes with
-      // far-away points; branch-free, so the loop vectorises); then the first position of the
-      // overall minimum (the list's order depends only on the leaf).
-      const std::size_t padded = xs_.size();
-      Floats lanes[2] = {Floats{} + kFar, Floats{} + kFar};
-      Ints at[2] = {Ints{0, 1, 2, 3}, Ints{4, 5, 6, 7}};
-      Ints position[2] = {Ints{0, 1, 2, 3}, Ints{4, 5, 6, 7}};
-      for (std::size_t i = 0; i < padded; i += kLanes) {
-        for (int g = 0; g < 2; ++g) {
-          const std::size_t k = i + 4 * static_cast<std::size_t>(g);
-          const Floats dx = *reinterpret_cast<const Floats*>(xs_.data() + k) - q.x();
-          const Floats dy = *reinterpret_cast<const Floats*>(ys_.data() + k) - q.y();
-          const Floats dz = *reinterpret_cast<const Floats*>(zs_.data() + k) - q.z();
-          const Floats squared = dx * dx + dy * dy + dz * dz;
-          const Ints lower = squared < lanes[g];
-          lanes[g] = lower ? squared : lanes[g];
-          at[g] = lower ? position[g] : at[g];
-          position[g] += static_cast<std::int32_t>(kLanes);
-        }
-      }
-      float best = lanes[0][0];
-      std::int32_t first = at[0][0];
-      for (std::size_t j = 1; j < kLanes; ++j) {
-        const float value = lanes[j / 4][j % 4];
-        const std::int32_t where = at[j / 4][j % 4];
-        if (value < best || (value == best && where < first)) {
-          best = value;
-          first = where;
-        }
-      }
+      // The first position of the smallest distance (nearestInLanes; the arrays are padded to a
+      // multiple of kLanes with far-away points; the list's order depends only on the leaf).
+      const LaneMinimum minimum =
+          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), xs_.size(), q.x(), q.y(), q.z());
+      const float best = minimum.squared;
+      const std::int32_t first = minimum.first;
       const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
       if (static_cast<double>(best) > radius2_) return result;
       result.index = bestIndex;
@@ -155,11 +218,7 @@ class SeedBlocks {
         zs_.push_back(0.0f);
       }
     }
-    static constexpr std::size_t kLanes = 8;  // two groups of four
-    /// Four floats / four 32-bit integers in one SIMD register (GCC/Clang vector extension).
-    typedef float Floats __attribute__((vector_size(16), aligned(4), may_alias));
-    typedef std::int32_t Ints __attribute__((vector_size(16)));
-    static constexpr float kFar = std::numeric_limits<float>::infinity();
+    static constexpr std::size_t kLanes = 8;
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     double radius2_ = 0.0;
     std::vector<float> xs_, ys_, zs_;
