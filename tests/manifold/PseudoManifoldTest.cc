@@ -536,6 +536,12 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
                     1e-5 * std::abs(reference.geometry.k2));
         const SmoothPoint exact = b.pps->evaluate(fast.point, Derivatives::Second);
         EXPECT_LT((exact.position - fast.position).norm(), 1e-11);
+        // Each footpoint's chart point is the atlas's map of the footpoint into the chart of
+        // its corner (the next projection starts there without mapping again).
+        for (const PseudoManifold::Projection* q : {&reference, &plain, &fast}) {
+          const ChartPoint mapped = b.pps->atlas().toChart(q->point, q->chartCorner);
+          EXPECT_LT((mapped.p - q->chartPoint).norm(), 1e-13);
+        }
         previous = plain;
       } else {
         previous = reference;
@@ -566,6 +572,9 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   EXPECT_THROW(b.pps->project(Eigen::Vector3d(std::nan(""), 0.0, 0.0), reference), InputError);
   PseudoManifold::Projection broken = reference;
   broken.chartCorner = 3;
+  EXPECT_THROW(b.pps->project(far, broken), InputError);
+  broken = reference;
+  broken.chartPoint.x() = std::nan("");
   EXPECT_THROW(b.pps->project(far, broken), InputError);
 }
 

@@ -46,6 +46,94 @@ double largestLatticeStep(const std::vector<Eigen::Vector3d>& points, long inter
   return largest;
 }
 
+/// The smallest squared distance from q to the points (xs, ys, zs) (count a multiple of 8, at
+/// least 8) and the first position where it occurs. The points are taken in 8 lanes (position
+/// mod 8), each keeping its minimum and the first position of it; then the lanes' first position
+/// of the overall minimum. Branch-free, vectorised.
+struct LaneMinimum {
+  float squared;
+  std::int32_t first;
+};
+
+/// The lanes' minima to the answer (the smallest value, then the first position).
+template <typename Values, typename Positions>
+LaneMinimum reduceLanes(const Values& values, const Positions& positions) {
+  LaneMinimum result{values(0), positions(0)};
+  for (int j = 1; j < 8; ++j) {
+    if (values(j) < result.squared ||
+        (values(j) == result.squared && positions(j) < result.first)) {
+      result.squared = values(j);
+      result.first = positions(j);
+    }
+  }
+  return result;
+}
+
+/// Four floats / four 32-bit integers in one SSE register (GCC/Clang vector extension).
+typedef float Floats4 __attribute__((vector_size(16), aligned(4), may_alias));
+typedef std::int32_t Ints4 __attribute__((vector_size(16)));
+
+/// nearestInLanes with two groups of four lanes (SSE2).
+LaneMinimum nearestInLanes4(const float* xs, const float* ys, const float* zs, std::size_t count,
+                            float qx, float qy, float qz) {
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  Floats4 lanes[2] = {Floats4{} + kFar, Floats4{} + kFar};
+  Ints4 at[2] = {Ints4{0, 1, 2, 3}, Ints4{4, 5, 6, 7}};
+  Ints4 position[2] = {Ints4{0, 1, 2, 3}, Ints4{4, 5, 6, 7}};
+  for (std::size_t i = 0; i < count; i += 8) {
+    for (int g = 0; g < 2; ++g) {
+      const std::size_t k = i + 4 * static_cast<std::size_t>(g);
+      const Floats4 dx = *reinterpret_cast<const Floats4*>(xs + k) - qx;
+      const Floats4 dy = *reinterpret_cast<const Floats4*>(ys + k) - qy;
+      const Floats4 dz = *reinterpret_cast<const Floats4*>(zs + k) - qz;
+      const Floats4 squared = dx * dx + dy * dy + dz * dz;
+      const Ints4 lower = squared < lanes[g];
+      lanes[g] = lower ? squared : lanes[g];
+      at[g] = lower ? position[g] : at[g];
+      position[g] += 8;
+    }
+  }
+  return reduceLanes([&](int j) { return lanes[j / 4][j % 4]; },
+                     [&](int j) { return at[j / 4][j % 4]; });
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define D2VDB_WIDE_NEAREST 1
+typedef float Floats8 __attribute__((vector_size(32), aligned(4), may_alias));
+typedef std::int32_t Ints8 __attribute__((vector_size(32)));
+
+/// nearestInLanes with all eight lanes in one AVX2 register: the same lanes, the same operations
+/// on each, so the same answer to the bit.
+__attribute__((target("avx2"))) LaneMinimum nearestInLanes8(const float* xs, const float* ys,
+                                                            const float* zs, std::size_t count,
+                                                            float qx, float qy, float qz) {
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  Floats8 lanes = Floats8{} + kFar;
+  Ints8 at = Ints8{0, 1, 2, 3, 4, 5, 6, 7};
+  Ints8 position = at;
+  for (std::size_t i = 0; i < count; i += 8) {
+    const Floats8 dx = *reinterpret_cast<const Floats8*>(xs + i) - qx;
+    const Floats8 dy = *reinterpret_cast<const Floats8*>(ys + i) - qy;
+    const Floats8 dz = *reinterpret_cast<const Floats8*>(zs + i) - qz;
+    const Floats8 squared = dx * dx + dy * dy + dz * dz;
+    const Ints8 lower = squared < lanes;
+    lanes = lower ? squared : lanes;
+    at = lower ? position : at;
+    position += 8;
+  }
+  return reduceLanes([&](int j) { return lanes[j]; }, [&](int j) { return at[j]; });
+}
+#endif
+
+LaneMinimum nearestInLanes(const float* xs, const float* ys, const float* zs, std::size_t count,
+                           float qx, float qy, float qz) {
+#ifdef D2VDB_WIDE_NEAREST
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return nearestInLanes8(xs, ys, zs, count, qx, qy, qz);
+#endif
+  return nearestInLanes4(xs, ys, zs, count, qx, qy, qz);
+}
+
 /// Surface seeds grouped by the leaf-node block (8^3 voxels) of the voxel they lie in, for exact
 /// nearest-seed queries near one leaf at a time.
 class SeedBlocks {
@@ -68,59 +156,56 @@ class SeedBlocks {
       const std::size_t count = index_.size();
       if (count == 0) return result;
       const Eigen::Vector3f q = (point - origin_).cast<float>();
-      // The distances (vectorised), their minimum in kLanes independent lanes (the arrays are
-      // padded to a multiple of kLanes with far-away points), then the first seed at it (the
-      // list's order depends only on the leaf).
-      const std::size_t padded = xs_.size();
-      squared_.resize(padded);
-      for (std::size_t i = 0; i < padded; ++i) {
-        const float dx = xs_[i] - q.x();
-        const float dy = ys_[i] - q.y();
-        const float dz = zs_[i] - q.z();
-        squared_[i] = dx * dx + dy * dy + dz * dz;
-      }
-      float lanes[kLanes];
-      for (std::size_t j = 0; j < kLanes; ++j) lanes[j] = squared_[j];
-      for (std::size_t i = kLanes; i < padded; i += kLanes) {
-        for (std::size_t j = 0; j < kLanes; ++j) {
-          lanes[j] = squared_[i + j] < lanes[j] ? squared_[i + j] : lanes[j];
-        }
-      }
-      float best = lanes[0];
-      for (std::size_t j = 1; j < kLanes; ++j) best = lanes[j] < best ? lanes[j] : best;
-      std::size_t first = 0;
-      while (squared_[first] != best) ++first;
-      const std::uint32_t bestIndex = index_[first];
+      // The first position of the smallest distance (nearestInLanes; the arrays are padded to a
+      // multiple of kLanes with far-away points; the list's order depends only on the leaf).
+      const LaneMinimum minimum =
+          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), xs_.size(), q.x(), q.y(), q.z());
+      const float best = minimum.squared;
+      const std::int32_t first = minimum.first;
+      const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
       if (static_cast<double>(best) > radius2_) return result;
       result.index = bestIndex;
       result.distance = std::sqrt(static_cast<double>(best));
       return result;
     }
 
-    /// Keeps the seeds of `from` within the radius of the voxel centres of the sub-block of
-    /// `from`'s leaf with voxel offsets lo..hi (inclusive, 0..7).
-    void restrict(const Near& from, const Eigen::Vector3i& lo, const Eigen::Vector3i& hi,
-                  double voxelSize) {
-      origin_ = from.origin_;
-      radius2_ = from.radius2_;
-      xs_.clear();
-      ys_.clear();
-      zs_.clear();
-      index_.clear();
-      const Eigen::Vector3f low = (lo.cast<double>() * voxelSize).cast<float>();
-      const Eigen::Vector3f high = (hi.cast<double>() * voxelSize).cast<float>();
+    /// Splits these seeds (of one leaf) among its eight 4^3 sub-blocks: parts[b] keeps those
+    /// within the radius of the voxel centres of sub-block b (b = 4 [x >= 4] + 2 [y >= 4] +
+    /// [z >= 4]), in this list's order. One pass over the list.
+    void split(Near (&parts)[8], double voxelSize) const {
+      for (Near& part : parts) {
+        part.origin_ = origin_;
+        part.radius2_ = radius2_;
+        part.xs_.clear();
+        part.ys_.clear();
+        part.zs_.clear();
+        part.index_.clear();
+      }
+      // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
+      const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize); };
+      const float low[2] = {f(0), f(4)};
+      const float high[2] = {f(3), f(7)};
       const double radius = std::sqrt(radius2_) + 1e-3 * voxelSize;
       const auto keep = static_cast<float>(radius * radius);
-      for (std::size_t i = 0; i < from.index_.size(); ++i) {
-        const Eigen::Vector3f p(from.xs_[i], from.ys_[i], from.zs_[i]);
-        const Eigen::Vector3f gap = (low - p).cwiseMax(p - high).cwiseMax(Eigen::Vector3f::Zero());
-        if (gap.squaredNorm() > keep) continue;
-        xs_.push_back(p.x());
-        ys_.push_back(p.y());
-        zs_.push_back(p.z());
-        index_.push_back(from.index_[i]);
+      const auto squaredGap = [&](float p, int half) {
+        const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
+        return gap * gap;
+      };
+      for (std::size_t i = 0; i < index_.size(); ++i) {
+        const float x = xs_[i], y = ys_[i], z = zs_[i];
+        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
+        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
+        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
+        for (int b = 0; b < 8; ++b) {
+          if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keep) continue;
+          Near& part = parts[b];
+          part.xs_.push_back(x);
+          part.ys_.push_back(y);
+          part.zs_.push_back(z);
+          part.index_.push_back(index_[i]);
+        }
       }
-      pad();
+      for (Near& part : parts) part.pad();
     }
 
    private:
@@ -138,7 +223,6 @@ class SeedBlocks {
     double radius2_ = 0.0;
     std::vector<float> xs_, ys_, zs_;
     std::vector<std::uint32_t> index_;
-    mutable std::vector<float> squared_;
   };
 
   SeedBlocks(const std::vector<Eigen::Vector3d>& seeds, double voxelSize) : voxelSize_(voxelSize) {
@@ -172,7 +256,10 @@ class SeedBlocks {
     out.index_.clear();
     const Eigen::Vector3d lo = out.origin_;
     const Eigen::Vector3d hi = out.origin_ + Eigen::Vector3d::Constant(7.0 * voxelSize_);
-    const int reach = static_cast<int>(std::ceil(radius / (8.0 * voxelSize_))) + 1;
+    // A seed is in the block of its nearest voxel, within half a voxel of it: the blocks of
+    // the seeds within `radius` (plus the margin below) of the leaf's voxel centres lie within
+    // `reach` blocks of the leaf's.
+    const int reach = static_cast<int>(std::ceil((radius / voxelSize_ + 0.501) / 8.0));
     const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
     // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
     // nearest-seed test could need.
@@ -230,8 +317,10 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   const double spacing = 0.8 * voxelSize;
   const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
 
-  // Intervals per face edge from the mesh's edge lengths, then doubled until neighbouring seeds
-  // on the surface lie within `spacing`.
+  // Intervals per face edge: a pilot lattice from the mesh's edge lengths (half as dense as
+  // `spacing` asks for flat faces), then, from the largest step between neighbouring lattice
+  // points there, the intervals that bring it within `spacing` (the steps shrink about in
+  // proportion to the intervals), raised further until the steps are within `spacing`.
   std::vector<long> intervals(faceCount);
   tbb::parallel_for(std::size_t{0}, faceCount, [&](std::size_t f) {
     const auto face = static_cast<Index>(f);
@@ -241,7 +330,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
                                  mesh.position(mesh.corner(face, (k + 1) % 3)))
                                     .norm());
     }
-    intervals[f] = std::max(1L, static_cast<long>(std::ceil(1.25 * extent / spacing)));
+    intervals[f] = std::max(1L, static_cast<long>(std::ceil(0.5 * extent / spacing)));
   });
   const auto seedCount = [&]() {
     double count = 0.0;
@@ -267,10 +356,14 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
       points.resize(lattice.size());
       for (std::size_t i = 0; i < lattice.size(); ++i)
         points[i] = surface.position({face, lattice[i]});
-      if (largestLatticeStep(points, intervals[f]) <= spacing) {
+      const double largest = largestLatticeStep(points, intervals[f]);
+      if (largest <= spacing) {
         done[f] = 1;
       } else {
-        intervals[f] *= 2;
+        // Scaled by the excess and 5 % more, by at least one interval.
+        const double scaled =
+            std::ceil(static_cast<double>(intervals[f]) * 1.05 * largest / spacing);
+        intervals[f] = std::max(intervals[f] + 1, static_cast<long>(std::min(scaled, 1e6)));
       }
     });
     if (std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) break;
@@ -292,6 +385,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
   // by block and index, for the seeds near each leaf (SeedBlocks).
   const SeedBlocks blocks(seeds, voxelSize);
+  // The seeds' positions by index (the band takes the vector itself).
+  const std::vector<Eigen::Vector3d> seedPositions = seeds;
 
   FieldBand band =
       FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth);
@@ -302,11 +397,22 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   projectionOptions.extrapolateLastStep = true;
   // Voxels certainly beyond the band are discarded without converging.
   projectionOptions.stopBeyond = halfWidth * voxelSize;
-  // Every surface point lies within `spacing` of a seed (its lattice triangle's corners are at
-  // most that far apart), so a voxel whose nearest seed is further than the half-width plus
-  // `spacing` (plus a fifth of a voxel for the curvature of a lattice triangle and the seeds'
-  // float rounding) cannot be in the band: it is not projected.
-  const double skipBeyond = halfWidth * voxelSize + spacing + 0.2 * voxelSize;
+  // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle
+  // are at most `spacing` apart, every point of a flat triangle whose edges are at most L long is
+  // within L / sqrt(3) of a corner (the circumradius of the equilateral triangle bounds that of
+  // any acute one; an obtuse one's farthest point lies on its longest edge, within L / 2), plus a
+  // fifth of a voxel for the curvature of a lattice triangle and the seeds' float rounding. So a
+  // voxel whose nearest seed is further than the half-width plus seedReach cannot be in the
+  // band: it is not projected.
+  const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
+  const double skipBeyond = halfWidth * voxelSize + seedReach;
+  // A projection stopped beyond the band from the neighbour's footpoint is repeated from the
+  // nearest seed only when that seed may stand for another part of the surface: when it is
+  // nearer than the iterate (so it is not on the iterate's sheet near its local minimum) or
+  // further than this from the iterate's surface point (the nearest seeds of the iterate's own
+  // sheet lie within seedReach of its footpoint, the iterate within a few hundredths of a voxel
+  // of that).
+  const double sameSheet = 1.5 * seedReach;
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
         // Everything below depends only on the current leaf node (8^3 voxels, visited in offset
         // order, all in one call sequence), so the field does not depend on the order of the
@@ -322,7 +428,6 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
               std::vector<PseudoManifold::Projection>(512);
           SeedBlocks::Near near;        // the seeds near the leaf
           SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
-          std::uint32_t subGeneration[8] = {};
         };
         return [&, state = State{}](const openvdb::Coord& ijk,
                                     const Eigen::Vector3d& centre) mutable {
@@ -331,24 +436,17 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             state.leaf = leaf;
             ++state.generation;
             blocks.near(leaf, skipBeyond, state.near);
+            state.near.split(state.subNear, voxelSize);
           }
           const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-          if (state.subGeneration[sub] != state.generation) {
-            state.subGeneration[sub] = state.generation;
-            const Eigen::Vector3i lo(ijk.x() & 4, ijk.y() & 4, ijk.z() & 4);
-            state.subNear[sub].restrict(state.near, lo, lo + Eigen::Vector3i::Constant(3),
-                                        voxelSize);
-          }
           const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
           if (!(nearest.distance <= skipBeyond)) {
             // Outside the band (a lower bound of the distance, which the band discards).
             Approximant outside;
             outside.kind = TargetKind::Surface;
             outside.origin = centre;
-            outside.distance = skipBeyond - spacing - 0.2 * voxelSize;
-            if (std::isfinite(nearest.distance)) {
-              outside.distance = nearest.distance - spacing - 0.2 * voxelSize;
-            }
+            outside.distance = skipBeyond - seedReach;
+            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
             return outside;
           }
           const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
@@ -370,10 +468,13 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             // A surface point (the nearest seed) is nearer than the local minimum found from
             // the neighbour: that minimum is not the closest point (the voxel is near the
             // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there a seed within the band plus the seeds' spacing, which may
-            // stand for a surface point inside the band, is the sign of a nearer part.)
-            if (projection.beyond ? nearest.distance < projectionOptions.stopBeyond + spacing
-                                  : projection.distance > nearest.distance) {
+            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
+            // may stand for a surface point inside the band, is the sign of a nearer part.)
+            const bool elsewhere =
+                projection.distance > nearest.distance ||
+                (projection.beyond &&
+                 (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
+            if (elsewhere) {
               PseudoManifold::Projection fromSeed =
                   surface.project(centre, seedPoints[nearest.index], projectionOptions);
               if (fromSeed.distance < projection.distance) projection = std::move(fromSeed);

@@ -27,7 +27,7 @@ bool ChartAtlas::inChart(const Eigen::Vector3d& bary, int corner) {
 ChartPoint ChartAtlas::toChart(const FacePoint& point, int corner) const {
   const HalfEdgeMesh::Index halfEdge = 3 * point.face + static_cast<HalfEdgeMesh::Index>(corner);
   const HalfEdgeMesh::Index vertex = mesh_->from(halfEdge);
-  const PolarMap map(mesh_->degree(vertex));
+  const PolarMap map = detail::polarMapOf(mesh_->degree(vertex));
   return {vertex,
           map.toChart(detail::canonicalPoint(point.bary, corner), mesh_->ringIndex(halfEdge))};
 }
@@ -37,7 +37,7 @@ FacePoint ChartAtlas::fromChart(const ChartPoint& point) const {
     throw InputError("vertex " + std::to_string(point.vertex) + " has no chart");
   }
   const int n = mesh_->degree(point.vertex);
-  const PolarMap map(n);
+  const PolarMap map = detail::polarMapOf(n);
   if (!point.p.allFinite() || point.p.norm() >= map.chartRadius) {
     throw InputError("the chart point lies outside the chart of vertex " +
                      std::to_string(point.vertex));
@@ -61,8 +61,8 @@ std::optional<Eigen::Vector2d> ChartAtlas::transition(HalfEdgeMesh::Index halfEd
   const HalfEdgeMesh::Index v = mesh_->to(halfEdge);
   const int nu = mesh_->degree(u);
   const int nv = mesh_->degree(v);
-  const PolarMap mapU(nu);
-  const PolarMap mapV(nv);
+  const PolarMap mapU = detail::polarMapOf(nu);
+  const PolarMap mapV = detail::polarMapOf(nv);
   if (!p.allFinite() || p.norm() >= mapU.chartRadius) return std::nullopt;
   // Angle of p relative to the edge u -> v, in (-pi, pi].
   double beta = std::atan2(p.y(), p.x()) - mapU.sector * mesh_->ringIndex(halfEdge);

@@ -34,119 +34,268 @@ namespace {
 
 constexpr int kMaxBidegree = 12;
 
-/// Bernstein basis of fixed degree D at s, with first (Order >= 1) and second (Order >= 2)
-/// derivatives; the loops have known trip counts, so the compiler unrolls them.
-template <int D, int Order>
-inline void fixedBernstein(double s, double* b, double* db, double* ddb) {
-  // B^m_i = C(m, i) s^i (1 - s)^(m - i) for m = D, D - 1, D - 2 from the powers of s and 1 - s:
-  // independent products, no long recurrence.
-  static constexpr auto binomials = [] {
+/// Two doubles in one SIMD register (GCC/Clang vector extension; plain SSE2 on x86-64). May
+/// alias double and needs only a double's alignment, so rows of a double array can be read as
+/// pairs.
+typedef double Pair __attribute__((vector_size(16), aligned(8), may_alias));
+
+/// Number of Pairs per row of a bidegree-d patch: d + 1 values padded to an even count.
+constexpr int pairsPerRow(int d) {
+  return (d + 2) / 2;
+}
+
+/// The binomial coefficients C(N, i), i = 0..N, zero-padded to 2 pairsPerRow(D) entries.
+template <int D, int N>
+struct PairBinomials {
+  static constexpr std::array<double, 2 * pairsPerRow(D)> values = [] {
     std::array<std::array<double, D + 1>, D + 1> c{};
     for (int n = 0; n <= D; ++n) {
       c[n][0] = c[n][n] = 1.0;
       for (int k = 1; k < n; ++k) c[n][k] = c[n - 1][k - 1] + c[n - 1][k];
     }
-    return c;
+    std::array<double, 2 * pairsPerRow(D)> out{};
+    for (int i = 0; i <= N; ++i) out[i] = c[N][i];
+    return out;
   }();
+};
+
+/// The Bernstein basis of degree N <= D at s, B^N_i = C(N, i) s^i (1 - s)^(N - i), as pairs
+/// (B_2k, B_2k+1), zero beyond N. powers[k] = (s^2k, s^2k+1); r = 1 - s, r2 = r^2. Independent
+/// products in registers: no long recurrence, no scalar stores read back as pairs.
+template <int D, int N>
+inline void pairBasis(const Pair* powers, double r, double r2, Pair* out) {
+  constexpr int count = pairsPerRow(D);
+  constexpr int top = N / 2;  // the pair holding B_N
+  constexpr auto& binomials = PairBinomials<D, N>::values;
+  for (int k = count - 1; k > top; --k) out[k] = Pair{0.0, 0.0};
+  // (r^(N - 2k), r^(N - 2k - 1)), with r^-1 read as 0.
+  Pair rPowers = (N % 2 == 0) ? Pair{1.0, 0.0} : Pair{r, 1.0};
+  for (int k = top; k >= 0; --k) {
+    out[k] = Pair{binomials[2 * k], binomials[2 * k + 1]} * powers[k] * rPowers;
+    rPowers = (N % 2 == 0 && k == top) ? Pair{r2, r} : rPowers * r2;
+  }
+}
+
+/// The Bernstein basis of fixed degree D at s with first (Order >= 1) and second (Order >= 2)
+/// derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
+/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i).
+template <int D, int Order>
+inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
+  constexpr int count = pairsPerRow(D);
   const double r = 1.0 - s;
-  double ps[D + 1], pr[D + 1];
-  ps[0] = pr[0] = 1.0;
-  for (int i = 1; i <= D; ++i) {
-    ps[i] = ps[i - 1] * s;
-    pr[i] = pr[i - 1] * r;
-  }
-  for (int i = 0; i <= D; ++i) b[i] = binomials[D][i] * ps[i] * pr[D - i];
+  const double s2 = s * s;
+  const double r2 = r * r;
+  Pair powers[count];
+  powers[0] = Pair{1.0, s};
+  for (int k = 1; k < count; ++k) powers[k] = powers[k - 1] * s2;
+  pairBasis<D, D>(powers, r, r2, b);
   if constexpr (Order >= 1) {
-    // dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i).
-    double lower[D + 1];
-    for (int i = 0; i < D; ++i) lower[i] = binomials[D - 1][i] * ps[i] * pr[D - 1 - i];
-    db[0] = -D * lower[0];
-    for (int i = 1; i < D; ++i) db[i] = D * (lower[i - 1] - lower[i]);
-    db[D] = D * lower[D - 1];
-  }
-  if constexpr (Order >= 2) {
-    double lower[D + 1];
-    for (int i = 0; i < D - 1; ++i) lower[i] = binomials[D - 2][i] * ps[i] * pr[D - 2 - i];
-    constexpr double kScale = D * (D - 1);
-    for (int i = 0; i <= D; ++i) {
-      const double a = i >= 2 ? lower[i - 2] : 0.0;
-      const double m = (i >= 1 && i - 1 <= D - 2) ? lower[i - 1] : 0.0;
-      const double c = i <= D - 2 ? lower[i] : 0.0;
-      ddb[i] = kScale * (a - 2.0 * m + c);
+    Pair lower[count];
+    pairBasis<D, D - 1>(powers, r, r2, lower);
+    Pair previous = Pair{0.0, 0.0};
+    for (int k = 0; k < count; ++k) {
+      const Pair shifted = Pair{previous[1], lower[k][0]};  // (B_2k-1, B_2k)
+      db[k] = static_cast<double>(D) * (shifted - lower[k]);
+      previous = lower[k];
     }
   }
+  if constexpr (Order >= 2) {
+    Pair lower[count];
+    pairBasis<D, D - 2>(powers, r, r2, lower);
+    Pair previous = Pair{0.0, 0.0};
+    for (int k = 0; k < count; ++k) {
+      const Pair shifted = Pair{previous[1], lower[k][0]};
+      ddb[k] = static_cast<double>(D * (D - 1)) * (previous - 2.0 * shifted + lower[k]);
+      previous = lower[k];
+    }
+  }
+}
+
+/// The s-direction stage of fixedPatch: out[.][c] from the rows combined by the t-basis (t0)
+/// and its derivatives (t1, t2), a pair of columns at a time.
+template <int D, int Order>
+inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* t0,
+                        const Pair* t1, const Pair* t2, int c, double out[6][3]) {
+  constexpr int count = pairsPerRow(D);
+  Pair v = bx[0] * t0[0];
+  Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
+  if constexpr (Order >= 1) {
+    gs = dbx[0] * t0[0];
+    gt = bx[0] * t1[0];
+  }
+  if constexpr (Order >= 2) {
+    hss = ddbx[0] * t0[0];
+    hst = dbx[0] * t1[0];
+    htt = bx[0] * t2[0];
+  }
+  for (int j = 1; j < count; ++j) {
+    v += bx[j] * t0[j];
+    if constexpr (Order >= 1) {
+      gs += dbx[j] * t0[j];
+      gt += bx[j] * t1[j];
+    }
+    if constexpr (Order >= 2) {
+      hss += ddbx[j] * t0[j];
+      hst += dbx[j] * t1[j];
+      htt += bx[j] * t2[j];
+    }
+  }
+  out[0][c] = v[0] + v[1];
+  out[1][c] = gs[0] + gs[1];
+  out[2][c] = gt[0] + gt[1];
+  out[3][c] = hss[0] + hss[1];
+  out[4][c] = hst[0] + hst[1];
+  out[5][c] = htt[0] + htt[1];
 }
 
 /// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
 /// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
 /// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
-/// (D + 1)^2 values, rows of equal t-index with the s-index contiguous.
+/// D + 1 rows of equal t-index, each row the D + 1 values of increasing s-index padded to
+/// 2 pairsPerRow(D) doubles (the padding is never read into a result: its basis values are 0).
+/// The rows are combined a pair of columns at a time.
 template <int D, int Order>
 void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
   constexpr int m = D + 1;
-  double bx[m], dbx[m], ddbx[m], by[m], dby[m], ddby[m];
-  fixedBernstein<D, Order>(s, bx, dbx, ddbx);
-  fixedBernstein<D, Order>(t, by, dby, ddby);
+  constexpr int count = pairsPerRow(D);
+  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby);
   for (int c = 0; c < 3; ++c) {
-    const double* block = controls + c * m * m;
-    double t0[m] = {}, t1[m] = {}, t2[m] = {};
-    for (int k = 0; k < m; ++k) {
-      const double* row = block + k * m;
-      for (int j = 0; j < m; ++j) t0[j] += by[k] * row[j];
+    const Pair* block = reinterpret_cast<const Pair*>(controls) + c * m * count;
+    // t0, t1, t2: the rows weighted by the t-basis and its derivatives.
+    Pair t0[count], t1[count], t2[count];
+    for (int j = 0; j < count; ++j) {
+      const Pair row = block[j];
+      t0[j] = by[0][0] * row;
+      if constexpr (Order >= 1) t1[j] = dby[0][0] * row;
+      if constexpr (Order >= 2) t2[j] = ddby[0][0] * row;
+    }
+    for (int k = 1; k < m; ++k) {
+      const Pair* row = block + k * count;
+      const double a = by[k / 2][k % 2];
+      for (int j = 0; j < count; ++j) t0[j] += a * row[j];
       if constexpr (Order >= 1) {
-        for (int j = 0; j < m; ++j) t1[j] += dby[k] * row[j];
+        const double b = dby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t1[j] += b * row[j];
       }
       if constexpr (Order >= 2) {
-        for (int j = 0; j < m; ++j) t2[j] += ddby[k] * row[j];
+        const double e = ddby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t2[j] += e * row[j];
       }
     }
-    double v = 0, gs = 0, gt = 0, hss = 0, hst = 0, htt = 0;
-    for (int j = 0; j < m; ++j) {
-      v += bx[j] * t0[j];
-      if constexpr (Order >= 1) {
-        gs += dbx[j] * t0[j];
-        gt += bx[j] * t1[j];
-      }
-      if constexpr (Order >= 2) {
-        hss += ddbx[j] * t0[j];
-        hst += dbx[j] * t1[j];
-        htt += bx[j] * t2[j];
-      }
-    }
-    out[0][c] = v;
-    out[1][c] = gs;
-    out[2][c] = gt;
-    out[3][c] = hss;
-    out[4][c] = hst;
-    out[5][c] = htt;
+    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
   }
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define D2VDB_WIDE_PATCH 1
+/// Four doubles in one AVX register (may alias double, a double's alignment).
+typedef double Quad __attribute__((vector_size(32), aligned(8), may_alias));
+
+/// fixedPatch with the rows combined four columns at a time (AVX2, for processors that have
+/// it). The same operations on every element in the same order, so the same results to the bit
+/// (no fused multiply-add: the target adds none and ISO C++ mode does not contract).
+template <int D, int Order>
+__attribute__((target("avx2"))) void fixedPatchWide(const double* controls, double s, double t,
+                                                    double out[6][3]) {
+  constexpr int m = D + 1;
+  constexpr int count = pairsPerRow(D);
+  constexpr int quads = count / 2;       // whole quads per row
+  constexpr bool tail = count % 2 != 0;  // and one pair after them
+  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby);
+  for (int c = 0; c < 3; ++c) {
+    const double* block = controls + c * m * 2 * count;
+    Quad q0[quads > 0 ? quads : 1], q1[quads > 0 ? quads : 1], q2[quads > 0 ? quads : 1];
+    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0;
+    for (int k = 0; k < m; ++k) {
+      const Quad* row = reinterpret_cast<const Quad*>(block + k * 2 * count);
+      const Pair* rest = reinterpret_cast<const Pair*>(block + k * 2 * count) + 2 * quads;
+      const double a = by[k / 2][k % 2];
+      const double b = dby[k / 2][k % 2];
+      const double e = ddby[k / 2][k % 2];
+      for (int j = 0; j < quads; ++j) {
+        if (k == 0) {
+          q0[j] = a * row[j];
+          if constexpr (Order >= 1) q1[j] = b * row[j];
+          if constexpr (Order >= 2) q2[j] = e * row[j];
+        } else {
+          q0[j] += a * row[j];
+          if constexpr (Order >= 1) q1[j] += b * row[j];
+          if constexpr (Order >= 2) q2[j] += e * row[j];
+        }
+      }
+      if constexpr (tail) {
+        if (k == 0) {
+          p0 = a * rest[0];
+          if constexpr (Order >= 1) p1 = b * rest[0];
+          if constexpr (Order >= 2) p2 = e * rest[0];
+        } else {
+          p0 += a * rest[0];
+          if constexpr (Order >= 1) p1 += b * rest[0];
+          if constexpr (Order >= 2) p2 += e * rest[0];
+        }
+      }
+    }
+    Pair t0[count], t1[count], t2[count];
+    for (int j = 0; j < quads; ++j) {
+      t0[2 * j] = Pair{q0[j][0], q0[j][1]};
+      t0[2 * j + 1] = Pair{q0[j][2], q0[j][3]};
+      if constexpr (Order >= 1) {
+        t1[2 * j] = Pair{q1[j][0], q1[j][1]};
+        t1[2 * j + 1] = Pair{q1[j][2], q1[j][3]};
+      }
+      if constexpr (Order >= 2) {
+        t2[2 * j] = Pair{q2[j][0], q2[j][1]};
+        t2[2 * j + 1] = Pair{q2[j][2], q2[j][3]};
+      }
+    }
+    if constexpr (tail) {
+      t0[count - 1] = p0;
+      t1[count - 1] = p1;
+      t2[count - 1] = p2;
+    }
+    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+  }
+}
+#endif
+
+template <int D, int Order>
+inline void dispatchPatch(const double* controls, double s, double t, double out[6][3]) {
+#ifdef D2VDB_WIDE_PATCH
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
+#endif
+  fixedPatch<D, Order>(controls, s, t, out);
 }
 
 template <int Order>
 void patch(int d, const double* controls, double s, double t, double out[6][3]) {
   switch (d) {
     case 2:
-      return fixedPatch<2, Order>(controls, s, t, out);
+      return dispatchPatch<2, Order>(controls, s, t, out);
     case 3:
-      return fixedPatch<3, Order>(controls, s, t, out);
+      return dispatchPatch<3, Order>(controls, s, t, out);
     case 4:
-      return fixedPatch<4, Order>(controls, s, t, out);
+      return dispatchPatch<4, Order>(controls, s, t, out);
     case 5:
-      return fixedPatch<5, Order>(controls, s, t, out);
+      return dispatchPatch<5, Order>(controls, s, t, out);
     case 6:
-      return fixedPatch<6, Order>(controls, s, t, out);
+      return dispatchPatch<6, Order>(controls, s, t, out);
     case 7:
-      return fixedPatch<7, Order>(controls, s, t, out);
+      return dispatchPatch<7, Order>(controls, s, t, out);
     case 8:
-      return fixedPatch<8, Order>(controls, s, t, out);
+      return dispatchPatch<8, Order>(controls, s, t, out);
     case 9:
-      return fixedPatch<9, Order>(controls, s, t, out);
+      return dispatchPatch<9, Order>(controls, s, t, out);
     case 10:
-      return fixedPatch<10, Order>(controls, s, t, out);
+      return dispatchPatch<10, Order>(controls, s, t, out);
     case 11:
-      return fixedPatch<11, Order>(controls, s, t, out);
+      return dispatchPatch<11, Order>(controls, s, t, out);
     default:
-      return fixedPatch<12, Order>(controls, s, t, out);
+      return dispatchPatch<12, Order>(controls, s, t, out);
   }
 }
 
@@ -381,7 +530,10 @@ struct PseudoManifold::Evaluator {
 
   /// Derivatives with respect to the chart coordinates of corner `centre` (the point must lie in
   /// that chart).
-  Jet3<Order> chart(const FacePoint& point, int centre) const {
+  /// When `chartPoint` is given it receives the point's coordinates in that chart (as
+  /// ChartAtlas::toChart gives them).
+  Jet3<Order> chart(const FacePoint& point, int centre,
+                    Eigen::Vector2d* chartPoint = nullptr) const {
     const HalfEdgeMesh& mesh = *pps.mesh_;
     Index vertices[3];
     Jet<Order> px[3], py[3];
@@ -391,7 +543,9 @@ struct PseudoManifold::Evaluator {
     const int nc = mesh.degree(vertices[centre]);
     const PolarMap& centreMap = pps.fitFor(nc).map;
     const int kc = mesh.ringIndex(centreHalfEdge);
-    const Eigen::Vector2d p = centreMap.toChart(detail::canonicalPoint(point.bary, centre), kc);
+    const Eigen::Vector2d z = detail::canonicalPoint(point.bary, centre);
+    const Eigen::Vector2d p = centreMap.toChart(z, kc);
+    if (chartPoint != nullptr) *chartPoint = p;
     px[centre] = Jet<Order>::variable(p.x(), 0);
     py[centre] = Jet<Order>::variable(p.y(), 1);
     active[centre] = true;
@@ -407,7 +561,7 @@ struct PseudoManifold::Evaluator {
         // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
         // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
         Jet<Order> zx, zy;
-        centreMap.toCanonical(px[centre], py[centre], kc, zx, zy);
+        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy);
         const Jet<Order> after = (1.0 / kCos30) * zy;
         const Jet<Order> next = zx - 0.5 * after;
         bary[(centre + 1) % 3] = next;
@@ -452,8 +606,10 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   controlOffset_.assign(vertexCount + 1, 0);
   for (Index v = 0; v < vertexCount; ++v) {
     const int n = mesh.degree(v);
-    const std::size_t count =
-        n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * (fits_[n]->bidegree + 1)) : 0;
+    // (bidegree + 1) rows of 2 pairsPerRow(bidegree) doubles (fixedPatch's layout).
+    const std::size_t count = n > 0 ? static_cast<std::size_t>((fits_[n]->bidegree + 1) * 2 *
+                                                               pairsPerRow(fits_[n]->bidegree))
+                                    : 0;
     controlOffset_[v + 1] = controlOffset_[v] + 3 * count;
   }
   const std::size_t bytes = controlOffset_[vertexCount] * sizeof(double);
@@ -516,11 +672,16 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
             // One dot product per coefficient (row-major pseudo-inverse, column samples): no
             // packing of the large matrix for a three-column product.
             fitted.noalias() = fit.pseudoInverse.lazyProduct(samples);
+            // Coefficient k (d + 1) + j (k: t-index, j: s-index) to row k, column j of the
+            // padded layout; the padding stays 0.
             double* out = controls_.data() + controlOffset_[v];
-            const Eigen::Index nn = fitted.rows();
+            const int m = fit.bidegree + 1;
+            const int width = 2 * pairsPerRow(fit.bidegree);
             for (int axis = 0; axis < 3; ++axis) {
-              for (Eigen::Index c = 0; c < nn; ++c) {
-                out[axis * nn + c] = fitted(c, axis) + centre[axis];
+              for (int k = 0; k < m; ++k) {
+                for (int j = 0; j < m; ++j) {
+                  out[(axis * m + k) * width + j] = fitted(k * m + j, axis) + centre[axis];
+                }
               }
             }
           }
@@ -558,11 +719,12 @@ std::vector<Eigen::Vector3d> PseudoManifold::controlPoints(Index vertex) const {
   const int d = bidegree(vertex);
   if (d == 0) return points;
   const int m = d + 1;
+  const int width = 2 * pairsPerRow(d);
   const double* base = controls_.data() + controlOffset_[vertex];
   for (int j = 0; j <= d; ++j) {
     for (int k = 0; k <= d; ++k) {
-      const int i = k * m + j;
-      points.emplace_back(base[i], base[m * m + i], base[2 * m * m + i]);
+      const int i = k * width + j;
+      points.emplace_back(base[i], base[m * width + i], base[2 * m * width + i]);
     }
   }
   return points;
@@ -707,19 +869,20 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, con
   if (start.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(start.face) + " does not exist");
   }
-  return projectFrom(x, start, nullptr, 0, options);
+  return projectFrom(x, start, nullptr, options);
 }
 
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
                                                    const Projection& nearby,
                                                    const SmoothProjectionOptions& options) const {
   if (!x.allFinite()) throw InputError("cannot project a non-finite point");
-  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2) {
+  if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2 ||
+      !nearby.chartPoint.allFinite()) {
     throw InputError("the projection to start from has no face " +
                      std::to_string(nearby.point.face) + " or corner " +
                      std::to_string(nearby.chartCorner));
   }
-  return projectFrom(x, nearby.point, &nearby.derivatives, nearby.chartCorner, options);
+  return projectFrom(x, nearby.point, &nearby, options);
 }
 
 namespace {
@@ -736,8 +899,8 @@ Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
 }  // namespace
 
 PseudoManifold::Projection PseudoManifold::projectFrom(
-    const Eigen::Vector3d& x, const FacePoint& start, const SmoothDerivatives* startDerivatives,
-    int startCorner, const SmoothProjectionOptions& options) const {
+    const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
+    const SmoothProjectionOptions& options) const {
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
@@ -750,17 +913,21 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   bool finalStep = false;  // the last step was predicted to converge: evaluate there and stop
   double lastStep = 0.0;   // length of the last Newton step taken in the quadratic regime, 0: none
   // The derivatives at `current` when already known (the given start), else evaluated.
-  bool known = startDerivatives != nullptr;
+  bool known = nearby != nullptr;
   Jet3<2> jet;
-  int centre = startCorner;
+  int centre = known ? nearby->chartCorner : 0;
+  ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     if (known) {
-      jet = fromDerivatives<2>(*startDerivatives);
+      jet = fromDerivatives<2>(nearby->derivatives);
       known = false;
+      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
+      chartPoint.p = nearby->chartPoint;
     } else {
       centre = nearestCorner(current.bary);
-      jet = evaluator.chart(current, centre);
+      jet = evaluator.chart(current, centre, &chartPoint.p);
+      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
       ++result.iterations;
     }
     if (finalStep) {
@@ -769,7 +936,6 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       result.converged = true;
       break;
     }
-    const ChartPoint chartPoint = atlas_.toChart(current, centre);
     const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
     const Eigen::Vector3d residual = jet.v - x;
     const double value = 0.5 * residual.squaredNorm();
@@ -854,6 +1020,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
             centre = c;
         }
         jet = moved;
+        chartPoint.p = p;
         result.converged = true;
         break;
       }
@@ -885,10 +1052,11 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   }
   if (!result.converged && !result.beyond) {
     centre = nearestCorner(current.bary);
-    jet = evaluator.chart(current, centre);
+    jet = evaluator.chart(current, centre, &chartPoint.p);
     ++result.iterations;
   }
   result.point = current;
+  result.chartPoint = chartPoint.p;
   result.position = jet.v;
   result.distance = (jet.v - x).norm();
   result.derivatives = toDerivatives(jet);

@@ -29,7 +29,8 @@ struct PseudoManifoldOptions {
   /// are used. Range 2..8.
   int samplesPerControl = 2;
   /// Refuse (InputError, before allocating) when the control points would take more bytes than
-  /// this: 3 doubles per control point, (bidegree + 1)^2 per vertex (1536 bytes at bidegree 7).
+  /// this: 3 doubles per control point, (bidegree + 1)^2 per vertex, each row of bidegree + 1
+  /// padded to an even count (1536 bytes at bidegree 7, 1344 at bidegree 6).
   std::size_t maxBytes = std::size_t{8} << 30;
 };
 
@@ -177,6 +178,8 @@ class PseudoManifold {
     /// corner `chartCorner` (0..2), the corner with the largest barycentric coordinate there.
     SmoothDerivatives derivatives;
     int chartCorner = 0;
+    /// `point` in the coordinates of that chart (ChartAtlas::toChart(point, chartCorner)).
+    Eigen::Vector2d chartPoint = Eigen::Vector2d::Zero();
     int iterations = 0;  ///< surface evaluations made (the start's included unless it was given)
     /// The footpoint is a minimum of the distance to within 1e-12 of the chart radius (see
     /// project()), or no step lowered the distance.
@@ -200,7 +203,7 @@ class PseudoManifold {
   /// project() from the footpoint of a projection already made onto this surface (of a nearby
   /// point, typically): the first Newton step is taken from that projection's derivatives, without
   /// evaluating the surface there. Throws InputError for non-finite x or a projection whose face
-  /// or chart corner does not exist.
+  /// or chart corner does not exist (or whose chart point is not finite).
   Projection project(const Eigen::Vector3d& x, const Projection& nearby,
                      const SmoothProjectionOptions& options = {}) const;
   /// Bytes held (control points, tables).
@@ -212,10 +215,9 @@ class PseudoManifold {
   struct Evaluator;
 
   const DegreeFit& fitFor(int degree) const;
-  /// project() from `start`; when `startDerivatives` is given it holds the derivatives at start
-  /// in the chart of start's corner `startCorner`.
-  Projection projectFrom(const Eigen::Vector3d& x, const FacePoint& start,
-                         const SmoothDerivatives* startDerivatives, int startCorner,
+  /// project() from `start`; when `nearby` is given it is a projection that ended at start,
+  /// whose derivatives and chart point (in the chart of its corner chartCorner) are used.
+  Projection projectFrom(const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
                          const SmoothProjectionOptions& options) const;
   /// The least-squares tables of one (degree, bidegree, density), computed once per process and
   /// shared (they do not depend on the mesh).

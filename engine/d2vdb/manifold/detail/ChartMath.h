@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <vector>
 
 #include "d2vdb/manifold/detail/Jet.h"
 
@@ -119,6 +120,45 @@ struct PolarMap {
     zx = r * cosine;
     zy = r * sine;
   }
+
+  /// toCanonical() for chart point jets p in sector k whose canonical point z (the value) is
+  /// already known, without trigonometry: the angle's cosine and sine are z / |z|, its
+  /// derivatives those of the polar angle of p divided by angleScale. The values of zx, zy are
+  /// z itself. p (and z) must not be 0 when Order > 0.
+  template <int Order>
+  void toCanonicalAt(const Jet<Order>& px, const Jet<Order>& py, int k, const Eigen::Vector2d& z,
+                     Jet<Order>& zx, Jet<Order>& zy) const {
+    if (rotation) {
+      // The inverse rotation by 2 pi k / 6.
+      double c, s;
+      sixth(k, c, s);
+      zx = c * px + s * py;
+      zy = c * py - s * px;
+    } else {
+      const Jet<Order> r = (1.0 / radiusScale) * sqrt(px * px + py * py);
+      const Jet<Order> alpha = (1.0 / angleScale) * polarAngle(py, px, 0.0);
+      const double length = z.norm();
+      Jet<Order> sine, cosine;
+      sinCosKnown(alpha, z.y() / length, z.x() / length, sine, cosine);
+      zx = r * cosine;
+      zy = r * sine;
+    }
+    zx.v = z.x();
+    zy.v = z.y();
+  }
 };
+
+/// PolarMap(degree), from a table built once per process for degrees up to 64 (the map's
+/// constructor takes two cosines).
+inline PolarMap polarMapOf(int degree) {
+  constexpr int kTabled = 64;
+  static const std::vector<PolarMap> table = [] {
+    std::vector<PolarMap> maps;
+    for (int n = 3; n <= kTabled; ++n) maps.emplace_back(n);
+    return maps;
+  }();
+  return degree >= 3 && degree <= kTabled ? table[static_cast<std::size_t>(degree - 3)]
+                                          : PolarMap(degree);
+}
 
 }  // namespace d2vdb::detail

@@ -127,12 +127,19 @@ void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
   cosine = a.apply(c, -s, -c);
 }
 
-/// atan2(y, x) with the derivatives of the polar angle (the same on every branch):
-/// d angle = (x dy - y dx) / r^2. The value is the principal one, in (-pi, pi].
+/// sin(a) and cos(a) when their values at a are already known (no trigonometry).
 template <int Order>
-Jet<Order> atan2(const Jet<Order>& y, const Jet<Order>& x) {
+void sinCosKnown(const Jet<Order>& a, double s, double c, Jet<Order>& sine, Jet<Order>& cosine) {
+  sine = a.apply(s, c, -s);
+  cosine = a.apply(c, -s, -c);
+}
+
+/// The polar angle of (x, y) with the given value (any branch) and the angle's derivatives:
+/// d angle = (x dy - y dx) / r^2 (the same on every branch).
+template <int Order>
+Jet<Order> polarAngle(const Jet<Order>& y, const Jet<Order>& x, double value) {
   Jet<Order> r;
-  r.v = std::atan2(y.v, x.v);
+  r.v = value;
   if constexpr (Order >= 1) {
     const double rr = x.v * x.v + y.v * y.v;
     // grad angle with respect to (x, y): (-y, x) / rr; second derivatives:
@@ -155,6 +162,13 @@ Jet<Order> atan2(const Jet<Order>& y, const Jet<Order>& x) {
     }
   }
   return r;
+}
+
+/// atan2(y, x) with the derivatives of the polar angle. The value is the principal one, in
+/// (-pi, pi].
+template <int Order>
+Jet<Order> atan2(const Jet<Order>& y, const Jet<Order>& x) {
+  return polarAngle(y, x, std::atan2(y.v, x.v));
 }
 
 /// A point of R^3 as a function of two variables: value, first and (Order 2) second derivatives.
