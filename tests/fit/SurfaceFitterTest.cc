@@ -302,19 +302,6 @@ TEST(SurfaceFitter, OneAndTwoThreadsGiveIdenticalSurfaces) {
   const SurfaceFitResult two =
       test::withThreads(2, [&] { return fitSurface(initial, target, options); });
   EXPECT_EQ(one.surface.controlPoints(), two.surface.controlPoints());
-  // A 24 x 24 net: 1728 unknowns, over QuadraticModel::kSimplicialUnknowns (the supernodal
-  // Cholesky factorises its systems).
-  SurfaceFitOptions large;
-  large.maxIterations = 3;
-  large.sensorsPerSpan = 3;
-  const BSplineSurface fine = torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.8,
-                                           0.6, SurfaceLayout{3, 3, 24, 24, true, true});
-  const SurfaceFitResult largeOne =
-      test::withThreads(1, [&] { return fitSurface(fine, target, large); });
-  const SurfaceFitResult largeTwo =
-      test::withThreads(2, [&] { return fitSurface(fine, target, large); });
-  EXPECT_EQ(largeOne.iterations(), 3);
-  EXPECT_EQ(largeOne.surface.controlPoints(), largeTwo.surface.controlPoints());
   // Through the chord-length restart (after iteration 8).
   SurfaceFitOptions restart;
   restart.maxIterations = 10;
@@ -333,6 +320,25 @@ TEST(SurfaceFitter, OneAndTwoThreadsGiveIdenticalSurfaces) {
   const SurfaceFitResult cloudTwo =
       test::withThreads(2, [&] { return fitSurfaceToPoints(initial, cloud, options); });
   EXPECT_EQ(cloudOne.surface.controlPoints(), cloudTwo.surface.controlPoints());
+}
+
+// A 24 x 24 net: 1728 unknowns, over QuadraticModel::kSimplicialUnknowns (the supernodal
+// Cholesky factorises its systems). Not in the ThreadSanitizer run (its name does not match
+// tools/tsan.sh's filter): instrumented, the fit takes minutes, and the factorisation it adds is
+// an uninstrumented library's.
+TEST(SurfaceFitter, LargeNetGivesTheSameSurfaceForEveryThreadCount) {
+  const test::ExactTorusTarget target(2.0, 0.5);
+  SurfaceFitOptions large;
+  large.maxIterations = 3;
+  large.sensorsPerSpan = 3;
+  const BSplineSurface fine = torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.8,
+                                           0.6, SurfaceLayout{3, 3, 24, 24, true, true});
+  const SurfaceFitResult largeOne =
+      test::withThreads(1, [&] { return fitSurface(fine, target, large); });
+  const SurfaceFitResult largeTwo =
+      test::withThreads(2, [&] { return fitSurface(fine, target, large); });
+  EXPECT_EQ(largeOne.iterations(), 3);
+  EXPECT_EQ(largeOne.surface.controlPoints(), largeTwo.surface.controlPoints());
 }
 
 TEST(SurfaceFitter, BadInputIsRejected) {
