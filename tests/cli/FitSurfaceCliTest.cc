@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/CliRunner.h"
+#include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/io/SplineJson.h"
 
 namespace {
@@ -51,6 +52,29 @@ TEST_F(FitSurfaceCliTest, TorusLevelSetGivesSurfaceMeshPlotAndReport) {
   const CliResult info = run("info --json " + path("torus.json"));
   ASSERT_EQ(info.exitCode, 0) << info.err;
   EXPECT_EQ(nlohmann::json::parse(info.out)["kind"], "bspline_surface");
+}
+
+TEST_F(FitSurfaceCliTest, TorusFromWrongRadiiRestartsUnlessTold) {
+  // The bundled torus (radii 1 and 0.35) from a torus of radii 0.7 and 0.6: the first steps crowd
+  // the parameters, so the fit re-parametrises by chord length and restarts, which --no-restart
+  // leaves out.
+  const std::string torus = std::string(D2VDB_SOURCE_DIR) + "/volumes/torus.vdb";
+  d2vdb::writeSurfaceJson(
+      scratch_ / "wrong.json",
+      d2vdb::torusSurface(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.7, 0.6,
+                          d2vdb::SurfaceLayout{3, 3, 8, 6, true, true}));
+  const std::string command = "fit-surface --target '" + torus + "' --init " + path("wrong.json") +
+                              " --iterations 12 --out " + path("fit.json") + " --json -q";
+  const CliResult restarted = run(command);
+  ASSERT_EQ(restarted.exitCode, 0) << restarted.err;
+  EXPECT_NE(nlohmann::json::parse(restarted.out)["reason"].get<std::string>().find("chord length"),
+            std::string::npos)
+      << restarted.out;
+  const CliResult once = run(command + " --no-restart");
+  ASSERT_EQ(once.exitCode, 0) << once.err;
+  EXPECT_EQ(nlohmann::json::parse(once.out)["reason"].get<std::string>().find("chord length"),
+            std::string::npos)
+      << once.out;
 }
 
 TEST_F(FitSurfaceCliTest, RuledSurfaceOnAnExactTargetWritesItsRulings) {

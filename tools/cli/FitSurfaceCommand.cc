@@ -167,6 +167,7 @@ struct Arguments {
   int meshSamples = 8;
   int rulingSamples = 4;
   bool plainSdm = false;
+  bool noRestart = false;
   SurfaceFitOptions fit;
 };
 
@@ -345,6 +346,9 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
                 {"surface", "Thin-plate weight (dimensionless; default: automatic, see README)",
                  "Membrane weight (dimensionless)",
                  "SDM without the exact second-order terms (for comparison)"});
+  command->add_flag("--no-restart", args->noRestart,
+                    "Field and surface targets: no re-parametrisation by chord length and restart "
+                    "(for comparison)");
   command->add_flag("--json", options.json, "Print one JSON document on stdout");
 
   registry.add(command, [args, &options]() {
@@ -362,6 +366,7 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
     SurfaceFitOptions fit = args->fit;
     fit.method = method;
     fit.exactSecondOrder = !args->plainSdm;
+    fit.reparametrize = !args->noRestart;
     fit.progress = makeProgressPrinter(options);
     const SurfaceFitResult result = target.kind == "points"
                                         ? fitSurfaceToPoints(initial, target.points, fit)
