@@ -368,10 +368,12 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
   }
   factorized_ = false;
   solverUsed_ = Solver::none;
-  dense_ = unknowns <= kDenseUnknowns &&
-           20.0 * static_cast<double>(system_.nonZeros()) >=
-               static_cast<double>(unknowns) * static_cast<double>(unknowns);
-  if (dense_) {
+  // Small systems whose pattern is dense anyway (closed surfaces with few control points, short
+  // curves) are factorised densely: the simplicial factorisation's fill would make them slow.
+  const bool dense = unknowns <= kDenseUnknowns &&
+                     20.0 * static_cast<double>(system_.nonZeros()) >=
+                         static_cast<double>(unknowns) * static_cast<double>(unknowns);
+  if (dense) {
     // A blocked Cholesky factorisation when the system is positive definite (the common case),
     // else the pivoted LDLT, whose D tells the inertia.
     const Eigen::MatrixXd matrix(system_);

@@ -226,9 +226,6 @@ class QuadraticModel {
   SolveKey factorizedKey_;              ///< the factorised system's
   Eigen::VectorXd factorizedResidual_;  ///< its right-hand side
   bool positiveDefinite_ = true;
-  /// Dense factorisation for small systems whose pattern is dense anyway (closed surfaces with
-  /// few control points, short curves), where the simplicial factorisation's fill makes it slow.
-  bool dense_ = false;
   /// The factorisation that holds the last system.
   enum class Solver { none, denseCholesky, denseLdlt, sparseLdlt, supernodalCholesky };
   Solver solverUsed_ = Solver::none;
