@@ -67,6 +67,7 @@
 #include <utility>
 #include <vector>
 
+#include "BenchStatistics.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
@@ -245,13 +246,7 @@ void BM_FitIterationSpeedup(benchmark::State& state) {
       times[threads - 1].push_back(seconds);
     }
   }
-  const auto median = [](std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-  };
-  state.counters["t1_ms"] = 1e3 * median(times[0]);
-  state.counters["t2_ms"] = 1e3 * median(times[1]);
-  state.counters["speedup"] = median(times[0]) / median(times[1]);
+  d2vdb::bench::setSpeedupCounters(state, times[0], times[1]);
 }
 BENCHMARK(BM_FitIterationSpeedup)
     ->Args({2000, 100})
@@ -433,16 +428,13 @@ void BM_SdmCorrection(benchmark::State& state) {
     withoutSeconds.push_back(second.count());
     state.SetIterationTime(first.count());
   }
-  const auto median = [](std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-  };
   state.counters["it_with"] = with->iterations();
   state.counters["it_without"] = without->iterations();
   state.counters["converged"] =
       with->status == d2vdb::FitStatus::Converged && without->status == d2vdb::FitStatus::Converged
           ? 1.0
           : 0.0;
+  using d2vdb::bench::median;
   state.counters["ms_with"] = 1e3 * median(withSeconds);
   state.counters["ms_without"] = 1e3 * median(withoutSeconds);
   state.counters["time_ratio"] = median(withoutSeconds) / median(withSeconds);
@@ -770,8 +762,7 @@ double secondsPerQuery(const std::vector<Eigen::Vector3d>& points) {
     benchmark::DoNotOptimize(answers.data());
     times.push_back(elapsed.count() / static_cast<double>(points.size()));
   }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
+  return d2vdb::bench::median(times);
 }
 
 /// BM_SurfaceIteration/threads: one SDM I iteration of SurfaceIterationProblem (manual time) and,
@@ -796,15 +787,12 @@ void BM_SurfaceIteration(benchmark::State& state) {
     queryTimes.push_back(queryTime);
     iterationTimes.push_back(cost.seconds);
   }
-  std::sort(ratios.begin(), ratios.end());
-  std::sort(queryTimes.begin(), queryTimes.end());
-  std::sort(iterationTimes.begin(), iterationTimes.end());
   // The median, beside the Time column's mean: one difference of two fits can be far off.
-  state.counters["iteration_ms"] = 1e3 * iterationTimes[iterationTimes.size() / 2];
+  state.counters["iteration_ms"] = 1e3 * d2vdb::bench::median(iterationTimes);
   state.counters["sensors"] = static_cast<double>(cost.sensors.size());
   state.counters["queries"] = cost.queries;
-  state.counters["query_ms"] = 1e3 * queryTimes[queryTimes.size() / 2];
-  state.counters["ratio"] = ratios[ratios.size() / 2];
+  state.counters["query_ms"] = 1e3 * d2vdb::bench::median(queryTimes);
+  state.counters["ratio"] = d2vdb::bench::median(ratios);
 }
 BENCHMARK(BM_SurfaceIteration)
     ->ArgNames({"threads"})
@@ -832,13 +820,7 @@ void BM_SurfaceIterationSpeedup(benchmark::State& state) {
       times[threads - 1].push_back(cost.seconds);
     }
   }
-  const auto median = [](std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-  };
-  state.counters["t1_ms"] = 1e3 * median(times[0]);
-  state.counters["t2_ms"] = 1e3 * median(times[1]);
-  state.counters["speedup"] = median(times[0]) / median(times[1]);
+  d2vdb::bench::setSpeedupCounters(state, times[0], times[1]);
 }
 BENCHMARK(BM_SurfaceIterationSpeedup)->Iterations(3)->Unit(benchmark::kMillisecond);
 

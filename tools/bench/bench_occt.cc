@@ -64,6 +64,7 @@
 #include <string>
 #include <vector>
 
+#include "BenchStatistics.h"
 #include "common/ExactApproximant.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
@@ -397,10 +398,7 @@ void netCounters(benchmark::State& state, const d2vdb::BSplineSurface& surface) 
   state.counters["poles_v"] = surface.countV();
 }
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
+using d2vdb::bench::median;
 
 /// BM_Occt/tol_exp: OCCT's fit alone, one thread.
 void BM_Occt(benchmark::State& state) {

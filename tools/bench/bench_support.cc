@@ -39,6 +39,7 @@
 #include <random>
 #include <vector>
 
+#include "BenchStatistics.h"
 #include "d2vdb/contour/IsoSurface.h"
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/support/PiecewiseLinearSupport.h"
@@ -56,10 +57,7 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
+using d2vdb::bench::median;
 
 using d2vdb::test::randomUnitVectors;
 
@@ -126,9 +124,7 @@ void BM_FitSpeedup(benchmark::State& state) {
     }
     state.SetIterationTime(one.back() + two.back());
   }
-  state.counters["t1_ms"] = 1e3 * median(one);
-  state.counters["t2_ms"] = 1e3 * median(two);
-  state.counters["speedup"] = median(one) / median(two);
+  d2vdb::bench::setSpeedupCounters(state, one, two);
 }
 
 void BM_Evaluate(benchmark::State& state) {
