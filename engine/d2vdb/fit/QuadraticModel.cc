@@ -288,37 +288,69 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
     for (int i = 0; i < groups; ++i) findRanks(i);
   }
 
-  // Scatter in a fixed order (groups in order), so every entry sums the same way.
+  // Scatter: each control point's column of the system and its rows of the right-hand side
+  // gather their contributions in group order (and within a group in the order of its block's
+  // rows), so every entry sums the same way for any thread count. The columns are disjoint
+  // parts of the value array, so they fill in parallel.
   const std::size_t nonZeros = static_cast<std::size_t>(system_.nonZeros());
   const int unknowns = controlPointCount_ * d;
   formValues_.assign(nonZeros, 0.0);
   rankOneValues_.assign(nonZeros, 0.0);
   formRight_ = Eigen::VectorXd::Zero(unknowns);
   rankOneRight_ = Eigen::VectorXd::Zero(unknowns);
+  // (group, local index) of every appearance of each control point, in group order.
+  std::vector<int> appearanceStart(static_cast<std::size_t>(controlPointCount_) + 1, 0);
   for (int i = 0; i < groups; ++i) {
     const SensorMap& basis = *setOf(i).basis;
-    const int order = basis.order();
     const int k = firstSensor(i);
-    const GroupSums& sum = sums[static_cast<std::size_t>(i)];
-    const bool withRankOne = sum.rankOneBlock.size() > 0;
-    for (int a = 0; a < order; ++a) {
-      const int row = basis.index(k, a) * d;
-      formRight_.segment(row, d) += sum.right.segment(a * d, d);
-      if (withRankOne) rankOneRight_.segment(row, d) += sum.rankOneRight.segment(a * d, d);
-      for (int b = 0; b < order; ++b) {
-        const int column = basis.index(k, b);
-        const int rank =
-            ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)];
-        for (int c = 0; c < d; ++c) {
-          for (int r = 0; r < d; ++r) {
-            const std::size_t index = static_cast<std::size_t>(valueIndex(rank, column, r, c));
-            formValues_[index] += sum.block(a * d + r, b * d + c);
-            if (withRankOne) rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
-          }
-        }
+    for (int a = 0; a < basis.order(); ++a) ++appearanceStart[basis.index(k, a) + 1];
+  }
+  for (int j = 0; j < controlPointCount_; ++j) {
+    appearanceStart[static_cast<std::size_t>(j) + 1] +=
+        appearanceStart[static_cast<std::size_t>(j)];
+  }
+  std::vector<std::pair<int, int>> appearances(static_cast<std::size_t>(appearanceStart.back()));
+  {
+    std::vector<int> next(appearanceStart.begin(), appearanceStart.end() - 1);
+    for (int i = 0; i < groups; ++i) {
+      const SensorMap& basis = *setOf(i).basis;
+      const int k = firstSensor(i);
+      for (int a = 0; a < basis.order(); ++a) {
+        appearances[static_cast<std::size_t>(next[static_cast<std::size_t>(basis.index(k, a))]++)] =
+            {i, a};
       }
     }
   }
+  tbb::parallel_for(tbb::blocked_range<int>(0, controlPointCount_, 16),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int column = range.begin(); column != range.end(); ++column) {
+                        const int row = column * d;
+                        for (int e = appearanceStart[static_cast<std::size_t>(column)];
+                             e < appearanceStart[static_cast<std::size_t>(column) + 1]; ++e) {
+                          const auto [i, b] = appearances[static_cast<std::size_t>(e)];
+                          const SensorMap& basis = *setOf(i).basis;
+                          const int order = basis.order();
+                          const GroupSums& sum = sums[static_cast<std::size_t>(i)];
+                          const bool withRankOne = sum.rankOneBlock.size() > 0;
+                          formRight_.segment(row, d) += sum.right.segment(b * d, d);
+                          if (withRankOne)
+                            rankOneRight_.segment(row, d) += sum.rankOneRight.segment(b * d, d);
+                          for (int a = 0; a < order; ++a) {
+                            const int rank = ranks[static_cast<std::size_t>(
+                                rankStart[static_cast<std::size_t>(i)] + a * order + b)];
+                            for (int c = 0; c < d; ++c) {
+                              for (int r = 0; r < d; ++r) {
+                                const std::size_t index =
+                                    static_cast<std::size_t>(valueIndex(rank, column, r, c));
+                                formValues_[index] += sum.block(a * d + r, b * d + c);
+                                if (withRankOne)
+                                  rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
+                              }
+                            }
+                          }
+                        }
+                      }
+                    });
   expansionPoint_ = stacked(controlPoints);
   assembled_ = true;
   factorized_ = false;  // a new system: the last factorisation is not reused
