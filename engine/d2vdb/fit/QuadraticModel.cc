@@ -289,9 +289,9 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
   }
 
   // Scatter: each control point's column of the system and its rows of the right-hand side
-  // gather their contributions in group order (and within a group in the order of its block's
-  // rows), so every entry sums the same way for any thread count. The columns are disjoint
-  // parts of the value array, so they fill in parallel.
+  // gather their contributions in group order (a group adds once to each entry of a valid net),
+  // so every entry sums the same way for any thread count. The columns are disjoint parts of
+  // the value array, so they fill in parallel.
   const std::size_t nonZeros = static_cast<std::size_t>(system_.nonZeros());
   const int unknowns = controlPointCount_ * d;
   formValues_.assign(nonZeros, 0.0);
