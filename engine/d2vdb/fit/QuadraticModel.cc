@@ -353,7 +353,7 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
                     });
   expansionPoint_ = stacked(controlPoints);
   assembled_ = true;
-  factorized_ = false;  // a new system: the last factorisation is not reused
+  for (Factorization& f : factorizations_) f.reset(false);  // a new system: none is reused
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::solveAssembled(double rankOneScale, double damping) {
@@ -370,10 +370,18 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
                                                                         bool indefiniteToo) {
   if (!assembled_) throw RuntimeFailure("the fitting model was solved before it was assembled");
   const SolveKey key{rankOneScale, damping, smoothingScale_, regularizerWeight_};
-  if (factorized_ && key == factorizedKey_) {  // the system of the last solve: reuse it
-    if (!indefiniteToo && !positiveDefinite_) return std::nullopt;
-    return unstacked(solveFactored(factorizedResidual_));
+  for (int slot = 0; slot < 2; ++slot) {
+    const Factorization& kept = factorizations_[static_cast<std::size_t>(slot)];
+    if (kept.valid && kept.key == key) {  // a system already factorised: reuse it
+      current_ = slot;
+      rankOneScale_ = rankOneScale;
+      if (!indefiniteToo && !kept.positiveDefinite) return std::nullopt;
+      return unstacked(kept.solve(kept.residual));
+    }
   }
+  // A new factorisation goes to the slot that does not hold the last solve's.
+  if (factorizations_[static_cast<std::size_t>(current_)].valid) current_ = 1 - current_;
+  Factorization& f = factorizations_[static_cast<std::size_t>(current_)];
   const std::size_t nonZeros = formValues_.size();
   double* const values = system_.valuePtr();
   for (std::size_t e = 0; e < nonZeros; ++e) {
@@ -398,8 +406,8 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
                 regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0, values);
     }
   }
-  factorized_ = false;
-  solverUsed_ = Solver::none;
+  f.valid = false;
+  f.solverUsed = Solver::none;
   // Small systems whose pattern is dense anyway (closed surfaces with few control points, short
   // curves) are factorised densely: the simplicial factorisation's fill would make them slow.
   const bool dense = unknowns <= kDenseUnknowns &&
@@ -409,64 +417,64 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
     // A blocked Cholesky factorisation when the system is positive definite (the common case),
     // else the pivoted LDLT, whose D tells the inertia.
     const Eigen::MatrixXd matrix(system_);
-    denseCholeskySolver_.compute(matrix);
-    if (denseCholeskySolver_.info() == Eigen::Success &&
-        denseCholeskySolver_.matrixLLT().diagonal().allFinite() &&
-        denseCholeskySolver_.matrixLLT().diagonal().minCoeff() > 0.0) {
-      solverUsed_ = Solver::denseCholesky;
+    f.denseCholesky.compute(matrix);
+    if (f.denseCholesky.info() == Eigen::Success &&
+        f.denseCholesky.matrixLLT().diagonal().allFinite() &&
+        f.denseCholesky.matrixLLT().diagonal().minCoeff() > 0.0) {
+      f.solverUsed = Solver::denseCholesky;
     } else {
-      denseSolver_.compute(matrix);
-      if (denseSolver_.info() == Eigen::Success && denseSolver_.vectorD().allFinite()) {
-        solverUsed_ = Solver::denseLdlt;
+      f.denseLdlt.compute(matrix);
+      if (f.denseLdlt.info() == Eigen::Success && f.denseLdlt.vectorD().allFinite()) {
+        f.solverUsed = Solver::denseLdlt;
       }
     }
   } else {
     if (unknowns > kSimplicialUnknowns) {
-      if (!cholesky_) cholesky_ = std::make_unique<detail::SupernodalCholesky>();
-      if (!analyzed_) {
-        cholesky_->analyzePattern(system_);
-        analyzed_ = true;
+      if (!f.cholesky) f.cholesky = std::make_unique<detail::SupernodalCholesky>();
+      if (!f.analyzed) {
+        f.cholesky->analyzePattern(system_);
+        f.analyzed = true;
       }
-      if (cholesky_->factorize(system_)) solverUsed_ = Solver::supernodalCholesky;
+      if (f.cholesky->factorize(system_)) f.solverUsed = Solver::supernodalCholesky;
     }
     // Small, or indefinite: the LDLT, which tells the inertia (not needed to learn only that a
     // large system is indefinite).
-    if (solverUsed_ == Solver::none && (unknowns <= kSimplicialUnknowns || indefiniteToo)) {
-      if (!ldltAnalyzed_) {
-        solver_.analyzePattern(system_);
-        ldltAnalyzed_ = true;
+    if (f.solverUsed == Solver::none && (unknowns <= kSimplicialUnknowns || indefiniteToo)) {
+      if (!f.ldltAnalyzed) {
+        f.ldlt.analyzePattern(system_);
+        f.ldltAnalyzed = true;
       }
-      solver_.factorize(system_);
-      if (solver_.info() == Eigen::Success) solverUsed_ = Solver::sparseLdlt;
+      f.ldlt.factorize(system_);
+      if (f.ldlt.info() == Eigen::Success) f.solverUsed = Solver::sparseLdlt;
     }
   }
-  switch (solverUsed_) {
+  switch (f.solverUsed) {
     case Solver::none:
-      positiveDefinite_ = false;
+      f.positiveDefinite = false;
       break;
     case Solver::denseCholesky:
     case Solver::supernodalCholesky:
-      positiveDefinite_ = true;
+      f.positiveDefinite = true;
       break;
     case Solver::denseLdlt:
-      positiveDefinite_ =
-          denseSolver_.vectorD().size() == 0 || denseSolver_.vectorD().minCoeff() > 0.0;
+      f.positiveDefinite =
+          f.denseLdlt.vectorD().size() == 0 || f.denseLdlt.vectorD().minCoeff() > 0.0;
       break;
     case Solver::sparseLdlt:
-      positiveDefinite_ = solver_.vectorD().size() == 0 || solver_.vectorD().minCoeff() > 0.0;
+      f.positiveDefinite = f.ldlt.vectorD().size() == 0 || f.ldlt.vectorD().minCoeff() > 0.0;
       break;
   }
-  if (!indefiniteToo && !positiveDefinite_) return std::nullopt;
-  if (solverUsed_ == Solver::none) {
+  if (!indefiniteToo && !f.positiveDefinite) return std::nullopt;
+  if (f.solverUsed == Solver::none) {
     throw RuntimeFailure(
         "the fitting system could not be factorised (non-finite or indefinite "
         "quadratic forms)");
   }
-  factorized_ = true;
-  factorizedKey_ = key;
-  factorizedResidual_ = residual;
-  const Eigen::VectorXd step = solveFactored(residual);
-  if ((solverUsed_ == Solver::sparseLdlt && solver_.info() != Eigen::Success) ||
+  f.valid = true;
+  f.key = key;
+  f.residual = residual;
+  const Eigen::VectorXd step = f.solve(residual);
+  if ((f.solverUsed == Solver::sparseLdlt && f.ldlt.info() != Eigen::Success) ||
       !step.allFinite()) {
     throw RuntimeFailure("the fitting system could not be solved (non-finite step)");
   }
@@ -492,7 +500,8 @@ double QuadraticModel::predictedDecrease(const std::vector<Eigen::Vector3d>& ste
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::scaledSmoothingShift() const {
-  if (!factorized_ || scaledSmoothing_.nonZeros() == 0 || !assembled_) {
+  const Factorization& f = factorizations_[static_cast<std::size_t>(current_)];
+  if (!f.valid || scaledSmoothing_.nonZeros() == 0 || !assembled_) {
     return std::vector<Eigen::Vector3d>(static_cast<std::size_t>(controlPointCount_),
                                         Eigen::Vector3d::Zero());
   }
@@ -504,23 +513,32 @@ std::vector<Eigen::Vector3d> QuadraticModel::scaledSmoothingShift() const {
     const Eigen::VectorXd product = smoothingScale_ * (scaledSmoothing_ * coordinate);
     for (int i = 0; i < controlPointCount_; ++i) right[i * d + a] = product[i];
   }
-  return unstacked(solveFactored(right));
+  return unstacked(f.solve(right));
 }
 
-Eigen::VectorXd QuadraticModel::solveFactored(const Eigen::VectorXd& right) const {
-  switch (solverUsed_) {
+Eigen::VectorXd QuadraticModel::Factorization::solve(const Eigen::VectorXd& right) const {
+  switch (solverUsed) {
     case Solver::denseCholesky:
-      return denseCholeskySolver_.solve(right);
+      return denseCholesky.solve(right);
     case Solver::denseLdlt:
-      return denseSolver_.solve(right);
+      return denseLdlt.solve(right);
     case Solver::supernodalCholesky:
-      return cholesky_->solve(right);
+      return cholesky->solve(right);
     case Solver::sparseLdlt:
-      return solver_.solve(right);
+      return ldlt.solve(right);
     case Solver::none:
       break;
   }
   throw RuntimeFailure("the fitting system was solved before it was factorised");
+}
+
+void QuadraticModel::Factorization::reset(bool pattern) {
+  valid = false;
+  solverUsed = Solver::none;
+  if (pattern) {
+    analyzed = false;
+    ldltAnalyzed = false;
+  }
 }
 
 Eigen::VectorXd QuadraticModel::stacked(const std::vector<Eigen::Vector3d>& controlPoints) const {
@@ -598,10 +616,7 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
   for (int j = 0; j < n; ++j) {
     for (int a = 0; a < d; ++a) diagonalIndices_.push_back(valueIndex(patternRank(j, j), j, a, a));
   }
-  analyzed_ = false;
-  ldltAnalyzed_ = false;
-  factorized_ = false;
-  solverUsed_ = Solver::none;
+  for (Factorization& f : factorizations_) f.reset(true);
 }
 
 std::vector<int> QuadraticModel::valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const {

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Sparse>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -153,7 +154,9 @@ class QuadraticModel {
   double smoothingEnergy(const std::vector<Eigen::Vector3d>& controlPoints) const;
 
   /// Whether the last solve's system was positive definite (all LDL^T pivots positive).
-  bool lastSolvePositiveDefinite() const { return positiveDefinite_; }
+  bool lastSolvePositiveDefinite() const {
+    return factorizations_[static_cast<std::size_t>(current_)].positiveDefinite;
+  }
 
   int dimension() const { return dimension_; }
 
@@ -209,9 +212,6 @@ class QuadraticModel {
   Eigen::VectorXd rankOneRight_;
   Eigen::VectorXd expansionPoint_;
   double rankOneScale_ = 1.0;
-  bool analyzed_ = false;      ///< the supernodal factorisation has the current pattern
-  bool ldltAnalyzed_ = false;  ///< the LDLT factorisation has the current pattern
-  bool factorized_ = false;    ///< the last solve's system is factorised (positive definite or not)
   /// What decides the system of a solve of the current assembly.
   struct SolveKey {
     double rankOneScale = 0.0;
@@ -223,18 +223,29 @@ class QuadraticModel {
              smoothingScale == other.smoothingScale && regularizerWeight == other.regularizerWeight;
     }
   };
-  SolveKey factorizedKey_;              ///< the factorised system's
-  Eigen::VectorXd factorizedResidual_;  ///< its right-hand side
-  bool positiveDefinite_ = true;
-  /// The factorisation that holds the last system.
   enum class Solver { none, denseCholesky, denseLdlt, sparseLdlt, supernodalCholesky };
-  Solver solverUsed_ = Solver::none;
-  std::unique_ptr<detail::SupernodalCholesky> cholesky_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
-  Eigen::LLT<Eigen::MatrixXd> denseCholeskySolver_;
-  Eigen::LDLT<Eigen::MatrixXd> denseSolver_;
-  /// The last factorisation's solution for `right`.
-  Eigen::VectorXd solveFactored(const Eigen::VectorXd& right) const;
+  /// One factorised system of the current assembly.
+  struct Factorization {
+    SolveKey key;
+    Eigen::VectorXd residual;  ///< its right-hand side
+    bool valid = false;        ///< holds the factorisation of `key`'s system
+    bool positiveDefinite = true;
+    Solver solverUsed = Solver::none;
+    bool analyzed = false;      ///< the supernodal factorisation has the current pattern
+    bool ldltAnalyzed = false;  ///< the LDLT factorisation has the current pattern
+    std::unique_ptr<detail::SupernodalCholesky> cholesky;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+    Eigen::LLT<Eigen::MatrixXd> denseCholesky;
+    Eigen::LDLT<Eigen::MatrixXd> denseLdlt;
+    /// x with A x = right for this factorisation's system A.
+    Eigen::VectorXd solve(const Eigen::VectorXd& right) const;
+    /// Forgets the factorisation and, with `pattern`, the analysis of the pattern.
+    void reset(bool pattern);
+  };
+  /// The last two factorisations: a system that turns out indefinite (a refused second-order
+  /// step) does not evict the one before it, which the fallback step then reuses.
+  std::array<Factorization, 2> factorizations_;
+  int current_ = 0;  ///< the slot of the last solve
 };
 
 }  // namespace d2vdb
