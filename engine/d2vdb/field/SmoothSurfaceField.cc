@@ -426,84 +426,104 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
           std::vector<PseudoManifold::Projection> projections =
               std::vector<PseudoManifold::Projection>(512);
+          // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from,
+          // 0 for a start from a seed.
+          std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
           SeedBlocks::Near near;        // the seeds near the leaf
           SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
         };
-        return [&, state = State{}](const openvdb::Coord& ijk,
-                                    const Eigen::Vector3d& centre) mutable {
-          const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
-          if (leaf != state.leaf) {
-            state.leaf = leaf;
-            ++state.generation;
-            blocks.near(leaf, skipBeyond, state.near);
-            state.near.split(state.subNear, voxelSize);
-          }
-          const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-          const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
-          if (!(nearest.distance <= skipBeyond)) {
-            // Outside the band (a lower bound of the distance, which the band discards).
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = skipBeyond - seedReach;
-            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
-            return outside;
-          }
-          const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
-          const auto projected = [&](int neighbour) {
-            return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
-          };
-          int neighbour = -1;
-          if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
-            neighbour = offset - 1;
-          } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
-            neighbour = offset - 8;
-          } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
-            neighbour = offset - 64;
-          }
-          PseudoManifold::Projection projection;
-          if (neighbour >= 0) {
-            projection = surface.project(
-                centre, state.projections[static_cast<std::size_t>(neighbour)], projectionOptions);
-            // A surface point (the nearest seed) is nearer than the local minimum found from
-            // the neighbour: that minimum is not the closest point (the voxel is near the
-            // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
-            // may stand for a surface point inside the band, is the sign of a nearer part.)
-            const bool elsewhere =
-                projection.distance > nearest.distance ||
-                (projection.beyond &&
-                 (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
-            if (elsewhere) {
-              PseudoManifold::Projection fromSeed =
-                  surface.project(centre, seedPoints[nearest.index], projectionOptions);
-              if (fromSeed.distance < projection.distance) projection = std::move(fromSeed);
-            }
-          } else {
-            projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
-          }
-          const auto at = static_cast<std::size_t>(offset);
-          if (projection.beyond) {
-            // Outside the band (its distance is above the half-width; the band discards it).
-            // Its last iterate still starts its neighbours' projections.
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = projection.distance;
-            state.projections[at] = std::move(projection);
-            state.stamp[at] = state.generation;
-            return outside;
-          }
-          Approximant a = SmoothSurface::approximantOf(centre, projection);
-          state.projections[at] = std::move(projection);
-          state.stamp[at] = state.generation;
-          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-            a.k1 = std::clamp(a.k1, -clamp, clamp);
-            a.k2 = std::clamp(a.k2, -clamp, clamp);
-            a.flags |= kFlagCurvatureClamped;
-          }
-          return a;
-        };
+        return
+            [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
+              const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+              if (leaf != state.leaf) {
+                state.leaf = leaf;
+                ++state.generation;
+                blocks.near(leaf, skipBeyond, state.near);
+                state.near.split(state.subNear, voxelSize);
+              }
+              const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+              const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+              if (!(nearest.distance <= skipBeyond)) {
+                // Outside the band (a lower bound of the distance, which the band discards).
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = skipBeyond - seedReach;
+                if (std::isfinite(nearest.distance))
+                  outside.distance = nearest.distance - seedReach;
+                return outside;
+              }
+              const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+              const auto projected = [&](int neighbour) {
+                return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
+              };
+              int neighbour = -1;
+              std::uint8_t axis = 0;
+              if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
+                neighbour = offset - 1;
+                axis = 1;
+              } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
+                neighbour = offset - 8;
+                axis = 2;
+              } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
+                neighbour = offset - 64;
+                axis = 3;
+              }
+              PseudoManifold::Projection projection;
+              if (neighbour >= 0) {
+                // Second-order start: when the neighbour was itself projected from its neighbour
+                // along the same axis (the same displacement), the first Newton step here misses
+                // the footpoint by nearly what the neighbour's missed it by.
+                const auto from = static_cast<std::size_t>(neighbour);
+                SmoothProjectionOptions options = projectionOptions;
+                if (state.startAxis[from] == axis) {
+                  options.firstStepCorrection = state.projections[from].firstStepMiss;
+                }
+                projection = surface.project(centre, state.projections[from], options);
+                // A surface point (the nearest seed) is nearer than the local minimum found from
+                // the neighbour: that minimum is not the closest point (the voxel is near the
+                // medial axis); start from the seed instead. (A projection stopped beyond the band
+                // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
+                // may stand for a surface point inside the band, is the sign of a nearer part.)
+                const bool elsewhere =
+                    projection.distance > nearest.distance ||
+                    (projection.beyond &&
+                     (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
+                if (elsewhere) {
+                  PseudoManifold::Projection fromSeed =
+                      surface.project(centre, seedPoints[nearest.index], projectionOptions);
+                  if (fromSeed.distance < projection.distance) {
+                    projection = std::move(fromSeed);
+                    axis = 0;
+                  }
+                }
+              } else {
+                projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
+              }
+              const auto at = static_cast<std::size_t>(offset);
+              if (projection.beyond) {
+                // Outside the band (its distance is above the half-width; the band discards it).
+                // Its last iterate still starts its neighbours' projections.
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = projection.distance;
+                state.projections[at] = std::move(projection);
+                state.startAxis[at] = axis;
+                state.stamp[at] = state.generation;
+                return outside;
+              }
+              Approximant a = SmoothSurface::approximantOf(centre, projection);
+              state.projections[at] = std::move(projection);
+              state.startAxis[at] = axis;
+              state.stamp[at] = state.generation;
+              if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
+                a.k1 = std::clamp(a.k1, -clamp, clamp);
+                a.k2 = std::clamp(a.k2, -clamp, clamp);
+                a.flags |= kFlagCurvatureClamped;
+              }
+              return a;
+            };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")
       .setLabel("smooth surface (" + surface.sourceName() + ") of " + std::to_string(faceCount) +

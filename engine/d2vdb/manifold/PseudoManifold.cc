@@ -917,6 +917,10 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   Jet3<2> jet;
   int centre = known ? nearby->chartCorner : 0;
   ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
+  // Where the first Newton step from `nearby` ended (for Projection::firstStepMiss).
+  std::optional<ChartPoint> firstEnd;
+  // The first step included options.firstStepCorrection.
+  bool corrected = false;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     if (known) {
@@ -941,6 +945,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     const double value = 0.5 * residual.squaredNorm();
     if (checkLast && value > previousValue) {
       // The last (unchecked) Newton step went uphill: go back and search carefully from there.
+      firstEnd.reset();
       careful = true;
       checkLast = false;
       lastStep = 0.0;
@@ -970,7 +975,8 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     }
     // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
     const double maxStep = 0.5 * radius;
-    if (step.norm() > maxStep) step *= maxStep / step.norm();
+    const bool clipped = step.norm() > maxStep;
+    if (clipped) step *= maxStep / step.norm();
     const double length = step.norm();
     if (length <= 1e-12 * radius) {
       result.converged = true;  // `current` and its jet are the answer
@@ -986,6 +992,20 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         break;
       }
     }
+    // The first step from a nearby projection: a Newton step that is not tiny takes the
+    // caller's second-order correction (in the same chart); such a step is checked by the next
+    // iterate's distance like any other, and being no plain Newton step it neither counts as
+    // tiny nor feeds the prediction of quadratic convergence.
+    const bool fromNearby = iteration == 0 && nearby != nullptr;
+    if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
+      firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
+    }
+    if (fromNearby && definite && length >= 1e-4 * radius && options.firstStepCorrection &&
+        options.firstStepCorrection->vertex == chartPoint.vertex) {
+      step += options.firstStepCorrection->p;
+      if (step.norm() > maxStep) step *= maxStep / step.norm();
+      corrected = true;
+    }
     const auto target = [&](const Eigen::Vector2d& move) {
       Eigen::Vector2d p = chartPoint.p + move;
       if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
@@ -998,7 +1018,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     // radius, this step is the last: the answer is where it ends. Until a step has gone uphill,
     // Newton steps up to a tenth of the radius are taken too, checked by the next iteration's
     // distance. Other steps are halved until the distance falls.
-    const bool tiny = definite && length < 1e-4 * radius;
+    const bool tiny = definite && !corrected && length < 1e-4 * radius;
     if (tiny) {
       const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
                                               : 10.0 * length * length / radius;
@@ -1028,7 +1048,8 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       continue;
     }
     if (!careful && definite) {
-      lastStep = length;
+      lastStep = corrected ? 0.0 : length;
+      corrected = false;
       checkLast = true;
       current = target(step);
       continue;
@@ -1054,6 +1075,9 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     centre = nearestCorner(current.bary);
     jet = evaluator.chart(current, centre, &chartPoint.p);
     ++result.iterations;
+  }
+  if (result.converged && firstEnd && firstEnd->vertex == chartPoint.vertex) {
+    result.firstStepMiss = ChartPoint{chartPoint.vertex, chartPoint.p - firstEnd->p};
   }
   result.point = current;
   result.chartPoint = chartPoint.p;
