@@ -199,7 +199,8 @@ class PseudoManifold {
     /// project()), or no step lowered the distance.
     bool converged = false;
     /// Stopped early: the distance is certainly above SmoothProjectionOptions::stopBeyond (the
-    /// footpoint and geometry are those of the last iterate).
+    /// footpoint, position and derivatives are those of the last iterate; `geometry` then holds
+    /// only the position, its other members keep their defaults).
     bool beyond = false;
   };
   /// Local projection of `x` onto the surface from `start` (a local minimum of the distance near
