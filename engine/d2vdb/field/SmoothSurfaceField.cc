@@ -169,45 +169,6 @@ class SeedBlocks {
       return result;
     }
 
-    /// Splits these seeds (of one leaf) among its eight 4^3 sub-blocks: parts[b] keeps those
-    /// within the radius of the voxel centres of sub-block b (b = 4 [x >= 4] + 2 [y >= 4] +
-    /// [z >= 4]), in this list's order. One pass over the list.
-    void split(Near (&parts)[8], double voxelSize) const {
-      for (Near& part : parts) {
-        part.origin_ = origin_;
-        part.radius2_ = radius2_;
-        part.xs_.clear();
-        part.ys_.clear();
-        part.zs_.clear();
-        part.index_.clear();
-      }
-      // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
-      const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize); };
-      const float low[2] = {f(0), f(4)};
-      const float high[2] = {f(3), f(7)};
-      const double radius = std::sqrt(radius2_) + 1e-3 * voxelSize;
-      const auto keep = static_cast<float>(radius * radius);
-      const auto squaredGap = [&](float p, int half) {
-        const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
-        return gap * gap;
-      };
-      for (std::size_t i = 0; i < index_.size(); ++i) {
-        const float x = xs_[i], y = ys_[i], z = zs_[i];
-        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
-        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
-        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
-        for (int b = 0; b < 8; ++b) {
-          if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keep) continue;
-          Near& part = parts[b];
-          part.xs_.push_back(x);
-          part.ys_.push_back(y);
-          part.zs_.push_back(z);
-          part.index_.push_back(index_[i]);
-        }
-      }
-      for (Near& part : parts) part.pad();
-    }
-
    private:
     friend class SeedBlocks;
     /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
@@ -245,17 +206,25 @@ class SeedBlocks {
     }
   }
 
-  /// Fills `out` with the seeds within `radius` of the voxel centres of the leaf at `origin`
-  /// (a multiple of 8 in every coordinate).
-  void near(const openvdb::Coord& origin, double radius, Near& out) const {
-    out.origin_ = Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
-    out.radius2_ = radius * radius;
-    out.xs_.clear();
-    out.ys_.clear();
-    out.zs_.clear();
-    out.index_.clear();
-    const Eigen::Vector3d lo = out.origin_;
-    const Eigen::Vector3d hi = out.origin_ + Eigen::Vector3d::Constant(7.0 * voxelSize_);
+  /// Fills parts[b] with the seeds within `radius` of the voxel centres of sub-block b of the
+  /// leaf at `origin` (a multiple of 8 in every coordinate): its eight 4^3 sub-blocks, b = 4
+  /// [x >= 4] + 2 [y >= 4] + [z >= 4], each list in the order of the blocks (dx, dy, dz) and
+  /// of the seeds' indices in them. One pass over the seeds of the blocks that can hold them: a
+  /// test against the leaf's box (doubles), then against each sub-block's (float offsets from
+  /// the leaf's first voxel centre, the parts' coordinates).
+  void near(const openvdb::Coord& origin, double radius, Near (&parts)[8]) const {
+    const Eigen::Vector3d leafOrigin =
+        Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
+    for (Near& part : parts) {
+      part.origin_ = leafOrigin;
+      part.radius2_ = radius * radius;
+      part.xs_.clear();
+      part.ys_.clear();
+      part.zs_.clear();
+      part.index_.clear();
+    }
+    const Eigen::Vector3d lo = leafOrigin;
+    const Eigen::Vector3d hi = leafOrigin + Eigen::Vector3d::Constant(7.0 * voxelSize_);
     // A seed is in the block of its nearest voxel, within half a voxel of it: the blocks of
     // the seeds within `radius` (plus the margin below) of the leaf's voxel centres lie within
     // `reach` blocks of the leaf's.
@@ -263,7 +232,19 @@ class SeedBlocks {
     const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
     // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
     // nearest-seed test could need.
-    const double keep = (radius + 1e-3 * voxelSize_) * (radius + 1e-3 * voxelSize_);
+    const double margin = radius + 1e-3 * voxelSize_;
+    const double keep = margin * margin;
+    // (The sub-blocks' bound from the squared radius, as the parts store it.)
+    const double partMargin = std::sqrt(radius * radius) + 1e-3 * voxelSize_;
+    const auto keepFloat = static_cast<float>(partMargin * partMargin);
+    // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
+    const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize_); };
+    const float low[2] = {f(0), f(4)};
+    const float high[2] = {f(3), f(7)};
+    const auto squaredGap = [&](float p, int half) {
+      const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
+      return gap * gap;
+    };
     for (int dx = -reach; dx <= reach; ++dx) {
       for (int dy = -reach; dy <= reach; ++dy) {
         for (int dz = -reach; dz <= reach; ++dz) {
@@ -273,16 +254,24 @@ class SeedBlocks {
             const Eigen::Vector3d& p = positions_[i];
             const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
             if (gap.squaredNorm() > keep) continue;
-            const Eigen::Vector3f offset = (p - out.origin_).cast<float>();
-            out.xs_.push_back(offset.x());
-            out.ys_.push_back(offset.y());
-            out.zs_.push_back(offset.z());
-            out.index_.push_back(order_[i]);
+            const Eigen::Vector3f offset = (p - leafOrigin).cast<float>();
+            const float x = offset.x(), y = offset.y(), z = offset.z();
+            const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
+            const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
+            const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
+            for (int b = 0; b < 8; ++b) {
+              if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keepFloat) continue;
+              Near& part = parts[b];
+              part.xs_.push_back(x);
+              part.ys_.push_back(y);
+              part.zs_.push_back(z);
+              part.index_.push_back(order_[i]);
+            }
           }
         }
       }
     }
-    out.pad();
+    for (Near& part : parts) part.pad();
   }
 
  private:
@@ -429,8 +418,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from,
           // 0 for a start from a seed.
           std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
-          SeedBlocks::Near near;        // the seeds near the leaf
-          SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
+          SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
         };
         return
             [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
@@ -438,8 +426,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
               if (leaf != state.leaf) {
                 state.leaf = leaf;
                 ++state.generation;
-                blocks.near(leaf, skipBeyond, state.near);
-                state.near.split(state.subNear, voxelSize);
+                blocks.near(leaf, skipBeyond, state.subNear);
               }
               const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
               const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
