@@ -153,13 +153,12 @@ class SeedBlocks {
     /// within the radius; infinite distance when there is none that near.
     Nearest nearest(const Eigen::Vector3d& point) const {
       Nearest result;
-      const std::size_t count = index_.size();
-      if (count == 0) return result;
+      if (count_ == 0) return result;
       const Eigen::Vector3f q = (point - origin_).cast<float>();
       // The first position of the smallest distance (nearestInLanes; the arrays are padded to a
       // multiple of kLanes with far-away points; the list's order depends only on the leaf).
       const LaneMinimum minimum =
-          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), xs_.size(), q.x(), q.y(), q.z());
+          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), padded(), q.x(), q.y(), q.z());
       const float best = minimum.squared;
       const std::int32_t first = minimum.first;
       const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
@@ -171,17 +170,33 @@ class SeedBlocks {
 
    private:
     friend class SeedBlocks;
-    /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
-    void pad() {
-      while (xs_.size() % kLanes != 0) {
-        xs_.push_back(std::numeric_limits<float>::max());
-        ys_.push_back(0.0f);
-        zs_.push_back(0.0f);
+    static constexpr std::size_t kLanes = 8;
+    /// The count rounded up to whole lanes.
+    std::size_t padded() const { return (count_ + kLanes - 1) / kLanes * kLanes; }
+    /// Empties the list and makes room for `seeds` seeds and the padding (the arrays only grow,
+    /// so a worker's lists stop allocating after its first leaves).
+    void reset(std::size_t seeds) {
+      count_ = 0;
+      if (xs_.size() < seeds + kLanes) {
+        const std::size_t size = 2 * (seeds + kLanes);
+        xs_.resize(size);
+        ys_.resize(size);
+        zs_.resize(size);
+        index_.resize(size);
       }
     }
-    static constexpr std::size_t kLanes = 8;
+    /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
+    void pad() {
+      for (std::size_t i = count_; i < padded(); ++i) {
+        xs_[i] = std::numeric_limits<float>::max();
+        ys_[i] = 0.0f;
+        zs_[i] = 0.0f;
+        index_[i] = 0;
+      }
+    }
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     double radius2_ = 0.0;
+    std::size_t count_ = 0;  ///< seeds in the list (the arrays are longer)
     std::vector<float> xs_, ys_, zs_;
     std::vector<std::uint32_t> index_;
   };
@@ -215,21 +230,30 @@ class SeedBlocks {
   void near(const openvdb::Coord& origin, double radius, Near (&parts)[8]) const {
     const Eigen::Vector3d leafOrigin =
         Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
-    for (Near& part : parts) {
-      part.origin_ = leafOrigin;
-      part.radius2_ = radius * radius;
-      part.xs_.clear();
-      part.ys_.clear();
-      part.zs_.clear();
-      part.index_.clear();
-    }
-    const Eigen::Vector3d lo = leafOrigin;
-    const Eigen::Vector3d hi = leafOrigin + Eigen::Vector3d::Constant(7.0 * voxelSize_);
+    const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
     // A seed is in the block of its nearest voxel, within half a voxel of it: the blocks of
     // the seeds within `radius` (plus the margin below) of the leaf's voxel centres lie within
     // `reach` blocks of the leaf's.
     const int reach = static_cast<int>(std::ceil((radius / voxelSize_ + 0.501) / 8.0));
-    const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    std::size_t seeds = 0;
+    for (int dx = -reach; dx <= reach; ++dx) {
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dz = -reach; dz <= reach; ++dz) {
+          const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
+          if (found == ranges_.end()) continue;
+          ranges.push_back(found->second);
+          seeds += found->second.second - found->second.first;
+        }
+      }
+    }
+    for (Near& part : parts) {
+      part.origin_ = leafOrigin;
+      part.radius2_ = radius * radius;
+      part.reset(seeds);
+    }
+    const Eigen::Vector3d lo = leafOrigin;
+    const Eigen::Vector3d hi = leafOrigin + Eigen::Vector3d::Constant(7.0 * voxelSize_);
     // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
     // nearest-seed test could need.
     const double margin = radius + 1e-3 * voxelSize_;
@@ -245,32 +269,31 @@ class SeedBlocks {
       const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
       return gap * gap;
     };
-    for (int dx = -reach; dx <= reach; ++dx) {
-      for (int dy = -reach; dy <= reach; ++dy) {
-        for (int dz = -reach; dz <= reach; ++dz) {
-          const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
-          if (found == ranges_.end()) continue;
-          for (std::size_t i = found->second.first; i < found->second.second; ++i) {
-            const Eigen::Vector3d& p = positions_[i];
-            const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
-            if (gap.squaredNorm() > keep) continue;
-            const Eigen::Vector3f offset = (p - leafOrigin).cast<float>();
-            const float x = offset.x(), y = offset.y(), z = offset.z();
-            const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
-            const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
-            const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
-            for (int b = 0; b < 8; ++b) {
-              if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keepFloat) continue;
-              Near& part = parts[b];
-              part.xs_.push_back(x);
-              part.ys_.push_back(y);
-              part.zs_.push_back(z);
-              part.index_.push_back(order_[i]);
-            }
-          }
+    // Each seed is written to every part and counted in those it belongs to (no branch).
+    std::size_t counts[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (const auto& [first, last] : ranges) {
+      for (std::size_t i = first; i < last; ++i) {
+        const Eigen::Vector3d& p = positions_[i];
+        const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
+        if (gap.squaredNorm() > keep) continue;
+        const Eigen::Vector3f offset = (p - leafOrigin).cast<float>();
+        const float x = offset.x(), y = offset.y(), z = offset.z();
+        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
+        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
+        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
+        const std::uint32_t index = order_[i];
+        for (int b = 0; b < 8; ++b) {
+          Near& part = parts[b];
+          const std::size_t at = counts[b];
+          part.xs_[at] = x;
+          part.ys_[at] = y;
+          part.zs_[at] = z;
+          part.index_[at] = index;
+          counts[b] += gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keepFloat ? 0 : 1;
         }
       }
     }
+    for (int b = 0; b < 8; ++b) parts[b].count_ = counts[b];
     for (Near& part : parts) part.pad();
   }
 
