@@ -578,6 +578,67 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   EXPECT_THROW(b.pps->project(far, broken), InputError);
 }
 
+// The second-order start: along a line of equally spaced points, each projected from the one
+// before with the miss of that one's first Newton step added to its own first step. The same
+// footpoints as the projections from the nearest samples; the corrected first steps land much
+// nearer their footpoints than the plain ones; a correction in another vertex's chart is not
+// used.
+TEST(PseudoManifold, SecondOrderStartFromTheNeighboursMiss) {
+  const Built b = buildLoop(test::icosphere(1));
+  const DenseSurfaceSamples samples(b);
+  const Eigen::Vector3d direction = Eigen::Vector3d(0.3, 1.0, 0.2).normalized();
+  const Eigen::Vector3d across = direction.cross(Eigen::Vector3d::UnitX()).normalized();
+  PseudoManifold::Projection plainPrevious, correctedPrevious;
+  double plainMisses = 0.0, correctedMisses = 0.0;
+  int corrections = 0;
+  for (int i = 0; i < 16; ++i) {
+    const Eigen::Vector3d x = 1.1 * direction + 0.02 * i * across;
+    const PseudoManifold::Projection reference = b.pps->project(x, samples.nearest(x).first);
+    ASSERT_TRUE(reference.converged);
+    if (i == 0) {
+      plainPrevious = correctedPrevious = reference;
+      EXPECT_FALSE(reference.firstStepMiss.has_value());  // not started from a projection
+      continue;
+    }
+    const PseudoManifold::Projection plain = b.pps->project(x, plainPrevious);
+    SmoothProjectionOptions options;
+    options.firstStepCorrection = correctedPrevious.firstStepMiss;
+    const PseudoManifold::Projection corrected = b.pps->project(x, correctedPrevious, options);
+    for (const PseudoManifold::Projection* q : {&plain, &corrected}) {
+      EXPECT_TRUE(q->converged);
+      EXPECT_LT((q->position - reference.position).norm(), 1e-11);
+      EXPECT_NEAR(q->distance, reference.distance, 1e-13);
+      EXPECT_NEAR(q->geometry.k1, reference.geometry.k1, 1e-9);
+    }
+    // How far the first steps end from the footpoints, from the third point on (the second
+    // point's start has no correction yet), where the correction was used: the plain miss, and
+    // what remains of it after the correction.
+    if (i >= 2 && plain.firstStepMiss && corrected.firstStepMiss && options.firstStepCorrection &&
+        options.firstStepCorrection->vertex == corrected.firstStepMiss->vertex) {
+      plainMisses += plain.firstStepMiss->p.norm();
+      correctedMisses += (corrected.firstStepMiss->p - options.firstStepCorrection->p).norm();
+      ++corrections;
+    }
+    plainPrevious = plain;
+    correctedPrevious = corrected;
+  }
+  ASSERT_GE(corrections, 8);
+  EXPECT_LT(correctedMisses, 0.6 * plainMisses);
+  // A correction given in the chart of another vertex is ignored: the first step is plain.
+  const Eigen::Vector3d x = 1.1 * direction;
+  const PseudoManifold::Projection start = b.pps->project(x, samples.nearest(x).first);
+  const Eigen::Vector3d next = x + 0.02 * across;
+  SmoothProjectionOptions elsewhere;
+  const Index startVertex = b.mesh->from(3 * start.point.face + start.chartCorner);
+  elsewhere.firstStepCorrection = ChartPoint{
+      static_cast<Index>((startVertex + 1) % b.mesh->vertexCount()), Eigen::Vector2d(0.05, -0.05)};
+  const PseudoManifold::Projection ignored = b.pps->project(next, start, elsewhere);
+  const PseudoManifold::Projection plain = b.pps->project(next, start);
+  EXPECT_EQ(ignored.iterations, plain.iterations);
+  EXPECT_EQ(ignored.position, plain.position);
+  EXPECT_EQ(ignored.firstStepMiss.has_value(), plain.firstStepMiss.has_value());
+}
+
 TEST(PseudoManifold, RefusesBadOptions) {
   const auto mesh = test::octahedron().build();
   const LoopLimitSurface loop(mesh);

@@ -153,13 +153,12 @@ class SeedBlocks {
     /// within the radius; infinite distance when there is none that near.
     Nearest nearest(const Eigen::Vector3d& point) const {
       Nearest result;
-      const std::size_t count = index_.size();
-      if (count == 0) return result;
+      if (count_ == 0) return result;
       const Eigen::Vector3f q = (point - origin_).cast<float>();
       // The first position of the smallest distance (nearestInLanes; the arrays are padded to a
       // multiple of kLanes with far-away points; the list's order depends only on the leaf).
       const LaneMinimum minimum =
-          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), xs_.size(), q.x(), q.y(), q.z());
+          nearestInLanes(xs_.data(), ys_.data(), zs_.data(), padded(), q.x(), q.y(), q.z());
       const float best = minimum.squared;
       const std::int32_t first = minimum.first;
       const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
@@ -169,58 +168,35 @@ class SeedBlocks {
       return result;
     }
 
-    /// Splits these seeds (of one leaf) among its eight 4^3 sub-blocks: parts[b] keeps those
-    /// within the radius of the voxel centres of sub-block b (b = 4 [x >= 4] + 2 [y >= 4] +
-    /// [z >= 4]), in this list's order. One pass over the list.
-    void split(Near (&parts)[8], double voxelSize) const {
-      for (Near& part : parts) {
-        part.origin_ = origin_;
-        part.radius2_ = radius2_;
-        part.xs_.clear();
-        part.ys_.clear();
-        part.zs_.clear();
-        part.index_.clear();
-      }
-      // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
-      const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize); };
-      const float low[2] = {f(0), f(4)};
-      const float high[2] = {f(3), f(7)};
-      const double radius = std::sqrt(radius2_) + 1e-3 * voxelSize;
-      const auto keep = static_cast<float>(radius * radius);
-      const auto squaredGap = [&](float p, int half) {
-        const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
-        return gap * gap;
-      };
-      for (std::size_t i = 0; i < index_.size(); ++i) {
-        const float x = xs_[i], y = ys_[i], z = zs_[i];
-        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
-        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
-        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
-        for (int b = 0; b < 8; ++b) {
-          if (gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keep) continue;
-          Near& part = parts[b];
-          part.xs_.push_back(x);
-          part.ys_.push_back(y);
-          part.zs_.push_back(z);
-          part.index_.push_back(index_[i]);
-        }
-      }
-      for (Near& part : parts) part.pad();
-    }
-
    private:
     friend class SeedBlocks;
-    /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
-    void pad() {
-      while (xs_.size() % kLanes != 0) {
-        xs_.push_back(std::numeric_limits<float>::max());
-        ys_.push_back(0.0f);
-        zs_.push_back(0.0f);
+    static constexpr std::size_t kLanes = 8;
+    /// The count rounded up to whole lanes.
+    std::size_t padded() const { return (count_ + kLanes - 1) / kLanes * kLanes; }
+    /// Empties the list and makes room for `seeds` seeds and the padding (the arrays only grow,
+    /// so a worker's lists stop allocating after its first leaves).
+    void reset(std::size_t seeds) {
+      count_ = 0;
+      if (xs_.size() < seeds + kLanes) {
+        const std::size_t size = 2 * (seeds + kLanes);
+        xs_.resize(size);
+        ys_.resize(size);
+        zs_.resize(size);
+        index_.resize(size);
       }
     }
-    static constexpr std::size_t kLanes = 8;
+    /// Pads the arrays to whole lanes with points far beyond any query (never the nearest).
+    void pad() {
+      for (std::size_t i = count_; i < padded(); ++i) {
+        xs_[i] = std::numeric_limits<float>::max();
+        ys_[i] = 0.0f;
+        zs_[i] = 0.0f;
+        index_[i] = 0;
+      }
+    }
     Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
     double radius2_ = 0.0;
+    std::size_t count_ = 0;  ///< seeds in the list (the arrays are longer)
     std::vector<float> xs_, ys_, zs_;
     std::vector<std::uint32_t> index_;
   };
@@ -245,44 +221,80 @@ class SeedBlocks {
     }
   }
 
-  /// Fills `out` with the seeds within `radius` of the voxel centres of the leaf at `origin`
-  /// (a multiple of 8 in every coordinate).
-  void near(const openvdb::Coord& origin, double radius, Near& out) const {
-    out.origin_ = Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
-    out.radius2_ = radius * radius;
-    out.xs_.clear();
-    out.ys_.clear();
-    out.zs_.clear();
-    out.index_.clear();
-    const Eigen::Vector3d lo = out.origin_;
-    const Eigen::Vector3d hi = out.origin_ + Eigen::Vector3d::Constant(7.0 * voxelSize_);
+  /// Fills parts[b] with the seeds within `radius` of the voxel centres of sub-block b of the
+  /// leaf at `origin` (a multiple of 8 in every coordinate): its eight 4^3 sub-blocks, b = 4
+  /// [x >= 4] + 2 [y >= 4] + [z >= 4], each list in the order of the blocks (dx, dy, dz) and
+  /// of the seeds' indices in them. One pass over the seeds of the blocks that can hold them: a
+  /// test against the leaf's box (doubles), then against each sub-block's (float offsets from
+  /// the leaf's first voxel centre, the parts' coordinates).
+  void near(const openvdb::Coord& origin, double radius, Near (&parts)[8]) const {
+    const Eigen::Vector3d leafOrigin =
+        Eigen::Vector3d(origin.x(), origin.y(), origin.z()) * voxelSize_;
+    const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
     // A seed is in the block of its nearest voxel, within half a voxel of it: the blocks of
     // the seeds within `radius` (plus the margin below) of the leaf's voxel centres lie within
     // `reach` blocks of the leaf's.
     const int reach = static_cast<int>(std::ceil((radius / voxelSize_ + 0.501) / 8.0));
-    const openvdb::Coord block(origin.x() >> 3, origin.y() >> 3, origin.z() >> 3);
-    // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
-    // nearest-seed test could need.
-    const double keep = (radius + 1e-3 * voxelSize_) * (radius + 1e-3 * voxelSize_);
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    std::size_t seeds = 0;
     for (int dx = -reach; dx <= reach; ++dx) {
       for (int dy = -reach; dy <= reach; ++dy) {
         for (int dz = -reach; dz <= reach; ++dz) {
           const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
           if (found == ranges_.end()) continue;
-          for (std::size_t i = found->second.first; i < found->second.second; ++i) {
-            const Eigen::Vector3d& p = positions_[i];
-            const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
-            if (gap.squaredNorm() > keep) continue;
-            const Eigen::Vector3f offset = (p - out.origin_).cast<float>();
-            out.xs_.push_back(offset.x());
-            out.ys_.push_back(offset.y());
-            out.zs_.push_back(offset.z());
-            out.index_.push_back(order_[i]);
-          }
+          ranges.push_back(found->second);
+          seeds += found->second.second - found->second.first;
         }
       }
     }
-    out.pad();
+    for (Near& part : parts) {
+      part.origin_ = leafOrigin;
+      part.radius2_ = radius * radius;
+      part.reset(seeds);
+    }
+    const Eigen::Vector3d lo = leafOrigin;
+    const Eigen::Vector3d hi = leafOrigin + Eigen::Vector3d::Constant(7.0 * voxelSize_);
+    // Slightly beyond the radius, so that float rounding of the offsets loses no seed the
+    // nearest-seed test could need.
+    const double margin = radius + 1e-3 * voxelSize_;
+    const double keep = margin * margin;
+    // (The sub-blocks' bound from the squared radius, as the parts store it.)
+    const double partMargin = std::sqrt(radius * radius) + 1e-3 * voxelSize_;
+    const auto keepFloat = static_cast<float>(partMargin * partMargin);
+    // Sub-block b spans voxel offsets 0..3 or 4..7 along each axis.
+    const auto f = [&](int offset) { return static_cast<float>(offset * voxelSize_); };
+    const float low[2] = {f(0), f(4)};
+    const float high[2] = {f(3), f(7)};
+    const auto squaredGap = [&](float p, int half) {
+      const float gap = std::max(std::max(low[half] - p, p - high[half]), 0.0f);
+      return gap * gap;
+    };
+    // Each seed is written to every part and counted in those it belongs to (no branch).
+    std::size_t counts[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    for (const auto& [first, last] : ranges) {
+      for (std::size_t i = first; i < last; ++i) {
+        const Eigen::Vector3d& p = positions_[i];
+        const Eigen::Vector3d gap = (lo - p).cwiseMax(p - hi).cwiseMax(Eigen::Vector3d::Zero());
+        if (gap.squaredNorm() > keep) continue;
+        const Eigen::Vector3f offset = (p - leafOrigin).cast<float>();
+        const float x = offset.x(), y = offset.y(), z = offset.z();
+        const float gx[2] = {squaredGap(x, 0), squaredGap(x, 1)};
+        const float gy[2] = {squaredGap(y, 0), squaredGap(y, 1)};
+        const float gz[2] = {squaredGap(z, 0), squaredGap(z, 1)};
+        const std::uint32_t index = order_[i];
+        for (int b = 0; b < 8; ++b) {
+          Near& part = parts[b];
+          const std::size_t at = counts[b];
+          part.xs_[at] = x;
+          part.ys_[at] = y;
+          part.zs_[at] = z;
+          part.index_[at] = index;
+          counts[b] += gx[b >> 2] + gy[(b >> 1) & 1] + gz[b & 1] > keepFloat ? 0 : 1;
+        }
+      }
+    }
+    for (int b = 0; b < 8; ++b) parts[b].count_ = counts[b];
+    for (Near& part : parts) part.pad();
   }
 
  private:
@@ -426,84 +438,102 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
           std::vector<PseudoManifold::Projection> projections =
               std::vector<PseudoManifold::Projection>(512);
-          SeedBlocks::Near near;        // the seeds near the leaf
-          SeedBlocks::Near subNear[8];  // those near each of its 4^3 sub-blocks
+          // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from,
+          // 0 for a start from a seed.
+          std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
+          SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
         };
-        return [&, state = State{}](const openvdb::Coord& ijk,
-                                    const Eigen::Vector3d& centre) mutable {
-          const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
-          if (leaf != state.leaf) {
-            state.leaf = leaf;
-            ++state.generation;
-            blocks.near(leaf, skipBeyond, state.near);
-            state.near.split(state.subNear, voxelSize);
-          }
-          const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-          const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
-          if (!(nearest.distance <= skipBeyond)) {
-            // Outside the band (a lower bound of the distance, which the band discards).
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = skipBeyond - seedReach;
-            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
-            return outside;
-          }
-          const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
-          const auto projected = [&](int neighbour) {
-            return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
-          };
-          int neighbour = -1;
-          if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
-            neighbour = offset - 1;
-          } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
-            neighbour = offset - 8;
-          } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
-            neighbour = offset - 64;
-          }
-          PseudoManifold::Projection projection;
-          if (neighbour >= 0) {
-            projection = surface.project(
-                centre, state.projections[static_cast<std::size_t>(neighbour)], projectionOptions);
-            // A surface point (the nearest seed) is nearer than the local minimum found from
-            // the neighbour: that minimum is not the closest point (the voxel is near the
-            // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
-            // may stand for a surface point inside the band, is the sign of a nearer part.)
-            const bool elsewhere =
-                projection.distance > nearest.distance ||
-                (projection.beyond &&
-                 (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
-            if (elsewhere) {
-              PseudoManifold::Projection fromSeed =
-                  surface.project(centre, seedPoints[nearest.index], projectionOptions);
-              if (fromSeed.distance < projection.distance) projection = std::move(fromSeed);
-            }
-          } else {
-            projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
-          }
-          const auto at = static_cast<std::size_t>(offset);
-          if (projection.beyond) {
-            // Outside the band (its distance is above the half-width; the band discards it).
-            // Its last iterate still starts its neighbours' projections.
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = projection.distance;
-            state.projections[at] = std::move(projection);
-            state.stamp[at] = state.generation;
-            return outside;
-          }
-          Approximant a = SmoothSurface::approximantOf(centre, projection);
-          state.projections[at] = std::move(projection);
-          state.stamp[at] = state.generation;
-          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-            a.k1 = std::clamp(a.k1, -clamp, clamp);
-            a.k2 = std::clamp(a.k2, -clamp, clamp);
-            a.flags |= kFlagCurvatureClamped;
-          }
-          return a;
-        };
+        return
+            [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
+              const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+              if (leaf != state.leaf) {
+                state.leaf = leaf;
+                ++state.generation;
+                blocks.near(leaf, skipBeyond, state.subNear);
+              }
+              const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+              const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+              if (!(nearest.distance <= skipBeyond)) {
+                // Outside the band (a lower bound of the distance, which the band discards).
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = skipBeyond - seedReach;
+                if (std::isfinite(nearest.distance))
+                  outside.distance = nearest.distance - seedReach;
+                return outside;
+              }
+              const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+              const auto projected = [&](int neighbour) {
+                return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
+              };
+              int neighbour = -1;
+              std::uint8_t axis = 0;
+              if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
+                neighbour = offset - 1;
+                axis = 1;
+              } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
+                neighbour = offset - 8;
+                axis = 2;
+              } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
+                neighbour = offset - 64;
+                axis = 3;
+              }
+              PseudoManifold::Projection projection;
+              if (neighbour >= 0) {
+                // Second-order start: when the neighbour was itself projected from its neighbour
+                // along the same axis (the same displacement), the first Newton step here misses
+                // the footpoint by nearly what the neighbour's missed it by.
+                const auto from = static_cast<std::size_t>(neighbour);
+                SmoothProjectionOptions options = projectionOptions;
+                if (state.startAxis[from] == axis) {
+                  options.firstStepCorrection = state.projections[from].firstStepMiss;
+                }
+                projection = surface.project(centre, state.projections[from], options);
+                // A surface point (the nearest seed) is nearer than the local minimum found from
+                // the neighbour: that minimum is not the closest point (the voxel is near the
+                // medial axis); start from the seed instead. (A projection stopped beyond the band
+                // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
+                // may stand for a surface point inside the band, is the sign of a nearer part.)
+                const bool elsewhere =
+                    projection.distance > nearest.distance ||
+                    (projection.beyond &&
+                     (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
+                if (elsewhere) {
+                  PseudoManifold::Projection fromSeed =
+                      surface.project(centre, seedPoints[nearest.index], projectionOptions);
+                  if (fromSeed.distance < projection.distance) {
+                    projection = std::move(fromSeed);
+                    axis = 0;
+                  }
+                }
+              } else {
+                projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
+              }
+              const auto at = static_cast<std::size_t>(offset);
+              if (projection.beyond) {
+                // Outside the band (its distance is above the half-width; the band discards it).
+                // Its last iterate still starts its neighbours' projections.
+                Approximant outside;
+                outside.kind = TargetKind::Surface;
+                outside.origin = centre;
+                outside.distance = projection.distance;
+                state.projections[at] = std::move(projection);
+                state.startAxis[at] = axis;
+                state.stamp[at] = state.generation;
+                return outside;
+              }
+              Approximant a = SmoothSurface::approximantOf(centre, projection);
+              state.projections[at] = std::move(projection);
+              state.startAxis[at] = axis;
+              state.stamp[at] = state.generation;
+              if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
+                a.k1 = std::clamp(a.k1, -clamp, clamp);
+                a.k2 = std::clamp(a.k2, -clamp, clamp);
+                a.flags |= kFlagCurvatureClamped;
+              }
+              return a;
+            };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")
       .setLabel("smooth surface (" + surface.sourceName() + ") of " + std::to_string(faceCount) +

@@ -365,8 +365,22 @@ SmoothPoint surfaceGeometry(const SmoothDerivatives& x) {
   const double radius = std::hypot(0.5 * (sa - sc), sb);
   result.k1 = mean + radius;
   result.k2 = mean - radius;
-  const double angle = 0.5 * std::atan2(2.0 * sb, sa - sc);
-  result.e1 = (std::cos(angle) * t1 + std::sin(angle) * t2).normalized();
+  // e1 at the angle phi = atan2(2 sb, sa - sc) / 2 in (-pi/2, pi/2] from t1, by the half-angle
+  // formulas from cos 2 phi = (sa - sc) / R, sin 2 phi = 2 sb / R (R = 2 radius), each from the
+  // side where it does not cancel; t1 at an umbilic (R = 0).
+  const double across = sa - sc;
+  const double twiceRadius = 2.0 * radius;
+  double cosine = 1.0, sine = 0.0;
+  if (twiceRadius > 0.0) {
+    if (across >= 0.0) {
+      cosine = std::sqrt((twiceRadius + across) / (2.0 * twiceRadius));
+      sine = sb / (twiceRadius * cosine);
+    } else {
+      sine = std::copysign(std::sqrt((twiceRadius - across) / (2.0 * twiceRadius)), sb);
+      cosine = sb / (twiceRadius * sine);
+    }
+  }
+  result.e1 = (cosine * t1 + sine * t2).normalized();
   result.e2 = n.cross(result.e1);
   return result;
 }
@@ -532,8 +546,11 @@ struct PseudoManifold::Evaluator {
   /// that chart).
   /// When `chartPoint` is given it receives the point's coordinates in that chart (as
   /// ChartAtlas::toChart gives them).
-  Jet3<Order> chart(const FacePoint& point, int centre,
-                    Eigen::Vector2d* chartPoint = nullptr) const {
+  /// When `knownChartPoint` is given it is taken as the point's coordinates in that chart (a
+  /// point the atlas mapped to `point`, equal to the map's image up to round-off), saving the
+  /// polar map.
+  Jet3<Order> chart(const FacePoint& point, int centre, Eigen::Vector2d* chartPoint = nullptr,
+                    const Eigen::Vector2d* knownChartPoint = nullptr) const {
     const HalfEdgeMesh& mesh = *pps.mesh_;
     Index vertices[3];
     Jet<Order> px[3], py[3];
@@ -544,7 +561,8 @@ struct PseudoManifold::Evaluator {
     const PolarMap& centreMap = pps.fitFor(nc).map;
     const int kc = mesh.ringIndex(centreHalfEdge);
     const Eigen::Vector2d z = detail::canonicalPoint(point.bary, centre);
-    const Eigen::Vector2d p = centreMap.toChart(z, kc);
+    const Eigen::Vector2d p =
+        knownChartPoint != nullptr ? *knownChartPoint : centreMap.toChart(z, kc);
     if (chartPoint != nullptr) *chartPoint = p;
     px[centre] = Jet<Order>::variable(p.x(), 0);
     py[centre] = Jet<Order>::variable(p.y(), 1);
@@ -917,6 +935,12 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   Jet3<2> jet;
   int centre = known ? nearby->chartCorner : 0;
   ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
+  // Where the first Newton step from `nearby` ended (for Projection::firstStepMiss).
+  std::optional<ChartPoint> firstEnd;
+  // The first step included options.firstStepCorrection.
+  bool corrected = false;
+  // Where the last step taken ended, in the chart it was taken in (`current` is its face point).
+  std::optional<ChartPoint> stepEnd;
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     if (known) {
@@ -926,10 +950,14 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       chartPoint.p = nearby->chartPoint;
     } else {
       centre = nearestCorner(current.bary);
-      jet = evaluator.chart(current, centre, &chartPoint.p);
-      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
+      const Index vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
+      // A step taken in the chart of the same vertex: its end is the chart point already.
+      const bool sameChart = stepEnd && stepEnd->vertex == vertex;
+      jet = evaluator.chart(current, centre, &chartPoint.p, sameChart ? &stepEnd->p : nullptr);
+      chartPoint.vertex = vertex;
       ++result.iterations;
     }
+    stepEnd.reset();
     if (finalStep) {
       // Evaluated where the converging step ended: the answer (an uphill step cannot happen
       // here, the step being far below anything the distance could resolve).
@@ -941,6 +969,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     const double value = 0.5 * residual.squaredNorm();
     if (checkLast && value > previousValue) {
       // The last (unchecked) Newton step went uphill: go back and search carefully from there.
+      firstEnd.reset();
       careful = true;
       checkLast = false;
       lastStep = 0.0;
@@ -970,7 +999,8 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     }
     // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
     const double maxStep = 0.5 * radius;
-    if (step.norm() > maxStep) step *= maxStep / step.norm();
+    const bool clipped = step.norm() > maxStep;
+    if (clipped) step *= maxStep / step.norm();
     const double length = step.norm();
     if (length <= 1e-12 * radius) {
       result.converged = true;  // `current` and its jet are the answer
@@ -986,10 +1016,25 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         break;
       }
     }
+    // The first step from a nearby projection: a Newton step that is not tiny takes the
+    // caller's second-order correction (in the same chart); such a step is checked by the next
+    // iterate's distance like any other, and being no plain Newton step it neither counts as
+    // tiny nor feeds the prediction of quadratic convergence.
+    const bool fromNearby = iteration == 0 && nearby != nullptr;
+    if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
+      firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
+    }
+    if (fromNearby && definite && length >= 1e-4 * radius && options.firstStepCorrection &&
+        options.firstStepCorrection->vertex == chartPoint.vertex) {
+      step += options.firstStepCorrection->p;
+      if (step.norm() > maxStep) step *= maxStep / step.norm();
+      corrected = true;
+    }
     const auto target = [&](const Eigen::Vector2d& move) {
       Eigen::Vector2d p = chartPoint.p + move;
       if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
-      return atlas_.fromChart({chartPoint.vertex, p});
+      stepEnd = ChartPoint{chartPoint.vertex, p};
+      return atlas_.fromChart(*stepEnd);
     };
     // A tiny Newton step (positive definite Hessian) is taken as it is: there the quadratic
     // model is exact to far below what comparing distances could resolve. Where Newton's
@@ -998,7 +1043,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     // radius, this step is the last: the answer is where it ends. Until a step has gone uphill,
     // Newton steps up to a tenth of the radius are taken too, checked by the next iteration's
     // distance. Other steps are halved until the distance falls.
-    const bool tiny = definite && length < 1e-4 * radius;
+    const bool tiny = definite && !corrected && length < 1e-4 * radius;
     if (tiny) {
       const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
                                               : 10.0 * length * length / radius;
@@ -1028,7 +1073,8 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       continue;
     }
     if (!careful && definite) {
-      lastStep = length;
+      lastStep = corrected ? 0.0 : length;
+      corrected = false;
       checkLast = true;
       current = target(step);
       continue;
@@ -1055,13 +1101,20 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     jet = evaluator.chart(current, centre, &chartPoint.p);
     ++result.iterations;
   }
+  if (result.converged && firstEnd && firstEnd->vertex == chartPoint.vertex) {
+    result.firstStepMiss = ChartPoint{chartPoint.vertex, chartPoint.p - firstEnd->p};
+  }
   result.point = current;
   result.chartPoint = chartPoint.p;
   result.position = jet.v;
   result.distance = (jet.v - x).norm();
   result.derivatives = toDerivatives(jet);
   result.chartCorner = centre;
-  result.geometry = surfaceGeometry(result.derivatives);
+  if (result.beyond) {
+    result.geometry.position = jet.v;  // stopped: no differential geometry
+  } else {
+    result.geometry = surfaceGeometry(result.derivatives);
+  }
   return result;
 }
 

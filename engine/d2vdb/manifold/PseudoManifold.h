@@ -83,6 +83,14 @@ struct SmoothProjectionOptions {
   /// predicts, a distance above it. The projection then ends unconverged with `beyond` set.
   /// Infinite: never.
   double stopBeyond = std::numeric_limits<double>::infinity();
+  /// A second-order start for project() from a nearby projection: a shift (chart coordinates of
+  /// the chart of `vertex`) added to the first Newton step when that step is taken in this chart.
+  /// Typically Projection::firstStepMiss of the nearby projection, when it was itself projected
+  /// from its own neighbour by the same displacement: the miss of a Newton step from a footpoint
+  /// changes only to third order from one voxel to the next, so the corrected start lies much
+  /// nearer the footpoint. Only the start changes; the iteration and its convergence test are
+  /// the same (the corrected step is checked like any other and undone if it goes uphill).
+  std::optional<ChartPoint> firstStepCorrection;
 };
 
 /// The parametric pseudo-manifold (PPS) of a closed mesh fitted to a source surface: a
@@ -180,12 +188,19 @@ class PseudoManifold {
     int chartCorner = 0;
     /// `point` in the coordinates of that chart (ChartAtlas::toChart(point, chartCorner)).
     Eigen::Vector2d chartPoint = Eigen::Vector2d::Zero();
+    /// Where the plain Newton step from a given nearby projection (its first step, without any
+    /// firstStepCorrection) would have ended short of the footpoint: footpoint minus that end,
+    /// in the chart of its `vertex` (the chart the step was taken in). Empty when the projection
+    /// did not start from a nearby projection, did not end converged in that chart, the step was
+    /// clipped (to its bound or the chart) or an unchecked first step had to be undone.
+    std::optional<ChartPoint> firstStepMiss;
     int iterations = 0;  ///< surface evaluations made (the start's included unless it was given)
     /// The footpoint is a minimum of the distance to within 1e-12 of the chart radius (see
     /// project()), or no step lowered the distance.
     bool converged = false;
     /// Stopped early: the distance is certainly above SmoothProjectionOptions::stopBeyond (the
-    /// footpoint and geometry are those of the last iterate).
+    /// footpoint, position and derivatives are those of the last iterate; `geometry` then holds
+    /// only the position, its other members keep their defaults).
     bool beyond = false;
   };
   /// Local projection of `x` onto the surface from `start` (a local minimum of the distance near

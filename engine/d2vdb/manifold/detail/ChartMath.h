@@ -70,6 +70,23 @@ struct PolarMap {
   /// The sector k (0..n-1) of chart point p and its canonical point there. A point on a sector
   /// boundary belongs to the sector counter-clockwise from it.
   Eigen::Vector2d toCanonical(const Eigen::Vector2d& p, int degree, int& k) const {
+    if (rotation) {
+      // Degree 6: the sector from the signs of p across the rays at multiples of 60 degrees (a
+      // point on ray j lies in sector j, the centre in sector 0), then the inverse rotation.
+      const double x = p.x(), y = p.y();
+      if (x == 0.0 && y == 0.0) {
+        k = 0;
+      } else if (y > 0.0 || (y == 0.0 && x > 0.0)) {
+        // Sectors 0..2: across the rays at 60 and 120 degrees.
+        k = 0.5 * y - kCos30 * x < 0.0 ? 0 : (-0.5 * y - kCos30 * x < 0.0 ? 1 : 2);
+      } else {
+        // Sectors 3..5: across the rays at 240 and 300 degrees.
+        k = kCos30 * x - 0.5 * y < 0.0 ? 3 : (kCos30 * x + 0.5 * y < 0.0 ? 4 : 5);
+      }
+      double c, s;
+      sixth(k, c, s);
+      return {c * x + s * y, c * y - s * x};
+    }
     double beta = std::atan2(p.y(), p.x());
     if (beta < 0.0) beta += 2.0 * kPi;
     k = static_cast<int>(std::floor(beta / sector));
