@@ -321,34 +321,33 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
       }
     }
   }
+  const auto scatterColumn = [&](int column) {
+    const int row = column * d;
+    for (int e = appearanceStart[static_cast<std::size_t>(column)];
+         e < appearanceStart[static_cast<std::size_t>(column) + 1]; ++e) {
+      const auto [i, b] = appearances[static_cast<std::size_t>(e)];
+      const int order = setOf(i).basis->order();
+      const GroupSums& sum = sums[static_cast<std::size_t>(i)];
+      const bool withRankOne = sum.rankOneBlock.size() > 0;
+      formRight_.segment(row, d) += sum.right.segment(b * d, d);
+      if (withRankOne) rankOneRight_.segment(row, d) += sum.rankOneRight.segment(b * d, d);
+      for (int a = 0; a < order; ++a) {
+        const int rank =
+            ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)];
+        for (int c = 0; c < d; ++c) {
+          for (int r = 0; r < d; ++r) {
+            const std::size_t index = static_cast<std::size_t>(valueIndex(rank, column, r, c));
+            formValues_[index] += sum.block(a * d + r, b * d + c);
+            if (withRankOne) rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
+          }
+        }
+      }
+    }
+  };
   tbb::parallel_for(tbb::blocked_range<int>(0, controlPointCount_, 16),
                     [&](const tbb::blocked_range<int>& range) {
                       for (int column = range.begin(); column != range.end(); ++column) {
-                        const int row = column * d;
-                        for (int e = appearanceStart[static_cast<std::size_t>(column)];
-                             e < appearanceStart[static_cast<std::size_t>(column) + 1]; ++e) {
-                          const auto [i, b] = appearances[static_cast<std::size_t>(e)];
-                          const SensorMap& basis = *setOf(i).basis;
-                          const int order = basis.order();
-                          const GroupSums& sum = sums[static_cast<std::size_t>(i)];
-                          const bool withRankOne = sum.rankOneBlock.size() > 0;
-                          formRight_.segment(row, d) += sum.right.segment(b * d, d);
-                          if (withRankOne)
-                            rankOneRight_.segment(row, d) += sum.rankOneRight.segment(b * d, d);
-                          for (int a = 0; a < order; ++a) {
-                            const int rank = ranks[static_cast<std::size_t>(
-                                rankStart[static_cast<std::size_t>(i)] + a * order + b)];
-                            for (int c = 0; c < d; ++c) {
-                              for (int r = 0; r < d; ++r) {
-                                const std::size_t index =
-                                    static_cast<std::size_t>(valueIndex(rank, column, r, c));
-                                formValues_[index] += sum.block(a * d + r, b * d + c);
-                                if (withRankOne)
-                                  rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
-                              }
-                            }
-                          }
-                        }
+                        scatterColumn(column);
                       }
                     });
   expansionPoint_ = stacked(controlPoints);
