@@ -8,7 +8,7 @@
 
 namespace d2vdb::detail {
 
-/// A = L L^T of a sparse symmetric positive definite matrix (only its lower triangle is read) by
+/// A = L L^T of a sparse symmetric positive definite matrix (only its upper triangle is read) by
 /// the supernodal method of CHOLMOD (SuiteSparse; Y. Chen, T. A. Davis, W. W. Hager,
 /// S. Rajamanickam, "Algorithm 887: CHOLMOD, supernodal sparse Cholesky factorization and
 /// update/downdate", ACM TOMS 2008), whose dense kernels are BLAS level 3. The fill-reducing
