@@ -147,23 +147,39 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
         Eigen::MatrixXd weights;  // sensors x order: each sensor's basis weights
         Eigen::MatrixXd entries;  // sensors x d(d+1)/2: each sensor's symmetric d x d matrix
         Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
-        Eigen::MatrixXd scaled;
-        Eigen::MatrixXd gram;
+        Eigen::MatrixXd scaledLow, scaledHigh, gramLow, gramHigh;
         Eigen::VectorXd local;
         // block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and
-        // r the rows of `entries` (S(r, c), r <= c) and `rights`: for each entry of S one
-        // weighted Gram matrix W^T diag(S_rc) W (a dense product), read from its upper triangle so
-        // that the block is exactly symmetric.
+        // r the rows of `entries` (S(r, c), r <= c) and `rights`. For each entry of S the weighted
+        // Gram matrix G = W^T diag(S_rc) W is symmetric and read from its upper triangle (so the
+        // block is exactly symmetric). Two dense products give that triangle for every entry at
+        // once: the columns b < h = order / 2 need only the rows a < h, the others all rows
+        // (three quarters of the full products' work; each value still summed sensor by sensor).
         const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
+          const int entryCount = d * (d + 1) / 2;
+          const int low = order / 2, high = order - low;
+          const int count = static_cast<int>(weights.rows());
+          scaledLow.resize(count, entryCount * low);
+          scaledHigh.resize(count, entryCount * high);
+          for (int e = 0; e < entryCount; ++e) {
+            for (int b = 0; b < order; ++b) {
+              auto column =
+                  b < low ? scaledLow.col(e * low + b) : scaledHigh.col(e * high + b - low);
+              column = weights.col(b).cwiseProduct(entries.col(e));
+            }
+          }
+          gramLow.noalias() = weights.leftCols(low).transpose() * scaledLow;
+          gramHigh.noalias() = weights.transpose() * scaledHigh;
+          const auto gram = [&](int e, int a, int b) {  // a <= b
+            return b < low ? gramLow(a, e * low + b) : gramHigh(a, e * high + b - low);
+          };
           block.resize(order * d, order * d);
           int entry = 0;
           for (int r = 0; r < d; ++r) {
             for (int c = r; c < d; ++c, ++entry) {
-              scaled = weights.array().colwise() * entries.col(entry).array();
-              gram.noalias() = weights.transpose() * scaled;
               for (int b = 0; b < order; ++b) {
                 for (int a = 0; a < order; ++a) {
-                  const double value = a <= b ? gram(a, b) : gram(b, a);
+                  const double value = a <= b ? gram(entry, a, b) : gram(entry, b, a);
                   block(a * d + r, b * d + c) = value;
                   block(a * d + c, b * d + r) = value;
                 }
