@@ -125,6 +125,115 @@ TEST(SurfaceSensorBasis, ModelSolveMatchesADenseSolve) {
   }
 }
 
+TEST(SurfaceSensorBasis, TensorFactorsAndParameterKeys) {
+  const BSplineSurface surface = randomSurface(9, 3, 2, 7, 6, false, true);
+  std::vector<Eigen::Vector2d> parameters = uniformSurfaceSensorParameters(surface, 2);
+  parameters.emplace_back(1.234, 0.321);
+  parameters.emplace_back(1.234, -0.5);
+  const SurfaceSensorBasis basis(surface, parameters);
+  ASSERT_EQ(basis.orderU(), 4);
+  for (int k = 0; k < basis.sensorCount(); ++k) {
+    for (int a = 0; a < 4; ++a) {
+      for (int b = 0; b < 3; ++b) {
+        EXPECT_EQ(basis.weight(k, a * 3 + b), basis.uWeight(k, a) * basis.vWeight(k, b));
+      }
+    }
+    for (int other = 0; other < basis.sensorCount(); other += 7) {
+      EXPECT_EQ(basis.uKey(k) == basis.uKey(other),
+                basis.parameter(k).x() == basis.parameter(other).x());
+      EXPECT_EQ(basis.vKey(k) == basis.vKey(other),
+                basis.parameter(k).y() == basis.parameter(other).y());
+    }
+  }
+}
+
+/// The model over a surface with forms and separable second-order terms against a dense assembly
+/// from the surface's own evaluation: sensors on a grid in every knot cell (summed direction by
+/// direction) plus scattered sensors that break the grid of their cells (summed sensor by sensor).
+TEST(SurfaceSensorBasis, ModelWithSecondOrderTermsMatchesADenseModel) {
+  const BSplineSurface surface = randomSurface(10, 3, 2, 6, 5, true, false);
+  const int n = surface.countU() * surface.countV();
+  std::vector<Eigen::Vector2d> parameters = uniformSurfaceSensorParameters(surface, 3);
+  std::mt19937 engine(11);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int extra = 0; extra < 5; ++extra) {
+    parameters.emplace_back(1.5 + 1.5 * uniform(engine), 0.9 * uniform(engine));
+  }
+  const SurfaceSensorBasis basis(surface, parameters);
+  const int count = basis.sensorCount();
+  std::vector<QuadraticForm> forms(static_cast<std::size_t>(count));
+  RankOneTerms terms;
+  terms.reset(count, 3, true);
+  for (int k = 0; k < count; ++k) {
+    QuadraticForm& form = forms[static_cast<std::size_t>(k)];
+    Eigen::Matrix3d m;
+    for (int i = 0; i < 9; ++i) m(i / 3, i % 3) = uniform(engine);
+    form.A = m.transpose() * m + 0.05 * Eigen::Matrix3d::Identity();
+    form.b = Eigen::Vector3d(uniform(engine), uniform(engine), uniform(engine));
+    for (const double alpha : {0.3, -0.02}) {
+      const Eigen::Vector3d t =
+          Eigen::Vector3d(uniform(engine), uniform(engine), uniform(engine)).normalized();
+      terms.coefficients.push_back(alpha);
+      for (int c = 0; c < 3; ++c) terms.vectors.push_back(t[c]);
+    }
+    terms.start[static_cast<std::size_t>(k) + 1] = static_cast<int>(terms.coefficients.size());
+  }
+  const Eigen::SparseMatrix<double> smoothing = 1e-3 * thinPlateMatrix(surface);
+  const std::vector<Eigen::Vector3d>& points = surface.controlPoints();
+  const double weight = 0.7;
+  QuadraticModel model(n, 3, smoothing);
+  model.assemble({SensorTerms{&basis, &forms, weight, &terms}}, points);
+
+  // Dense: basis values from the surface evaluated with P = e_m.
+  Eigen::MatrixXd values(count, n);
+  for (int m = 0; m < n; ++m) {
+    std::vector<Eigen::Vector3d> unit(static_cast<std::size_t>(n), Eigen::Vector3d::Zero());
+    unit[static_cast<std::size_t>(m)] = Eigen::Vector3d::Ones();
+    BSplineSurface indicator = surface;
+    indicator.setControlPoints(unit);
+    for (int k = 0; k < count; ++k) {
+      values(k, m) = indicator.evaluate(basis.parameter(k).x(), basis.parameter(k).y()).x();
+    }
+  }
+  for (const double rankOneScale : {0.0, 1.0}) {
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+    Eigen::VectorXd halfGradient = Eigen::VectorXd::Zero(3 * n);
+    for (int k = 0; k < count; ++k) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int m = 0; m < n; ++m) x += values(k, m) * points[static_cast<std::size_t>(m)];
+      const QuadraticForm& form = forms[static_cast<std::size_t>(k)];
+      Eigen::Matrix3d block = form.A;
+      for (int t = terms.start[static_cast<std::size_t>(k)];
+           t < terms.start[static_cast<std::size_t>(k) + 1]; ++t) {
+        const Eigen::Map<const Eigen::Vector3d> direction(terms.vectors.data() + 3 * t);
+        block += rankOneScale * terms.coefficients[static_cast<std::size_t>(t)] * direction *
+                 direction.transpose();
+      }
+      for (int a = 0; a < n; ++a) {
+        if (values(k, a) == 0.0) continue;
+        halfGradient.segment<3>(3 * a) += weight * values(k, a) * (form.A * x - form.b);
+        for (int b = 0; b < n; ++b) {
+          H.block<3, 3>(3 * a, 3 * b) += weight * values(k, a) * values(k, b) * block;
+        }
+      }
+    }
+    const Eigen::MatrixXd dense(smoothing);
+    for (int a = 0; a < n; ++a) {
+      for (int b = 0; b < n; ++b) {
+        H.block<3, 3>(3 * a, 3 * b) += dense(a, b) * Eigen::Matrix3d::Identity();
+        halfGradient.segment<3>(3 * a) += dense(a, b) * points[static_cast<std::size_t>(b)];
+      }
+    }
+    const Eigen::VectorXd reference = H.partialPivLu().solve(-halfGradient);
+    const std::vector<Eigen::Vector3d> step = model.solveAssembled(rankOneScale, 0.0);
+    for (int i = 0; i < n; ++i) {
+      EXPECT_LT((step[static_cast<std::size_t>(i)] - reference.segment<3>(3 * i)).norm(),
+                1e-9 * (1.0 + reference.norm()))
+          << "control point " << i << ", rank-one scale " << rankOneScale;
+    }
+  }
+}
+
 TEST(SurfaceSensorBasis, SameSensorsWithOneAndTwoThreads) {
   const BSplineSurface surface = randomSurface(8, 3, 3, 12, 10, true, true);
   const auto parameters = uniformSurfaceSensorParameters(surface, 5);

@@ -142,152 +142,254 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
   };
   std::vector<GroupSums> sums(static_cast<std::size_t>(groups));
   std::atomic<bool> outsidePattern{false};
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>& range) {
-        Eigen::MatrixXd weights;  // sensors x order: each sensor's basis weights
-        Eigen::MatrixXd entries;  // sensors x d(d+1)/2: each sensor's symmetric d x d matrix
-        Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
-        Eigen::MatrixXd scaledLow, scaledHigh, gramLow, gramHigh;
-        Eigen::VectorXd local;
-        // block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and
-        // r the rows of `entries` (S(r, c), r <= c) and `rights`. For each entry of S the weighted
-        // Gram matrix G = W^T diag(S_rc) W is symmetric and read from its upper triangle (so the
-        // block is exactly symmetric). Two dense products give that triangle for every entry at
-        // once: the columns b < h = order / 2 need only the rows a < h, the others all rows
-        // (three quarters of the full products' work; each value still summed sensor by sensor).
-        const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
-          const int entryCount = d * (d + 1) / 2;
-          const int low = order / 2, high = order - low;
-          const int count = static_cast<int>(weights.rows());
-          scaledLow.resize(count, entryCount * low);
-          scaledHigh.resize(count, entryCount * high);
-          for (int e = 0; e < entryCount; ++e) {
-            for (int b = 0; b < order; ++b) {
-              auto column =
-                  b < low ? scaledLow.col(e * low + b) : scaledHigh.col(e * high + b - low);
-              column = weights.col(b).cwiseProduct(entries.col(e));
+  tbb::parallel_for(tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>&
+                                                                   range) {
+    Eigen::MatrixXd weights;  // sensors x order: each sensor's basis weights
+    Eigen::MatrixXd entries;  // sensors x d(d+1)/2: each sensor's symmetric d x d matrix
+    Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
+    Eigen::MatrixXd scaledLow, scaledHigh, gramLow, gramHigh;
+    Eigen::VectorXd local;
+    std::vector<double> upper;  // the Gram values of one group, [(e * order + a) * order + b]
+    // A knot cell whose sensors form a full grid of gridU x gridV (u, v) parameters of a
+    // tensor-product map: gridRow[iu * gridV + iv] is the row in `weights` of the sensor at
+    // (u_iu, v_iv), valuesU / valuesV the u and v basis values of the grid's lines.
+    bool isGrid = false;
+    int gridU = 0, gridV = 0;
+    std::vector<int> gridRow, keysU, keysV, rowKeyU, rowKeyV;
+    Eigen::MatrixXd valuesU, valuesV, pairsU, pairsV, partial, tensorGram;
+    const auto detectGrid = [&](const SensorMap& basis, int first, int last) {
+      isGrid = false;
+      const int orderU = basis.orderU();
+      if (orderU <= 0) return;
+      const int orderV = basis.order() / orderU;
+      const int count = last - first;
+      rowKeyU.resize(static_cast<std::size_t>(count));
+      rowKeyV.resize(static_cast<std::size_t>(count));
+      for (int row = 0; row < count; ++row) {
+        const int k = basis.spanOrder()[static_cast<std::size_t>(first + row)];
+        rowKeyU[static_cast<std::size_t>(row)] = basis.uKey(k);
+        rowKeyV[static_cast<std::size_t>(row)] = basis.vKey(k);
+      }
+      const auto distinct = [](std::vector<int> keys) {
+        std::sort(keys.begin(), keys.end());
+        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        return keys;
+      };
+      keysU = distinct(rowKeyU);
+      keysV = distinct(rowKeyV);
+      gridU = static_cast<int>(keysU.size());
+      gridV = static_cast<int>(keysV.size());
+      if (static_cast<long long>(gridU) * gridV != count) return;
+      gridRow.assign(static_cast<std::size_t>(count), -1);
+      valuesU.resize(gridU, orderU);
+      valuesV.resize(gridV, orderV);
+      for (int row = 0; row < count; ++row) {
+        const int iu = static_cast<int>(
+            std::lower_bound(keysU.begin(), keysU.end(), rowKeyU[static_cast<std::size_t>(row)]) -
+            keysU.begin());
+        const int iv = static_cast<int>(
+            std::lower_bound(keysV.begin(), keysV.end(), rowKeyV[static_cast<std::size_t>(row)]) -
+            keysV.begin());
+        int& slot = gridRow[static_cast<std::size_t>(iu * gridV + iv)];
+        if (slot >= 0) return;  // two sensors at one grid point: not a grid
+        slot = row;
+        const int k = basis.spanOrder()[static_cast<std::size_t>(first + row)];
+        for (int a = 0; a < orderU; ++a) valuesU(iu, a) = basis.uWeight(k, a);
+        for (int b = 0; b < orderV; ++b) valuesV(iv, b) = basis.vWeight(k, b);
+      }
+      isGrid = true;
+    };
+    // Index of the pair (a, b), a <= b, among the pairs of n functions.
+    const auto pairIndex = [](int n, int a, int b) { return a * n - a * (a - 1) / 2 + (b - a); };
+    // The upper triangles of the weighted Gram matrices G_rc = W^T diag(S_rc) W of the group,
+    // one per entry S(r, c), r <= c, of the rows of `entries`, into `upper`.
+    //  - A grid of a tensor-product map: w = N (x) M, so G_rc((a, b), (a', b')) =
+    //    sum_iu N_a N_a'(u_iu) sum_iv M_b M_b'(v_iv) S_rc(iu, iv), summed direction by direction
+    //    over the pairs a <= a' and b <= b' (for bicubic patches and 10 x 10 sensors about a
+    //    fifth of the products of the general sum).
+    //  - Otherwise two dense products give the triangles of all entries at once: the columns
+    //    b < h = order / 2 need only the rows a < h, the others all rows.
+    const auto gramSums = [&](int order) {
+      const int entryCount = d * (d + 1) / 2;
+      upper.assign(static_cast<std::size_t>(entryCount * order * order), 0.0);
+      if (isGrid) {
+        const int orderU = static_cast<int>(valuesU.cols());
+        const int orderV = static_cast<int>(valuesV.cols());
+        const int pairCountV = orderV * (orderV + 1) / 2;
+        const auto products = [&](const Eigen::MatrixXd& values, Eigen::MatrixXd& pairs) {
+          const int n = static_cast<int>(values.cols());
+          pairs.resize(values.rows(), n * (n + 1) / 2);
+          for (int a = 0; a < n; ++a) {
+            for (int b = a; b < n; ++b) {
+              pairs.col(pairIndex(n, a, b)) = values.col(a).cwiseProduct(values.col(b));
             }
-          }
-          gramLow.noalias() = weights.leftCols(low).transpose() * scaledLow;
-          gramHigh.noalias() = weights.transpose() * scaledHigh;
-          const auto gram = [&](int e, int a, int b) {  // a <= b
-            return b < low ? gramLow(a, e * low + b) : gramHigh(a, e * high + b - low);
-          };
-          block.resize(order * d, order * d);
-          int entry = 0;
-          for (int r = 0; r < d; ++r) {
-            for (int c = r; c < d; ++c, ++entry) {
-              for (int b = 0; b < order; ++b) {
-                for (int a = 0; a < order; ++a) {
-                  const double value = a <= b ? gram(entry, a, b) : gram(entry, b, a);
-                  block(a * d + r, b * d + c) = value;
-                  block(a * d + c, b * d + r) = value;
-                }
-              }
-            }
-          }
-          const Eigen::MatrixXd sums = weights.transpose() * rights;  // order x d
-          right.resize(order * d);
-          for (int b = 0; b < order; ++b) {
-            for (int r = 0; r < d; ++r) right[b * d + r] = sums(b, r);
           }
         };
-        for (int i = range.begin(); i != range.end(); ++i) {
-          if (!findRanks(i)) outsidePattern = true;
-          const SensorTerms& set = setOf(i);
-          const SensorMap& basis = *set.basis;
-          const int g = groupList[static_cast<std::size_t>(i)].second;
-          const int order = basis.order();
-          const int blockSize = order * d;
-          GroupSums& sum = sums[static_cast<std::size_t>(i)];
-          const int first = basis.spanBegin()[static_cast<std::size_t>(g)];
-          const int last = basis.spanBegin()[static_cast<std::size_t>(g) + 1];
-          const int count = last - first;
-          weights.resize(count, order);
-          entries.resize(count, d * (d + 1) / 2);
-          rights.resize(count, d);
-          for (int j = first; j < last; ++j) {
-            const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-            const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
-            const int row = j - first;
-            for (int a = 0; a < order; ++a) weights(row, a) = basis.weight(k, a);
-            int entry = 0;
-            for (int r = 0; r < d; ++r) {
-              rights(row, r) = form.b[r];
-              for (int c = r; c < d; ++c) entries(row, entry++) = form.A(r, c);
+        products(valuesU, pairsU);
+        products(valuesV, pairsV);
+        for (int e = 0; e < entryCount; ++e) {
+          partial.setZero(pairCountV, gridU);
+          for (int iu = 0; iu < gridU; ++iu) {
+            for (int iv = 0; iv < gridV; ++iv) {
+              const double value = entries(gridRow[static_cast<std::size_t>(iu * gridV + iv)], e);
+              partial.col(iu) += value * pairsV.row(iv).transpose();
             }
           }
-          kroneckerSums(order, sum.block, sum.right);
-          sum.block *= set.weight;
-          sum.right *= set.weight;
-          if (set.rankOne == nullptr || set.rankOne->empty()) continue;
-          // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
-          // b += alpha u (u . x_now).
-          const RankOneTerms& rankOne = *set.rankOne;
-          const int k0 = basis.spanOrder()[static_cast<std::size_t>(first)];
-          if (rankOne.separable) {
-            // u = w (x) t: per sensor S = sum alpha t t^T and r = S x_k (x_k = sum_j w_j x_now_j,
-            // the sensor's point), summed like the forms.
-            for (int j = first; j < last; ++j) {
-              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-              const int row = j - first;
-              Eigen::Vector3d point = Eigen::Vector3d::Zero();
-              for (int a = 0; a < order; ++a) {
-                point.head(d) +=
-                    weights(row, a) *
-                    controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
-              }
-              Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-              for (int t = rankOne.start[static_cast<std::size_t>(k)];
-                   t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t) {
-                Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-                for (int a = 0; a < d; ++a) {
-                  direction[a] = rankOne.vectors[static_cast<std::size_t>(t) * d + a];
-                }
-                S += rankOne.coefficients[static_cast<std::size_t>(t)] * direction *
-                     direction.transpose();
-              }
-              const Eigen::Vector3d right = S * point;
-              int entry = 0;
-              for (int r = 0; r < d; ++r) {
-                rights(row, r) = right[r];
-                for (int c = r; c < d; ++c) entries(row, entry++) = S(r, c);
-              }
+          tensorGram.noalias() = partial * pairsU;  // pairCountV x pairCountU
+          for (int a = 0; a < order; ++a) {
+            const int au = a / orderV, av = a % orderV;
+            for (int b = a; b < order; ++b) {
+              const int bu = b / orderV, bv = b % orderV;
+              upper[static_cast<std::size_t>((e * order + a) * order + b)] =
+                  tensorGram(pairIndex(orderV, std::min(av, bv), std::max(av, bv)),
+                             pairIndex(orderU, std::min(au, bu), std::max(au, bu)));
             }
-            kroneckerSums(order, sum.rankOneBlock, sum.rankOneRight);
-          } else {
-            int termCount = 0;
-            for (int j = first; j < last; ++j) {
-              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-              termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
-                           rankOne.start[static_cast<std::size_t>(k)];
-            }
-            local.resize(blockSize);
-            for (int a = 0; a < order; ++a) {
-              local.segment(a * d, d) =
-                  controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
-            }
-            // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
-            // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
-            Eigen::MatrixXd U(blockSize, termCount);
-            Eigen::MatrixXd W(blockSize, termCount);
-            int column = 0;
-            for (int j = first; j < last; ++j) {
-              const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-              for (int t = rankOne.start[static_cast<std::size_t>(k)];
-                   t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
-                U.col(column) = Eigen::Map<const Eigen::VectorXd>(
-                    rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
-                W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
-              }
-            }
-            sum.rankOneBlock.noalias() = U * W.transpose();
-            sum.rankOneRight.noalias() = W * (U.transpose() * local);
           }
-          sum.rankOneBlock *= set.weight;
-          sum.rankOneRight *= set.weight;
         }
-      });
+        return;
+      }
+      const int low = order / 2, high = order - low;
+      const int count = static_cast<int>(weights.rows());
+      scaledLow.resize(count, entryCount * low);
+      scaledHigh.resize(count, entryCount * high);
+      for (int e = 0; e < entryCount; ++e) {
+        for (int b = 0; b < order; ++b) {
+          auto column = b < low ? scaledLow.col(e * low + b) : scaledHigh.col(e * high + b - low);
+          column = weights.col(b).cwiseProduct(entries.col(e));
+        }
+      }
+      gramLow.noalias() = weights.leftCols(low).transpose() * scaledLow;
+      gramHigh.noalias() = weights.transpose() * scaledHigh;
+      for (int e = 0; e < entryCount; ++e) {
+        for (int b = 0; b < order; ++b) {
+          for (int a = 0; a <= b; ++a) {
+            upper[static_cast<std::size_t>((e * order + a) * order + b)] =
+                b < low ? gramLow(a, e * low + b) : gramHigh(a, e * high + b - low);
+          }
+        }
+      }
+    };
+    // block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and
+    // r the rows of `entries` (S(r, c), r <= c) and `rights`; the block mirrored from the
+    // upper triangles of the Gram sums, so that it is exactly symmetric.
+    const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
+      gramSums(order);
+      block.resize(order * d, order * d);
+      int entry = 0;
+      for (int r = 0; r < d; ++r) {
+        for (int c = r; c < d; ++c, ++entry) {
+          for (int b = 0; b < order; ++b) {
+            for (int a = 0; a < order; ++a) {
+              const double value = upper[static_cast<std::size_t>(
+                  a <= b ? (entry * order + a) * order + b : (entry * order + b) * order + a)];
+              block(a * d + r, b * d + c) = value;
+              block(a * d + c, b * d + r) = value;
+            }
+          }
+        }
+      }
+      const Eigen::MatrixXd sums = weights.transpose() * rights;  // order x d
+      right.resize(order * d);
+      for (int b = 0; b < order; ++b) {
+        for (int r = 0; r < d; ++r) right[b * d + r] = sums(b, r);
+      }
+    };
+    for (int i = range.begin(); i != range.end(); ++i) {
+      if (!findRanks(i)) outsidePattern = true;
+      const SensorTerms& set = setOf(i);
+      const SensorMap& basis = *set.basis;
+      const int g = groupList[static_cast<std::size_t>(i)].second;
+      const int order = basis.order();
+      const int blockSize = order * d;
+      GroupSums& sum = sums[static_cast<std::size_t>(i)];
+      const int first = basis.spanBegin()[static_cast<std::size_t>(g)];
+      const int last = basis.spanBegin()[static_cast<std::size_t>(g) + 1];
+      const int count = last - first;
+      weights.resize(count, order);
+      entries.resize(count, d * (d + 1) / 2);
+      rights.resize(count, d);
+      for (int j = first; j < last; ++j) {
+        const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+        const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
+        const int row = j - first;
+        for (int a = 0; a < order; ++a) weights(row, a) = basis.weight(k, a);
+        int entry = 0;
+        for (int r = 0; r < d; ++r) {
+          rights(row, r) = form.b[r];
+          for (int c = r; c < d; ++c) entries(row, entry++) = form.A(r, c);
+        }
+      }
+      detectGrid(basis, first, last);
+      kroneckerSums(order, sum.block, sum.right);
+      sum.block *= set.weight;
+      sum.right *= set.weight;
+      if (set.rankOne == nullptr || set.rankOne->empty()) continue;
+      // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
+      // b += alpha u (u . x_now).
+      const RankOneTerms& rankOne = *set.rankOne;
+      const int k0 = basis.spanOrder()[static_cast<std::size_t>(first)];
+      if (rankOne.separable) {
+        // u = w (x) t: per sensor S = sum alpha t t^T and r = S x_k (x_k = sum_j w_j x_now_j,
+        // the sensor's point), summed like the forms.
+        for (int j = first; j < last; ++j) {
+          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+          const int row = j - first;
+          Eigen::Vector3d point = Eigen::Vector3d::Zero();
+          for (int a = 0; a < order; ++a) {
+            point.head(d) += weights(row, a) *
+                             controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
+          }
+          Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+          for (int t = rankOne.start[static_cast<std::size_t>(k)];
+               t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t) {
+            Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+            for (int a = 0; a < d; ++a) {
+              direction[a] = rankOne.vectors[static_cast<std::size_t>(t) * d + a];
+            }
+            S += rankOne.coefficients[static_cast<std::size_t>(t)] * direction *
+                 direction.transpose();
+          }
+          const Eigen::Vector3d right = S * point;
+          int entry = 0;
+          for (int r = 0; r < d; ++r) {
+            rights(row, r) = right[r];
+            for (int c = r; c < d; ++c) entries(row, entry++) = S(r, c);
+          }
+        }
+        kroneckerSums(order, sum.rankOneBlock, sum.rankOneRight);
+      } else {
+        int termCount = 0;
+        for (int j = first; j < last; ++j) {
+          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+          termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
+                       rankOne.start[static_cast<std::size_t>(k)];
+        }
+        local.resize(blockSize);
+        for (int a = 0; a < order; ++a) {
+          local.segment(a * d, d) =
+              controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
+        }
+        // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
+        // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
+        Eigen::MatrixXd U(blockSize, termCount);
+        Eigen::MatrixXd W(blockSize, termCount);
+        int column = 0;
+        for (int j = first; j < last; ++j) {
+          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
+          for (int t = rankOne.start[static_cast<std::size_t>(k)];
+               t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
+            U.col(column) = Eigen::Map<const Eigen::VectorXd>(
+                rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
+            W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
+          }
+        }
+        sum.rankOneBlock.noalias() = U * W.transpose();
+        sum.rankOneRight.noalias() = W * (U.transpose() * local);
+      }
+      sum.rankOneBlock *= set.weight;
+      sum.rankOneRight *= set.weight;
+    }
+  });
   if (outsidePattern || patternStart_.empty()) {  // new sensor spans (or none yet): rebuild
     std::vector<std::pair<int, int>> pairs;
     pairs.reserve(ranks.size());

@@ -72,20 +72,21 @@ struct SensorTerms {
 /// smoothing acts. In 2D (dimension 2) only the xy blocks of the forms enter and z stays 0.
 ///
 /// assemble() sums the sensors' blocks once (in parallel over the sets' span groups; each group's
-/// sensors in index order, the groups in set and span order, so results are bitwise identical for
-/// any thread count); solveAssembled() then adds the smoothing, rank-one scale, damping and
-/// regulariser and solves it, so that several of
-/// these weights can be tried on one assembly. The system's sparsity pattern (control points
-/// sharing a knot span, plus the smoothing and regulariser patterns) is kept between assemblies,
-/// and with it the fill-reducing ordering and symbolic factorisation: an assembly whose sensors
-/// couple no new pair of control points only scatters its blocks into the stored pattern. The
-/// system may be indefinite (negative rank-one terms): lastSolvePositiveDefinite() tells.
-/// Solvers: a dense Cholesky (pivoted LDLT when indefinite) for small systems whose pattern is
-/// dense anyway (at most kDenseUnknowns unknowns and a twentieth of the entries); Eigen's
-/// SimplicialLDLT for other systems of at most kSimplicialUnknowns unknowns (curves: narrow
-/// bands, little fill); a supernodal sparse Cholesky (CHOLMOD) for larger ones (surfaces, whose
-/// two-dimensional nets fill in), with the SimplicialLDLT when that finds the system indefinite.
-/// Every solver is serial, so the result does not depend on the thread count.
+/// sensors in index order, or, for a knot cell whose sensors form a grid of parameters of a
+/// tensor-product map, direction by direction (SensorMap::orderU()); the groups in set and span
+/// order, so results are bitwise identical for any thread count); solveAssembled() then adds the
+/// smoothing, rank-one scale, damping and regulariser and solves it, so that several of these
+/// weights can be tried on one assembly. The system's sparsity pattern (control points sharing a
+/// knot span, plus the smoothing and regulariser patterns) is kept between assemblies, and with it
+/// the fill-reducing ordering and symbolic factorisation: an assembly whose sensors couple no new
+/// pair of control points only scatters its blocks into the stored pattern. The system may be
+/// indefinite (negative rank-one terms): lastSolvePositiveDefinite() tells. Solvers: a dense
+/// Cholesky (pivoted LDLT when indefinite) for small systems whose pattern is dense anyway (at most
+/// kDenseUnknowns unknowns and a twentieth of the entries); Eigen's SimplicialLDLT for other
+/// systems of at most kSimplicialUnknowns unknowns (curves: narrow bands, little fill); a
+/// supernodal sparse Cholesky (CHOLMOD) for larger ones (surfaces, whose two-dimensional nets fill
+/// in), with the SimplicialLDLT when that finds the system indefinite. Every solver is serial, so
+/// the result does not depend on the thread count.
 class QuadraticModel {
  public:
   /// Largest system (control points x dimension) that may be factorised densely.

@@ -32,6 +32,22 @@ class SensorMap {
   /// Value of the j-th nonzero basis function at sensor k.
   double weight(int k, int j) const { return weights_[static_cast<std::size_t>(k * order_ + j)]; }
 
+  /// Tensor-product maps (surfaces; 0 for others): the basis functions per sensor in u, so that
+  /// basis function j = a * (order() / orderU()) + b of sensor k is the product
+  /// uWeight(k, a) * vWeight(k, b) of its u and v basis values (weight() holds the rounded
+  /// product). Sensors with equal uKey() (vKey()) have the same u (v) parameter and so the same u
+  /// (v) basis values: the fitting model sums a knot cell whose sensors form a grid direction by
+  /// direction.
+  int orderU() const { return orderU_; }
+  double uWeight(int k, int a) const {
+    return uWeights_[static_cast<std::size_t>(k * orderU_ + a)];
+  }
+  double vWeight(int k, int b) const {
+    return vWeights_[static_cast<std::size_t>(k * (order_ / orderU_) + b)];
+  }
+  int uKey(int k) const { return uKeys_[static_cast<std::size_t>(k)]; }
+  int vKey(int k) const { return vKeys_[static_cast<std::size_t>(k)]; }
+
   /// Sensor indices sorted by group (ties by index): sensors of group g are
   /// spanOrder()[spanBegin()[g] .. spanBegin()[g + 1]).
   const std::vector<int>& spanOrder() const { return spanOrder_; }
@@ -61,6 +77,12 @@ class SensorMap {
   int controlPointCount_ = 0;
   std::vector<int> indices_;
   std::vector<double> weights_;
+  // Tensor-product factors (orderU_ > 0): u and v basis values per sensor and parameter keys.
+  int orderU_ = 0;
+  std::vector<double> uWeights_;
+  std::vector<double> vWeights_;
+  std::vector<int> uKeys_;
+  std::vector<int> vKeys_;
 
  private:
   std::vector<int> spanOrder_;

@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -35,12 +36,19 @@ SurfaceSensorBasis::SurfaceSensorBasis(const BSplineSurface& surface,
     spansU[k] = knotsU.findSpan(uv.x());
     spansV[k] = knotsV.findSpan(uv.y());
   }
+  orderU_ = p + 1;
+  uWeights_.resize(count * static_cast<std::size_t>(p + 1));
+  vWeights_.resize(count * static_cast<std::size_t>(q + 1));
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, count, 256),
       [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t k = range.begin(); k != range.end(); ++k) {
           const BasisValues valuesU = basisValues(knotsU, spansU[k], parameters_[k].x());
           const BasisValues valuesV = basisValues(knotsV, spansV[k], parameters_[k].y());
+          for (int a = 0; a <= p; ++a)
+            uWeights_[k * static_cast<std::size_t>(p + 1) + a] = valuesU[a];
+          for (int b = 0; b <= q; ++b)
+            vWeights_[k * static_cast<std::size_t>(q + 1) + b] = valuesV[b];
           std::size_t slot = k * static_cast<std::size_t>(order_);
           for (int a = 0; a <= p; ++a) {
             for (int b = 0; b <= q; ++b, ++slot) {
@@ -50,6 +58,22 @@ SurfaceSensorBasis::SurfaceSensorBasis(const BSplineSurface& surface,
           }
         }
       });
+  // Parameter keys: the rank of each sensor's u (v) among the distinct values.
+  const auto keysOf = [&](int axis) {
+    std::vector<double> distinct(count);
+    for (std::size_t k = 0; k < count; ++k) distinct[k] = parameters_[k][axis];
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    std::vector<int> keys(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      keys[k] = static_cast<int>(
+          std::lower_bound(distinct.begin(), distinct.end(), parameters_[k][axis]) -
+          distinct.begin());
+    }
+    return keys;
+  };
+  uKeys_ = keysOf(0);
+  vKeys_ = keysOf(1);
   // One group per knot cell: key = (span u - p) * (spans in v) + (span v - q).
   const int spanCountV = knotsV.basisFunctionCount() - q;
   std::vector<int> keys(count);
