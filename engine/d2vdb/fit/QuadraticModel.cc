@@ -149,7 +149,7 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
     Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
     Eigen::MatrixXd scaledLow, scaledHigh, gramLow, gramHigh;
     Eigen::VectorXd local;
-    std::vector<double> upper;  // the Gram values of one group, [(e * order + a) * order + b]
+    std::vector<double> upper;  // the Gram values of one group, [(a * order + b) * E + e]
     // A knot cell whose sensors form a full grid of gridU x gridV (u, v) parameters of a
     // tensor-product map: gridRow[iu * gridV + iv] is the row in `weights` of the sensor at
     // (u_iu, v_iv), valuesU / valuesV the u and v basis values of the grid's lines.
@@ -240,7 +240,7 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
             const int au = a / orderV, av = a % orderV;
             for (int b = a; b < order; ++b) {
               const int bu = b / orderV, bv = b % orderV;
-              upper[static_cast<std::size_t>((e * order + a) * order + b)] =
+              upper[static_cast<std::size_t>((a * order + b) * entryCount + e)] =
                   tensorGram(pairIndex(orderV, std::min(av, bv), std::max(av, bv)),
                              pairIndex(orderU, std::min(au, bu), std::max(au, bu)));
             }
@@ -263,7 +263,7 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
       for (int e = 0; e < entryCount; ++e) {
         for (int b = 0; b < order; ++b) {
           for (int a = 0; a <= b; ++a) {
-            upper[static_cast<std::size_t>((e * order + a) * order + b)] =
+            upper[static_cast<std::size_t>((a * order + b) * entryCount + e)] =
                 b < low ? gramLow(a, e * low + b) : gramHigh(a, e * high + b - low);
           }
         }
@@ -274,17 +274,20 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
     // upper triangles of the Gram sums, so that it is exactly symmetric.
     const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
       gramSums(order);
+      // Entry S(r, c) of the symmetric d x d matrices, r <= c, is entry number entryOf[r][c].
+      int entryOf[3][3] = {};
+      for (int r = 0, entry = 0; r < d; ++r) {
+        for (int c = r; c < d; ++c, ++entry) entryOf[r][c] = entryOf[c][r] = entry;
+      }
+      const int entryCount = d * (d + 1) / 2;
       block.resize(order * d, order * d);
-      int entry = 0;
-      for (int r = 0; r < d; ++r) {
-        for (int c = r; c < d; ++c, ++entry) {
-          for (int b = 0; b < order; ++b) {
-            for (int a = 0; a < order; ++a) {
-              const double value = upper[static_cast<std::size_t>(
-                  a <= b ? (entry * order + a) * order + b : (entry * order + b) * order + a)];
-              block(a * d + r, b * d + c) = value;
-              block(a * d + c, b * d + r) = value;
-            }
+      for (int b = 0; b < order; ++b) {
+        for (int c = 0; c < d; ++c) {
+          double* column = block.col(b * d + c).data();
+          for (int a = 0; a < order; ++a) {
+            const double* pair =
+                upper.data() + (std::min(a, b) * order + std::max(a, b)) * entryCount;
+            for (int r = 0; r < d; ++r) column[a * d + r] = pair[entryOf[r][c]];
           }
         }
       }
