@@ -1,6 +1,10 @@
 // The iteration shared by the squared-distance fitters (detail/FitLoop.h).
 #include "d2vdb/fit/detail/FitLoop.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -9,6 +13,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "d2vdb/core/Error.h"
 
@@ -157,15 +162,22 @@ class AutomaticBending {
     const SensorMap& basis = *linearization.basis;
     const int count = basis.sensorCount();
     if (count == 0) return 0.0;
+    // Each sensor's term in parallel, summed in sensor order (the same sum for any thread count).
+    std::vector<double> terms(static_cast<std::size_t>(count));
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, count, 1024), [&](const tbb::blocked_range<int>& range) {
+          for (int k = range.begin(); k != range.end(); ++k) {
+            Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+            for (int j = 0; j < basis.order(); ++j) {
+              delta += basis.weight(k, j) * shift[static_cast<std::size_t>(basis.index(k, j))];
+            }
+            if (dimension == 2) delta.z() = 0.0;
+            terms[static_cast<std::size_t>(k)] =
+                delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta);
+          }
+        });
     double sum = 0.0;
-    for (int k = 0; k < count; ++k) {
-      Eigen::Vector3d delta = Eigen::Vector3d::Zero();
-      for (int j = 0; j < basis.order(); ++j) {
-        delta += basis.weight(k, j) * shift[static_cast<std::size_t>(basis.index(k, j))];
-      }
-      if (dimension == 2) delta.z() = 0.0;
-      sum += delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta);
-    }
+    for (const double term : terms) sum += term;
     return std::sqrt(std::max(0.0, sum) / count);
   }
 
@@ -181,16 +193,22 @@ class AutomaticBending {
 double largestSensorMove(const FitLinearization& linearization,
                          const std::vector<Eigen::Vector3d>& step, int dimension) {
   const SensorMap& basis = *linearization.basis;
-  double largest = 0.0;
-  for (int k = 0; k < basis.sensorCount(); ++k) {
-    Eigen::Vector3d delta = Eigen::Vector3d::Zero();
-    for (int j = 0; j < basis.order(); ++j) {
-      delta += basis.weight(k, j) * step[static_cast<std::size_t>(basis.index(k, j))];
-    }
-    if (dimension == 2) delta.z() = 0.0;
-    largest =
-        std::max(largest, delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta));
-  }
+  // The largest of the sensors' values, in parallel (a maximum does not depend on the order).
+  const double largest = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, basis.sensorCount(), 1024), 0.0,
+      [&](const tbb::blocked_range<int>& range, double running) {
+        for (int k = range.begin(); k != range.end(); ++k) {
+          Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+          for (int j = 0; j < basis.order(); ++j) {
+            delta += basis.weight(k, j) * step[static_cast<std::size_t>(basis.index(k, j))];
+          }
+          if (dimension == 2) delta.z() = 0.0;
+          running = std::max(running,
+                             delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta));
+        }
+        return running;
+      },
+      [](double a, double b) { return std::max(a, b); });
   return std::sqrt(largest);
 }
 
