@@ -76,11 +76,12 @@ inline void pairBasis(const Pair* powers, double r, double r2, Pair* out) {
   }
 }
 
-/// The Bernstein basis of fixed degree D at s with first (Order >= 1) and second (Order >= 2)
-/// derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
-/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i).
+/// The Bernstein basis of fixed degree D at s with first (Order >= 1), second (Order >= 2) and
+/// third (Order 3) derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
+/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i),
+/// d3B^D_i = D (D - 1) (D - 2) (B^(D-3)_(i-3) - 3 B^(D-3)_(i-2) + 3 B^(D-3)_(i-1) - B^(D-3)_i).
 template <int D, int Order>
-inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
+inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb, Pair* dddb) {
   constexpr int count = pairsPerRow(D);
   const double r = 1.0 - s;
   const double s2 = s * s;
@@ -109,16 +110,36 @@ inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
       previous = lower[k];
     }
   }
+  if constexpr (Order >= 3) {
+    if constexpr (D < 3) {
+      for (int k = 0; k < count; ++k) dddb[k] = Pair{0.0, 0.0};
+    } else {
+      Pair lower[count];
+      pairBasis<D, D - 3>(powers, r, r2, lower);
+      Pair beforePrevious = Pair{0.0, 0.0};
+      Pair previous = Pair{0.0, 0.0};
+      for (int k = 0; k < count; ++k) {
+        const Pair third = Pair{beforePrevious[1], previous[0]};  // (B_2k-3, B_2k-2)
+        const Pair first = Pair{previous[1], lower[k][0]};        // (B_2k-1, B_2k)
+        dddb[k] = static_cast<double>(D * (D - 1) * (D - 2)) *
+                  (third - 3.0 * previous + 3.0 * first - lower[k]);
+        beforePrevious = previous;
+        previous = lower[k];
+      }
+    }
+  }
 }
 
 /// The s-direction stage of fixedPatch: out[.][c] from the rows combined by the t-basis (t0)
-/// and its derivatives (t1, t2), a pair of columns at a time.
+/// and its derivatives (t1, t2, t3), a pair of columns at a time.
 template <int D, int Order>
-inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* t0,
-                        const Pair* t1, const Pair* t2, int c, double out[6][3]) {
+inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* dddbx,
+                        const Pair* t0, const Pair* t1, const Pair* t2, const Pair* t3, int c,
+                        double out[10][3]) {
   constexpr int count = pairsPerRow(D);
   Pair v = bx[0] * t0[0];
   Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
+  Pair sss = gs, sst = gs, stt = gs, ttt = gs;
   if constexpr (Order >= 1) {
     gs = dbx[0] * t0[0];
     gt = bx[0] * t1[0];
@@ -127,6 +148,12 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
     hss = ddbx[0] * t0[0];
     hst = dbx[0] * t1[0];
     htt = bx[0] * t2[0];
+  }
+  if constexpr (Order >= 3) {
+    sss = dddbx[0] * t0[0];
+    sst = ddbx[0] * t1[0];
+    stt = dbx[0] * t2[0];
+    ttt = bx[0] * t3[0];
   }
   for (int j = 1; j < count; ++j) {
     v += bx[j] * t0[j];
@@ -139,6 +166,12 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
       hst += dbx[j] * t1[j];
       htt += bx[j] * t2[j];
     }
+    if constexpr (Order >= 3) {
+      sss += dddbx[j] * t0[j];
+      sst += ddbx[j] * t1[j];
+      stt += dbx[j] * t2[j];
+      ttt += bx[j] * t3[j];
+    }
   }
   out[0][c] = v[0] + v[1];
   out[1][c] = gs[0] + gs[1];
@@ -146,30 +179,39 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
   out[3][c] = hss[0] + hss[1];
   out[4][c] = hst[0] + hst[1];
   out[5][c] = htt[0] + htt[1];
+  if constexpr (Order >= 3) {
+    out[6][c] = sss[0] + sss[1];
+    out[7][c] = sst[0] + sst[1];
+    out[8][c] = stt[0] + stt[1];
+    out[9][c] = ttt[0] + ttt[1];
+  }
 }
 
 /// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
 /// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
-/// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
+/// [5] = d2/dt2, [6] = d3/ds3, [7] = d3/ds2dt, [8] = d3/dsdt2, [9] = d3/dt3 (as far as Order
+/// asks), each with x, y, z. Controls: three blocks (x, y, z) of
 /// D + 1 rows of equal t-index, each row the D + 1 values of increasing s-index padded to
 /// 2 pairsPerRow(D) doubles (the padding is never read into a result: its basis values are 0).
 /// The rows are combined a pair of columns at a time.
 template <int D, int Order>
-void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
+void fixedPatch(const double* controls, double s, double t, double out[10][3]) {
   constexpr int m = D + 1;
   constexpr int count = pairsPerRow(D);
-  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
-  pairBernstein<D, Order>(s, bx, dbx, ddbx);
-  pairBernstein<D, Order>(t, by, dby, ddby);
+  Pair bx[count], dbx[count], ddbx[count], dddbx[count];
+  Pair by[count], dby[count], ddby[count], dddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx, dddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby, dddby);
   for (int c = 0; c < 3; ++c) {
     const Pair* block = reinterpret_cast<const Pair*>(controls) + c * m * count;
-    // t0, t1, t2: the rows weighted by the t-basis and its derivatives.
-    Pair t0[count], t1[count], t2[count];
+    // t0 .. t3: the rows weighted by the t-basis and its derivatives.
+    Pair t0[count], t1[count], t2[count], t3[count];
     for (int j = 0; j < count; ++j) {
       const Pair row = block[j];
       t0[j] = by[0][0] * row;
       if constexpr (Order >= 1) t1[j] = dby[0][0] * row;
       if constexpr (Order >= 2) t2[j] = ddby[0][0] * row;
+      if constexpr (Order >= 3) t3[j] = dddby[0][0] * row;
     }
     for (int k = 1; k < m; ++k) {
       const Pair* row = block + k * count;
@@ -183,8 +225,12 @@ void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
         const double e = ddby[k / 2][k % 2];
         for (int j = 0; j < count; ++j) t2[j] += e * row[j];
       }
+      if constexpr (Order >= 3) {
+        const double f = dddby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t3[j] += f * row[j];
+      }
     }
-    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+    finishPatch<D, Order>(bx, dbx, ddbx, dddbx, t0, t1, t2, t3, c, out);
   }
 }
 
@@ -198,33 +244,38 @@ typedef double Quad __attribute__((vector_size(32), aligned(8), may_alias));
 /// (no fused multiply-add: the target adds none and ISO C++ mode does not contract).
 template <int D, int Order>
 __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, double s, double t,
-                                                    double out[6][3]) {
+                                                    double out[10][3]) {
   constexpr int m = D + 1;
   constexpr int count = pairsPerRow(D);
   constexpr int quads = count / 2;       // whole quads per row
   constexpr bool tail = count % 2 != 0;  // and one pair after them
-  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
-  pairBernstein<D, Order>(s, bx, dbx, ddbx);
-  pairBernstein<D, Order>(t, by, dby, ddby);
+  Pair bx[count], dbx[count], ddbx[count], dddbx[count];
+  Pair by[count], dby[count], ddby[count], dddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx, dddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby, dddby);
   for (int c = 0; c < 3; ++c) {
     const double* block = controls + c * m * 2 * count;
-    Quad q0[quads > 0 ? quads : 1], q1[quads > 0 ? quads : 1], q2[quads > 0 ? quads : 1];
-    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0;
+    constexpr int quadCount = quads > 0 ? quads : 1;
+    Quad q0[quadCount], q1[quadCount], q2[quadCount], q3[quadCount];
+    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0, p3 = p0;
     for (int k = 0; k < m; ++k) {
       const Quad* row = reinterpret_cast<const Quad*>(block + k * 2 * count);
       const Pair* rest = reinterpret_cast<const Pair*>(block + k * 2 * count) + 2 * quads;
       const double a = by[k / 2][k % 2];
       const double b = dby[k / 2][k % 2];
       const double e = ddby[k / 2][k % 2];
+      const double f = Order >= 3 ? dddby[k / 2][k % 2] : 0.0;
       for (int j = 0; j < quads; ++j) {
         if (k == 0) {
           q0[j] = a * row[j];
           if constexpr (Order >= 1) q1[j] = b * row[j];
           if constexpr (Order >= 2) q2[j] = e * row[j];
+          if constexpr (Order >= 3) q3[j] = f * row[j];
         } else {
           q0[j] += a * row[j];
           if constexpr (Order >= 1) q1[j] += b * row[j];
           if constexpr (Order >= 2) q2[j] += e * row[j];
+          if constexpr (Order >= 3) q3[j] += f * row[j];
         }
       }
       if constexpr (tail) {
@@ -232,14 +283,16 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
           p0 = a * rest[0];
           if constexpr (Order >= 1) p1 = b * rest[0];
           if constexpr (Order >= 2) p2 = e * rest[0];
+          if constexpr (Order >= 3) p3 = f * rest[0];
         } else {
           p0 += a * rest[0];
           if constexpr (Order >= 1) p1 += b * rest[0];
           if constexpr (Order >= 2) p2 += e * rest[0];
+          if constexpr (Order >= 3) p3 += f * rest[0];
         }
       }
     }
-    Pair t0[count], t1[count], t2[count];
+    Pair t0[count], t1[count], t2[count], t3[count];
     for (int j = 0; j < quads; ++j) {
       t0[2 * j] = Pair{q0[j][0], q0[j][1]};
       t0[2 * j + 1] = Pair{q0[j][2], q0[j][3]};
@@ -251,19 +304,24 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
         t2[2 * j] = Pair{q2[j][0], q2[j][1]};
         t2[2 * j + 1] = Pair{q2[j][2], q2[j][3]};
       }
+      if constexpr (Order >= 3) {
+        t3[2 * j] = Pair{q3[j][0], q3[j][1]};
+        t3[2 * j + 1] = Pair{q3[j][2], q3[j][3]};
+      }
     }
     if constexpr (tail) {
       t0[count - 1] = p0;
       t1[count - 1] = p1;
       t2[count - 1] = p2;
+      t3[count - 1] = p3;
     }
-    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+    finishPatch<D, Order>(bx, dbx, ddbx, dddbx, t0, t1, t2, t3, c, out);
   }
 }
 #endif
 
 template <int D, int Order>
-inline void dispatchPatch(const double* controls, double s, double t, double out[6][3]) {
+inline void dispatchPatch(const double* controls, double s, double t, double out[10][3]) {
 #ifdef D2VDB_WIDE_PATCH
   static const bool wide = __builtin_cpu_supports("avx2");
   if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
@@ -272,7 +330,7 @@ inline void dispatchPatch(const double* controls, double s, double t, double out
 }
 
 template <int Order>
-void patch(int d, const double* controls, double s, double t, double out[6][3]) {
+void patch(int d, const double* controls, double s, double t, double out[10][3]) {
   switch (d) {
     case 2:
       return dispatchPatch<2, Order>(controls, s, t, out);
@@ -448,7 +506,7 @@ struct PseudoManifold::DegreeFit {
 
 // ------------------------------------------------------------------------------------------------
 
-/// Evaluation with derivatives of order `Order` (0, 1 or 2) with respect to two parameters.
+/// Evaluation with derivatives of order `Order` (0 to 3) with respect to two parameters.
 template <int Order>
 struct PseudoManifold::Evaluator {
   const PseudoManifold& pps;
@@ -459,7 +517,7 @@ struct PseudoManifold::Evaluator {
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double* controls = pps.controls_.data() + pps.controlOffset_[vertex];
     const double inv = 0.5 / radius;
-    double result[6][3];
+    double result[10][3];
     patch<Order>(d, controls, (px.v + radius) * inv, (py.v + radius) * inv, result);
     const double* value = result[0];
     const double* gx = result[1];
@@ -485,6 +543,17 @@ struct PseudoManifold::Evaluator {
           out.h[m] = psiXX * (px.d[a] * px.d[b]) + psiXY * (px.d[a] * py.d[b] + py.d[a] * px.d[b]) +
                      psiYY * (py.d[a] * py.d[b]) + psiX * px.h[m] + psiY * py.h[m];
         }
+        if constexpr (Order >= 3) {
+          const double inv3 = inv2 * inv;
+          const Eigen::Vector3d psiXXX = inv3 * toVector(result[6]);
+          const Eigen::Vector3d psiXXY = inv3 * toVector(result[7]);
+          const Eigen::Vector3d psiXYY = inv3 * toVector(result[8]);
+          const Eigen::Vector3d psiYYY = inv3 * toVector(result[9]);
+          for (int m = 0; m < 4; ++m) {
+            out.t[m] = detail::chainThird<Eigen::Vector3d>(m, psiX, psiY, psiXX, psiXY, psiYY,
+                                                           psiXXX, psiXXY, psiXYY, psiYYY, px, py);
+          }
+        }
       }
     }
     return out;
@@ -497,7 +566,7 @@ struct PseudoManifold::Evaluator {
     if (rr <= (kBumpInner * radius) * (kBumpInner * radius)) return Jet<Order>::constant(1.0);
     const Jet<Order> t = (1.0 / radius) * sqrt(px * px + py * py);
     const BumpValue xi = chartBump(t.v);
-    return t.apply(xi.value, xi.first, xi.second);
+    return t.apply(xi.value, xi.first, xi.second, xi.third);
   }
 
   /// The blended surface over the given chart point jets of the active corners.
@@ -802,6 +871,15 @@ SmoothDerivatives toDerivatives(const Jet3<Order>& jet) {
   return out;
 }
 
+SmoothThirdDerivatives toThirdDerivatives(const Jet3<3>& jet) {
+  SmoothThirdDerivatives out;
+  out.position = jet.v;
+  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
+  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
+  for (int i = 0; i < 4; ++i) out.ddd[i] = jet.t[i];
+  return out;
+}
+
 }  // namespace
 
 SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivatives) const {
@@ -879,6 +957,18 @@ SmoothDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int c
   }
   const Evaluator<2> evaluator{*this};
   return toDerivatives(evaluator.chart(point, corner));
+}
+
+SmoothThirdDerivatives PseudoManifold::chartThirdDerivatives(const FacePoint& point,
+                                                             int corner) const {
+  if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
+    throw InputError("no such face or corner");
+  }
+  if (!ChartAtlas::inChart(point.bary, corner)) {
+    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
+  }
+  const Evaluator<3> evaluator{*this};
+  return toThirdDerivatives(evaluator.chart(point, corner));
 }
 
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, const FacePoint& start,

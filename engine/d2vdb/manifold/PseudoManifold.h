@@ -64,6 +64,13 @@ struct SmoothDerivatives {
                            Eigen::Vector3d::Zero()};
 };
 
+/// SmoothDerivatives with the third derivatives: ddd[0] = d3X/ds3, ddd[1] = d3X/ds2dt,
+/// ddd[2] = d3X/dsdt2, ddd[3] = d3X/dt3.
+struct SmoothThirdDerivatives : SmoothDerivatives {
+  Eigen::Vector3d ddd[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                            Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+};
+
 /// The differential geometry (normal, principal curvatures and directions) of a parametrised
 /// surface from its first and second derivatives, conventions as in SmoothPoint. The tangent
 /// vectors must be linearly independent (the result is not finite otherwise).
@@ -174,6 +181,10 @@ class PseudoManifold {
   /// at a point of the face inside that chart (ChartAtlas::inChart). Smooth everywhere in the
   /// chart, centre included. Throws InputError when the point is not in the chart.
   SmoothDerivatives chartDerivatives(const FacePoint& point, int corner) const;
+  /// chartDerivatives() with the third derivatives (exact chain rules through the polar maps,
+  /// the Bézier patches, the weights and their quotient). Throws InputError when the point is
+  /// not in the chart.
+  SmoothThirdDerivatives chartThirdDerivatives(const FacePoint& point, int corner) const;
 
   /// The closest surface point found by Newton's method on |X - x|^2 from `start`, in the
   /// coordinates of the chart nearest to the current iterate (walking across faces and charts).
