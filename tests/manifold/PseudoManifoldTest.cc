@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "ManifoldTestSupport.h"
@@ -455,7 +456,8 @@ TEST(PseudoManifold, ThirdDerivativesMatchFiniteDifferencesOfTheSecond) {
                                                 dx[1] - x.ddd[1], dy[1] - x.ddd[2],
                                                 dx[2] - x.ddd[2], dy[2] - x.ddd[3]};
         for (const Eigen::Vector3d& e : differences) worst = std::max(worst, e.norm() / scale);
-        // The lower derivatives are those of the order-2 evaluation, to round-off.
+        // The lower derivatives are those of the order-2 evaluation to round-off (the order-3
+        // evaluation blends with normalised weights).
         worstLower = std::max({worstLower, (x.position - lower.position).norm(),
                                (x.d[0] - lower.d[0]).norm(), (x.d[1] - lower.d[1]).norm(),
                                (x.dd[0] - lower.dd[0]).norm(), (x.dd[1] - lower.dd[1]).norm(),
@@ -470,7 +472,7 @@ TEST(PseudoManifold, ThirdDerivativesMatchFiniteDifferencesOfTheSecond) {
       points, worst, worstLower);
   EXPECT_GT(points, 100);
   EXPECT_LT(worst, 1e-6);
-  EXPECT_EQ(worstLower, 0.0);
+  EXPECT_LT(worstLower, 1e-12);
 }
 
 TEST(PseudoManifold, FaceAndChartDerivativesGiveTheSameGeometry) {
@@ -769,6 +771,105 @@ TEST(PseudoManifold, SecondOrderStartFromTheNeighboursMiss) {
   EXPECT_EQ(ignored.iterations, plain.iterations);
   EXPECT_EQ(ignored.position, plain.position);
   EXPECT_EQ(ignored.firstStepMiss.has_value(), plain.firstStepMiss.has_value());
+}
+
+// The cubic finish and the start from the nearby projection's cubic model
+// (SmoothProjectionOptions::cubicFinish, startFromModel, as the field projects its voxels) against
+// the plain iteration (footpoints to 1e-12 of the chart radius, geometry evaluated there): lines
+// of 30 points spaced like the voxels of a field (a thirtieth of an edge) within 4.5 spacings of
+// the surface, each point projected from the one before (with the second-order start), stopped
+// beyond three spacings; 6000 points on the mesh with vertex degrees 3 to 9.
+TEST(PseudoManifold, CubicFinishAgreesWithThePlainIteration) {
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  const HalfEdgeMesh& mesh = *b.mesh;
+  const double spacing = 0.01;  // the mesh's edges are about 0.3 long, its radius 1
+  const double band = 3.0 * spacing;
+  SmoothProjectionOptions cubic;
+  cubic.extrapolateLastStep = true;
+  cubic.cubicFinish = true;
+  cubic.startFromModel = true;
+  cubic.stopBeyond = band;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double position = 0.0, distance = 0.0, normal = 0.0, curvature = 0.0, direction = 0.0;
+  long plainEvaluations = 0, cubicEvaluations = 0;
+  int points = 0, beyond = 0, withModel = 0;
+  for (int line = 0; line < 200; ++line) {
+    const auto face = static_cast<Index>(static_cast<std::size_t>(unit(random) * mesh.faceCount()) %
+                                         mesh.faceCount());
+    double u = unit(random), v = unit(random);
+    if (u + v > 1.0) {
+      u = 1.0 - u;
+      v = 1.0 - v;
+    }
+    const FacePoint start{face, Eigen::Vector3d(1.0 - u - v, u, v)};
+    const SmoothPoint surface = b.pps->evaluate(start, Derivatives::First);
+    const Eigen::Vector3d tangent =
+        surface.normal
+            .cross(Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5))
+            .normalized();
+    const Eigen::Vector3d origin =
+        surface.position + (9.0 * unit(random) - 4.5) * spacing * surface.normal;
+    PseudoManifold::Projection previousPlain, previousCubic;
+    for (int i = 0; i < 30; ++i) {
+      const Eigen::Vector3d x = origin + i * spacing * tangent;
+      PseudoManifold::Projection a, c;
+      if (i == 0) {
+        a = b.pps->project(x, start);
+        c = b.pps->project(x, start, cubic);
+      } else {
+        SmoothProjectionOptions plainStep, cubicStep = cubic;
+        if (i >= 2) {
+          plainStep.firstStepCorrection = previousPlain.firstStepMiss;
+          cubicStep.firstStepCorrection = previousCubic.firstStepMiss;
+        }
+        withModel += previousCubic.model.has_value() ? 1 : 0;
+        a = b.pps->project(x, previousPlain, plainStep);
+        c = b.pps->project(x, previousCubic, cubicStep);
+      }
+      ASSERT_TRUE(a.converged);
+      plainEvaluations += a.iterations;
+      cubicEvaluations += c.iterations;
+      ++points;
+      if (c.beyond) {
+        // Stopped: certainly beyond the band.
+        EXPECT_GT(a.distance, band);
+        ++beyond;
+      } else {
+        ASSERT_TRUE(c.converged);
+        position = std::max(position, (a.position - c.position).norm());
+        distance = std::max(distance, std::abs(a.distance - c.distance));
+        normal = std::max(normal, angleBetween(a.geometry.normal, c.geometry.normal));
+        const double scale = std::max({std::abs(a.geometry.k1), std::abs(a.geometry.k2), 1.0});
+        curvature = std::max({curvature, std::abs(a.geometry.k1 - c.geometry.k1) / scale,
+                              std::abs(a.geometry.k2 - c.geometry.k2) / scale});
+        if (a.geometry.k1 - a.geometry.k2 > 0.05 * scale) {
+          direction = std::max(direction,
+                               std::asin(std::min(1.0, a.geometry.e1.cross(c.geometry.e1).norm())));
+        }
+      }
+      if (a.distance < band) {
+        EXPECT_FALSE(c.beyond);
+      }
+      previousPlain = std::move(a);
+      previousCubic = std::move(c);
+    }
+  }
+  std::printf(
+      "cubic finish against the plain iteration at %d points (%d stopped beyond the band, "
+      "%d started from a model): positions %.3g, distances %.3g, normals %.3g rad, "
+      "curvatures %.3g of max(|k|, 1), e1 %.3g rad; surface evaluations %ld instead of "
+      "%ld\n",
+      points, beyond, withModel, position, distance, normal, curvature, direction, cubicEvaluations,
+      plainEvaluations);
+  EXPECT_GT(beyond, 500);
+  EXPECT_GT(withModel, 3000);
+  EXPECT_LT(position, 1e-9);
+  EXPECT_LT(distance, 1e-11);
+  EXPECT_LT(normal, 1e-8);
+  EXPECT_LT(curvature, 5e-5);
+  EXPECT_LT(direction, 1e-4);
+  EXPECT_LT(cubicEvaluations, 0.4 * plainEvaluations);
 }
 
 TEST(PseudoManifold, RefusesBadOptions) {

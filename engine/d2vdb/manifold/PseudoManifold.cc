@@ -511,8 +511,10 @@ template <int Order>
 struct PseudoManifold::Evaluator {
   const PseudoManifold& pps;
 
-  /// psi_v composed with chart point jets (px, py).
-  Jet3<Order> shape(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+  /// psi_v composed with chart point jets (px, py). `identity`: px and py are the independent
+  /// variables (the chart's own coordinates), so the chain rule is the identity.
+  Jet3<Order> shape(Index vertex, const Jet<Order>& px, const Jet<Order>& py,
+                    bool identity = false) const {
     const int d = pps.bidegree(vertex);
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double* controls = pps.controls_.data() + pps.controlOffset_[vertex];
@@ -528,6 +530,23 @@ struct PseudoManifold::Evaluator {
     Jet3<Order> out;
     out.v = toVector(value);
     if constexpr (Order >= 1) {
+      if (identity) {
+        // The chain rule below with px.d = (1, 0), py.d = (0, 1) and no higher derivatives:
+        // the same values (only the signs of zeros could differ).
+        out.d[0] = inv * toVector(gx);
+        out.d[1] = inv * toVector(gy);
+        if constexpr (Order >= 2) {
+          const double inv2 = inv * inv;
+          out.h[0] = inv2 * toVector(hxx);
+          out.h[1] = inv2 * toVector(hxy);
+          out.h[2] = inv2 * toVector(hyy);
+          if constexpr (Order >= 3) {
+            const double inv3 = inv2 * inv;
+            for (int m = 0; m < 4; ++m) out.t[m] = inv3 * toVector(result[6 + m]);
+          }
+        }
+        return out;
+      }
       const Eigen::Vector3d psiX = inv * toVector(gx);
       const Eigen::Vector3d psiY = inv * toVector(gy);
       for (int a = 0; a < 2; ++a) out.d[a] = psiX * px.d[a] + psiY * py.d[a];
@@ -559,27 +578,98 @@ struct PseudoManifold::Evaluator {
     return out;
   }
 
-  /// gamma_v composed with chart point jets.
-  Jet<Order> weight(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+  /// gamma_v composed with chart point jets (`identity`: as in shape(); `norm`: |p| as a jet,
+  /// when known).
+  Jet<Order> weight(Index vertex, const Jet<Order>& px, const Jet<Order>& py, bool identity = false,
+                    const Jet<Order>* norm = nullptr) const {
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double rr = px.v * px.v + py.v * py.v;
     if (rr <= (kBumpInner * radius) * (kBumpInner * radius)) return Jet<Order>::constant(1.0);
+    if constexpr (Order >= 3) {
+      if (norm != nullptr) {
+        const Jet<Order> t = (1.0 / radius) * *norm;
+        const BumpValue xi = chartBump(t.v);
+        return t.apply(xi.value, xi.first, xi.second, xi.third);
+      }
+      if (identity) {
+        // t = |p| / radius from the derivatives of r = |p| in closed form: r_x = x / r,
+        // r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
+        // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
+        const double x = px.v, y = py.v;
+        const double r = std::sqrt(rr);
+        const double s1 = 1.0 / (radius * r);  // 1 / (radius r)
+        const double s3 = s1 / rr;
+        const double s5 = s3 / rr;
+        Jet<Order> t;
+        t.v = r / radius;
+        t.d[0] = x * s1;
+        t.d[1] = y * s1;
+        t.h[0] = y * y * s3;
+        t.h[1] = -x * y * s3;
+        t.h[2] = x * x * s3;
+        t.t[0] = -3.0 * x * y * y * s5;
+        t.t[1] = y * (2.0 * x * x - y * y) * s5;
+        t.t[2] = x * (2.0 * y * y - x * x) * s5;
+        t.t[3] = -3.0 * x * x * y * s5;
+        const BumpValue xi = chartBump(t.v);
+        return t.apply(xi.value, xi.first, xi.second, xi.third);
+      }
+    }
     const Jet<Order> t = (1.0 / radius) * sqrt(px * px + py * py);
     const BumpValue xi = chartBump(t.v);
     return t.apply(xi.value, xi.first, xi.second, xi.third);
   }
 
-  /// The blended surface over the given chart point jets of the active corners.
+  /// The blended surface over the given chart point jets of the active corners; the jets of
+  /// corner `identityCorner` (-1: none) are the independent variables; norms[i], where
+  /// haveNorm[i], is |p_i| as a jet (used at Order 3).
   Jet3<Order> blend(const Index vertices[3], const Jet<Order> px[3], const Jet<Order> py[3],
-                    const bool active[3]) const {
+                    const bool active[3], int identityCorner = -1,
+                    const Jet<Order>* norms = nullptr, const bool* haveNorm = nullptr) const {
     Jet3<Order> numerator;
     Jet<Order> denominator;
+    if constexpr (Order >= 3) {
+      // With the normalised weights u_i = w_i / sum_j w_j, which add up to 1, the surface is
+      // psi_last + sum over the other contributing charts of u_i (psi_i - psi_last): one product
+      // rule fewer than the weighted sum and no quotient of points; one contributing chart gives
+      // its shape function (no weight derivatives).
+      Jet<Order> w[3];
+      int contributing[3];
+      int count = 0;
+      for (int i = 0; i < 3; ++i) {
+        if (!active[i]) continue;
+        w[i] = weight(vertices[i], px[i], py[i], i == identityCorner,
+                      norms != nullptr && haveNorm[i] ? &norms[i] : nullptr);
+        if (w[i].v == 0.0) continue;  // beyond the cut-off: no contribution, no derivatives
+        contributing[count++] = i;
+      }
+      const int last = contributing[count - 1];
+      Jet3<Order> out = shape(vertices[last], px[last], py[last], last == identityCorner);
+      if (count == 1) return out;
+      Jet<Order> total = w[contributing[0]];
+      for (int j = 1; j < count; ++j) total = total + w[contributing[j]];
+      const double inverse = 1.0 / total.v;
+      const Jet<Order> reciprocal =
+          total.apply(inverse, -inverse * inverse, 2.0 * inverse * inverse * inverse,
+                      -6.0 * inverse * inverse * inverse * inverse);
+      const Jet3<Order> base = out;
+      for (int j = 0; j + 1 < count; ++j) {
+        const int i = contributing[j];
+        Jet3<Order> difference = shape(vertices[i], px[i], py[i], i == identityCorner);
+        difference.v -= base.v;
+        for (int a = 0; a < 2; ++a) difference.d[a] -= base.d[a];
+        for (int a = 0; a < 3; ++a) difference.h[a] -= base.h[a];
+        for (int a = 0; a < 4; ++a) difference.t[a] -= base.t[a];
+        detail::addProduct(out, w[i] * reciprocal, difference);
+      }
+      return out;
+    }
     for (int i = 0; i < 3; ++i) {
       if (!active[i]) continue;
       const Jet<Order> w = weight(vertices[i], px[i], py[i]);
       if (w.v == 0.0) continue;  // beyond the cut-off: no contribution, no derivatives
       denominator = denominator + w;
-      detail::addProduct(numerator, w, shape(vertices[i], px[i], py[i]));
+      detail::addProduct(numerator, w, shape(vertices[i], px[i], py[i], i == identityCorner));
     }
     return detail::divide(numerator, denominator);
   }
@@ -638,6 +728,8 @@ struct PseudoManifold::Evaluator {
     active[centre] = true;
     bool haveBary = false;
     Jet<Order> bary[3];
+    Jet<Order> norms[3];
+    bool haveNorm[3] = {false, false, false};
     for (int i = 0; i < 3; ++i) {
       if (i == centre) continue;
       const Index halfEdge = 3 * point.face + static_cast<Index>(i);
@@ -659,9 +751,14 @@ struct PseudoManifold::Evaluator {
       const int n = mesh.degree(vertices[i]);
       Jet<Order> zx, zy;
       canonicalJets(bary, i, zx, zy);
+      if constexpr (Order >= 3) {
+        haveNorm[i] = pps.fitFor(n).map.toChartWithNorm(zx, zy, mesh.ringIndex(halfEdge), px[i],
+                                                        py[i], norms[i]);
+        if (haveNorm[i]) continue;
+      }
       pps.fitFor(n).map.toChart(zx, zy, mesh.ringIndex(halfEdge), px[i], py[i]);
     }
-    return blend(vertices, px, py, active);
+    return blend(vertices, px, py, active, centre, norms, haveNorm);
   }
 };
 
@@ -871,6 +968,15 @@ SmoothDerivatives toDerivatives(const Jet3<Order>& jet) {
   return out;
 }
 
+SmoothThirdDerivatives thirdDerivativesOf(const Jet3<2>& jet, const Eigen::Vector3d third[4]) {
+  SmoothThirdDerivatives out;
+  out.position = jet.v;
+  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
+  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
+  for (int i = 0; i < 4; ++i) out.ddd[i] = third[i];
+  return out;
+}
+
 SmoothThirdDerivatives toThirdDerivatives(const Jet3<3>& jet) {
   SmoothThirdDerivatives out;
   out.position = jet.v;
@@ -995,6 +1101,56 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
 
 namespace {
 
+/// The cubic Taylor model of a surface at a point (derivatives `jet` and `third`, indexed as in
+/// Jet) moved by `step`: position, first and second derivatives at the end (exact for a cubic).
+Jet3<2> cubicTaylor(const Jet3<2>& jet, const Eigen::Vector3d third[4],
+                    const Eigen::Vector2d& step) {
+  const double s[2] = {step.x(), step.y()};
+  Jet3<2> moved;
+  // Second derivatives: h_ab + t_abc s_c.
+  for (int ab = 0; ab < 3; ++ab) moved.h[ab] = jet.h[ab] + third[ab] * s[0] + third[ab + 1] * s[1];
+  // First: d_a + h_ab s_b + 1/2 t_abc s_b s_c = d_a + 1/2 (h_ab + moved h_ab) s_b.
+  for (int a = 0; a < 2; ++a) {
+    moved.d[a] =
+        jet.d[a] + 0.5 * ((jet.h[a] + moved.h[a]) * s[0] + (jet.h[a + 1] + moved.h[a + 1]) * s[1]);
+  }
+  // Position: v + d_a s_a + 1/2 h_ab s_a s_b + 1/6 t_abc s_a s_b s_c.
+  const Eigen::Vector3d hs[2] = {jet.h[0] * s[0] + jet.h[1] * s[1],
+                                 jet.h[1] * s[0] + jet.h[2] * s[1]};
+  const Eigen::Vector3d ts[2] = {
+      (third[0] * s[0] + third[1] * s[1]) * s[0] + (third[1] * s[0] + third[2] * s[1]) * s[1],
+      (third[1] * s[0] + third[2] * s[1]) * s[0] + (third[2] * s[0] + third[3] * s[1]) * s[1]};
+  moved.v = jet.v + (jet.d[0] + 0.5 * hs[0] + ts[0] * (1.0 / 6.0)) * s[0] +
+            (jet.d[1] + 0.5 * hs[1] + ts[1] * (1.0 / 6.0)) * s[1];
+  return moved;
+}
+
+/// Newton's method on the distance from x to the cubic model (jet, third) from `move` (chart
+/// coordinates relative to the model's origin), until a correction is below 1e-7 of `radius`
+/// (the next would be below about 1e-13 of it), at most `iterations` corrections. `moved`
+/// receives the model at the end. False when the model's Hessian of the distance is not positive
+/// definite on the way or a correction is not finite (move and moved are then where it stopped).
+bool minimiseCubicModel(const Jet3<2>& jet, const Eigen::Vector3d third[4],
+                        const Eigen::Vector3d& x, double radius, int iterations,
+                        Eigen::Vector2d& move, Jet3<2>& moved, double correction) {
+  moved = cubicTaylor(jet, third, move);
+  for (int k = 0; k < iterations && correction > 1e-7 * radius; ++k) {
+    const Eigen::Vector3d r = moved.v - x;
+    const double g0 = moved.d[0].dot(r), g1 = moved.d[1].dot(r);
+    const double a = moved.d[0].dot(moved.d[0]) + moved.h[0].dot(r);
+    const double b = moved.d[0].dot(moved.d[1]) + moved.h[1].dot(r);
+    const double c = moved.d[1].dot(moved.d[1]) + moved.h[2].dot(r);
+    const double determinant = a * c - b * b;
+    if (!(a > 0.0 && determinant > 0.0)) return false;
+    const Eigen::Vector2d delta((b * g1 - c * g0) / determinant, (b * g0 - a * g1) / determinant);
+    if (!delta.allFinite()) return false;
+    move += delta;
+    moved = cubicTaylor(jet, third, move);
+    correction = delta.norm();
+  }
+  return correction <= 1e-7 * radius;
+}
+
 template <int Order>
 Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
   Jet3<Order> jet;
@@ -1012,6 +1168,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
+  const Evaluator<3> thirdEvaluator{*this};
   Projection result;
   FacePoint current = start;
   FacePoint previous = start;
@@ -1031,8 +1188,14 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   bool corrected = false;
   // Where the last step taken ended, in the chart it was taken in (`current` is its face point).
   std::optional<ChartPoint> stepEnd;
+  // Evaluate `current` with third derivatives (options.cubicFinish: the step there is expected to
+  // end near the footpoint); `third` holds them when haveThird.
+  bool wantThird = false;
+  bool haveThird = false;
+  Eigen::Vector3d third[4];
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    haveThird = false;
     if (known) {
       jet = fromDerivatives<2>(nearby->derivatives);
       known = false;
@@ -1043,10 +1206,21 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       const Index vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
       // A step taken in the chart of the same vertex: its end is the chart point already.
       const bool sameChart = stepEnd && stepEnd->vertex == vertex;
-      jet = evaluator.chart(current, centre, &chartPoint.p, sameChart ? &stepEnd->p : nullptr);
+      const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd->p : nullptr;
+      if (wantThird && !finalStep) {
+        const Jet3<3> full = thirdEvaluator.chart(current, centre, &chartPoint.p, knownPoint);
+        jet.v = full.v;
+        for (int i = 0; i < 2; ++i) jet.d[i] = full.d[i];
+        for (int i = 0; i < 3; ++i) jet.h[i] = full.h[i];
+        for (int i = 0; i < 4; ++i) third[i] = full.t[i];
+        haveThird = true;
+      } else {
+        jet = evaluator.chart(current, centre, &chartPoint.p, knownPoint);
+      }
       chartPoint.vertex = vertex;
       ++result.iterations;
     }
+    wantThird = false;
     stepEnd.reset();
     if (finalStep) {
       // Evaluated where the converging step ended: the answer (an uphill step cannot happen
@@ -1106,11 +1280,95 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         break;
       }
     }
+    if (haveThird && definite && !clipped && length <= options.cubicFinishStep * radius &&
+        (chartPoint.p + step).norm() < 0.98 * radius) {
+      // The cubic model's minimum of the distance, by Newton's method on the model from the
+      // Newton step (the model's first iterate: at the iterate the model has the surface's
+      // gradient and Hessian). Each iteration squares the correction: once a correction c is
+      // below 1e-7 of the radius the next (about 10 |c|^2 / radius) is below 1e-13 of it.
+      Eigen::Vector2d move = step;
+      Jet3<2> moved;
+      minimiseCubicModel(jet, third, x, radius, 4, move, moved, length);
+      const Eigen::Vector2d p = chartPoint.p + move;
+      if (move.norm() <= 2.0 * length && p.norm() < 0.99 * radius) {
+        current = atlas_.fromChart({chartPoint.vertex, p});
+        for (int c = 0; c < 3; ++c) {
+          if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+            centre = c;
+        }
+        result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
+        jet = moved;
+        chartPoint.p = p;
+        result.converged = true;
+        break;
+      }
+    }
     // The first step from a nearby projection: a Newton step that is not tiny takes the
     // caller's second-order correction (in the same chart); such a step is checked by the next
     // iterate's distance like any other, and being no plain Newton step it neither counts as
     // tiny nor feeds the prediction of quadratic convergence.
     const bool fromNearby = iteration == 0 && nearby != nullptr;
+    if (fromNearby && options.cubicFinish && options.startFromModel && nearby->model &&
+        nearby->model->origin.vertex == chartPoint.vertex) {
+      // Start from the minimum of the distance to the nearby projection's cubic model.
+      const Projection::CubicModel& model = *nearby->model;
+      const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
+      // From the Newton step at the nearby footpoint (the model's own first iterate there);
+      // to a last correction below 1e-5 of the radius (leaving about 1e-9 of it) where the
+      // iteration goes on from the result, 1e-7 where it is the answer.
+      Eigen::Vector2d move = chartPoint.p - model.origin.p;
+      if (definite && !clipped) move += step;
+      Jet3<2> moved;
+      bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, 1e2 * radius, 8, move,
+                                      moved, std::numeric_limits<double>::infinity());
+      if (found && move.norm() <= options.cubicFinishStep * radius) {
+        found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, radius, 4, move, moved,
+                                   std::numeric_limits<double>::infinity());
+      }
+      if (found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius) {
+        const Eigen::Vector2d p = model.origin.p + move;
+        const double modelDistance = (moved.v - x).norm();
+        if (move.norm() <= 0.1 * radius && modelDistance > 1.02 * options.stopBeyond) {
+          // Certainly beyond: the model's error this close to its origin is far below the
+          // margin (about |move|^4 of the radius times the surface's fourth derivatives).
+          current = atlas_.fromChart({chartPoint.vertex, p});
+          for (int c = 0; c < 3; ++c) {
+            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+              centre = c;
+          }
+          jet = moved;
+          chartPoint.p = p;
+          result.model = model;
+          result.beyond = true;
+          break;
+        }
+        if (move.norm() <= options.cubicFinishStep * radius) {
+          // Within the model's reach of its origin: the answer, as a cubic finish there.
+          current = atlas_.fromChart({chartPoint.vertex, p});
+          for (int c = 0; c < 3; ++c) {
+            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+              centre = c;
+          }
+          jet = moved;
+          chartPoint.p = p;
+          result.model = model;
+          result.converged = true;
+          break;
+        }
+        // The model's minimum as the first step, checked by the next iterate's distance; no
+        // plain Newton step, so it neither counts as tiny nor feeds the convergence prediction.
+        wantThird = !nearby->beyond;
+        corrected = true;
+        checkLast = true;
+        lastStep = 0.0;
+        stepEnd = ChartPoint{chartPoint.vertex, p};
+        current = atlas_.fromChart(*stepEnd);
+        continue;
+      }
+    }
+    // The first step from a nearby projection (not stopped beyond the band) ends near the
+    // footpoint: the model there is expected to finish.
+    wantThird = options.cubicFinish && fromNearby && !nearby->beyond;
     if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
       firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
     }
@@ -1159,10 +1417,17 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         result.converged = true;
         break;
       }
+      wantThird = options.cubicFinish;
       current = target(step);
       continue;
     }
     if (!careful && definite) {
+      if (options.cubicFinish && !corrected) {
+        // Where quadratic convergence predicts a next step the cubic model can take.
+        const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
+                                                : 10.0 * length * length / radius;
+        wantThird = wantThird || predicted <= options.cubicFinishStep * radius;
+      }
       lastStep = corrected ? 0.0 : length;
       corrected = false;
       checkLast = true;

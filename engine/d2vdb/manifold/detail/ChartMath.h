@@ -119,6 +119,24 @@ struct PolarMap {
     py = rho * sine;
   }
 
+  /// toChart() for the polar form (degree != 6) that also gives |p| as a jet (the weight's
+  /// argument), from the radius it computes anyway. Returns false, leaving px, py, norm as they
+  /// are, for a rotation (degree 6).
+  template <int Order>
+  bool toChartWithNorm(const Jet<Order>& zx, const Jet<Order>& zy, int k, Jet<Order>& px,
+                       Jet<Order>& py, Jet<Order>& norm) const {
+    if (rotation) return false;
+    const Jet<Order> r = sqrt(zx * zx + zy * zy);
+    Jet<Order> angle = angleScale * atan2(zy, zx);
+    angle.v += sector * k;
+    norm = radiusScale * r;
+    Jet<Order> sine, cosine;
+    sinCos(angle, sine, cosine);
+    px = norm * cosine;
+    py = norm * sine;
+    return true;
+  }
+
   /// The canonical point of chart point p (jets) in sector k (p must not be 0 when Order > 0).
   /// The angle's value is measured from the sector's first ray.
   template <int Order>

@@ -9,6 +9,10 @@
 
 namespace d2vdb::detail {
 
+/// Jet arithmetic is inlined into the evaluators (small functions called in tight sequences,
+/// whose temporaries then stay in registers).
+#define D2VDB_JET_INLINE inline __attribute__((always_inline))
+
 /// Index conventions of the derivatives: the second derivative in directions (i, j) is h[i + j]
 /// (xx, xy, yy), the third in (i, j, k) is t[i + j + k] (xxx, xxy, xyy, yyy). kTriple[m] is one
 /// (i, j, k) of t[m].
@@ -51,7 +55,7 @@ struct Jet : ThirdDerivatives<(Order >= 3), double> {
   }
   /// f(this) for a scalar function f with value f0 and derivatives f1, f2, f3 at v (chain
   /// rule; f3 is read only at Order 3).
-  Jet apply(double f0, double f1, double f2, double f3) const {
+  D2VDB_JET_INLINE Jet apply(double f0, double f1, double f2, double f3) const {
     Jet r;
     r.v = f0;
     if constexpr (Order >= 1) {
@@ -75,7 +79,7 @@ struct Jet : ThirdDerivatives<(Order >= 3), double> {
 };
 
 template <int Order>
-Jet<Order> operator+(const Jet<Order>& a, const Jet<Order>& b) {
+D2VDB_JET_INLINE Jet<Order> operator+(const Jet<Order>& a, const Jet<Order>& b) {
   Jet<Order> r;
   r.v = a.v + b.v;
   if constexpr (Order >= 1) {
@@ -91,7 +95,7 @@ Jet<Order> operator+(const Jet<Order>& a, const Jet<Order>& b) {
 }
 
 template <int Order>
-Jet<Order> operator-(const Jet<Order>& a, const Jet<Order>& b) {
+D2VDB_JET_INLINE Jet<Order> operator-(const Jet<Order>& a, const Jet<Order>& b) {
   Jet<Order> r;
   r.v = a.v - b.v;
   if constexpr (Order >= 1) {
@@ -107,7 +111,7 @@ Jet<Order> operator-(const Jet<Order>& a, const Jet<Order>& b) {
 }
 
 template <int Order>
-Jet<Order> operator*(double s, const Jet<Order>& a) {
+D2VDB_JET_INLINE Jet<Order> operator*(double s, const Jet<Order>& a) {
   Jet<Order> r;
   r.v = s * a.v;
   if constexpr (Order >= 1) {
@@ -123,7 +127,7 @@ Jet<Order> operator*(double s, const Jet<Order>& a) {
 }
 
 template <int Order>
-Jet<Order> operator*(const Jet<Order>& a, const Jet<Order>& b) {
+D2VDB_JET_INLINE Jet<Order> operator*(const Jet<Order>& a, const Jet<Order>& b) {
   Jet<Order> r;
   r.v = a.v * b.v;
   if constexpr (Order >= 1) {
@@ -147,7 +151,7 @@ Jet<Order> operator*(const Jet<Order>& a, const Jet<Order>& b) {
 }
 
 template <int Order>
-Jet<Order> sqrt(const Jet<Order>& a) {
+D2VDB_JET_INLINE Jet<Order> sqrt(const Jet<Order>& a) {
   const double s = std::sqrt(a.v);
   return a.apply(s, 0.5 / s, -0.25 / (s * a.v), 0.375 / (s * a.v * a.v));
 }
@@ -168,7 +172,7 @@ Jet<Order> cos(const Jet<Order>& a) {
 
 /// sin(a) and cos(a) together (one evaluation of each at the value).
 template <int Order>
-void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
+D2VDB_JET_INLINE void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
   const double s = std::sin(a.v);
   const double c = std::cos(a.v);
   sine = a.apply(s, c, -s, -c);
@@ -177,7 +181,8 @@ void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
 
 /// sin(a) and cos(a) when their values at a are already known (no trigonometry).
 template <int Order>
-void sinCosKnown(const Jet<Order>& a, double s, double c, Jet<Order>& sine, Jet<Order>& cosine) {
+D2VDB_JET_INLINE void sinCosKnown(const Jet<Order>& a, double s, double c, Jet<Order>& sine,
+                                  Jet<Order>& cosine) {
   sine = a.apply(s, c, -s, -c);
   cosine = a.apply(c, -s, -c, s);
 }
@@ -186,8 +191,9 @@ void sinCosKnown(const Jet<Order>& a, double s, double c, Jet<Order>& sine, Jet<
 /// derivatives Fx ... Fyyy at (x.v, y.v) and order-3 jets x, y (chain rule of Faa di Bruno). T is
 /// double or a vector type.
 template <typename T, typename J>
-T chainThird(int m, const T& fx, const T& fy, const T& fxx, const T& fxy, const T& fyy,
-             const T& fxxx, const T& fxxy, const T& fxyy, const T& fyyy, const J& x, const J& y) {
+D2VDB_JET_INLINE T chainThird(int m, const T& fx, const T& fy, const T& fxx, const T& fxy,
+                              const T& fyy, const T& fxxx, const T& fxxy, const T& fxyy,
+                              const T& fyyy, const J& x, const J& y) {
   const int i = kTriple[m][0], j = kTriple[m][1], k = kTriple[m][2];
   // Products of one second and one first derivative over the three ways to split (i, j, k).
   const double xx = x.h[i + j] * x.d[k] + x.h[i + k] * x.d[j] + x.h[j + k] * x.d[i];
@@ -205,7 +211,7 @@ T chainThird(int m, const T& fx, const T& fy, const T& fxx, const T& fxy, const 
 /// The polar angle of (x, y) with the given value (any branch) and the angle's derivatives:
 /// d angle = (x dy - y dx) / r^2 (the same on every branch).
 template <int Order>
-Jet<Order> polarAngle(const Jet<Order>& y, const Jet<Order>& x, double value) {
+D2VDB_JET_INLINE Jet<Order> polarAngle(const Jet<Order>& y, const Jet<Order>& x, double value) {
   Jet<Order> r;
   r.v = value;
   if constexpr (Order >= 1) {
@@ -261,7 +267,7 @@ struct Jet3 : ThirdDerivatives<(Order >= 3), Eigen::Vector3d> {
 
 /// Adds w * f (scalar jet times point jet) to `sum`.
 template <int Order>
-void addProduct(Jet3<Order>& sum, const Jet<Order>& w, const Jet3<Order>& f) {
+D2VDB_JET_INLINE void addProduct(Jet3<Order>& sum, const Jet<Order>& w, const Jet3<Order>& f) {
   sum.v += w.v * f.v;
   if constexpr (Order >= 1) {
     for (int i = 0; i < 2; ++i) sum.d[i] += w.d[i] * f.v + w.v * f.d[i];
@@ -283,7 +289,7 @@ void addProduct(Jet3<Order>& sum, const Jet<Order>& w, const Jet3<Order>& f) {
 
 /// The quotient n / den of a point jet by a scalar jet (den.v != 0).
 template <int Order>
-Jet3<Order> divide(const Jet3<Order>& n, const Jet<Order>& den) {
+D2VDB_JET_INLINE Jet3<Order> divide(const Jet3<Order>& n, const Jet<Order>& den) {
   Jet3<Order> q;
   const double inv = 1.0 / den.v;
   q.v = n.v * inv;
@@ -309,5 +315,7 @@ Jet3<Order> divide(const Jet3<Order>& n, const Jet<Order>& den) {
   }
   return q;
 }
+
+#undef D2VDB_JET_INLINE
 
 }  // namespace d2vdb::detail
