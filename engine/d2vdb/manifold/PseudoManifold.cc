@@ -740,7 +740,7 @@ struct PseudoManifold::Evaluator {
         // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
         // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
         Jet<Order> zx, zy;
-        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy);
+        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy, true);
         const Jet<Order> after = (1.0 / kCos30) * zy;
         const Jet<Order> next = zx - 0.5 * after;
         bary[(centre + 1) % 3] = next;
@@ -1276,6 +1276,10 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       // that decrease is a safe bound this close to the minimum.
       const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
       if (lowest > options.stopBeyond * options.stopBeyond) {
+        // Stopped at an iterate evaluated with third derivatives: its model starts the
+        // neighbours (which may stop beyond on it without an evaluation).
+        if (haveThird)
+          result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
         result.beyond = true;
         break;
       }
@@ -1357,7 +1361,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         }
         // The model's minimum as the first step, checked by the next iterate's distance; no
         // plain Newton step, so it neither counts as tiny nor feeds the convergence prediction.
-        wantThird = !nearby->beyond;
+        wantThird = true;
         corrected = true;
         checkLast = true;
         lastStep = 0.0;
@@ -1366,9 +1370,9 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         continue;
       }
     }
-    // The first step from a nearby projection (not stopped beyond the band) ends near the
-    // footpoint: the model there is expected to finish.
-    wantThird = options.cubicFinish && fromNearby && !nearby->beyond;
+    // The first step from a nearby projection ends near the footpoint: the model there is
+    // expected to finish (or, beyond the band, to start the neighbours).
+    wantThird = options.cubicFinish && fromNearby;
     if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
       firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
     }
