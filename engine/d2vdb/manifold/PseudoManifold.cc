@@ -1318,12 +1318,13 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       const Projection::CubicModel& model = *nearby->model;
       const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
       // From the Newton step at the nearby footpoint (the model's own first iterate there);
-      // to a last correction below 1e-5 of the radius (leaving about 1e-9 of it) where the
-      // iteration goes on from the result, 1e-7 where it is the answer.
+      // to a last correction below 1e-3 of the radius (leaving about 1e-5 of it, below the
+      // model's own error there) where the iteration goes on from the result, 1e-7 where it is
+      // the answer.
       Eigen::Vector2d move = chartPoint.p - model.origin.p;
       if (definite && !clipped) move += step;
       Jet3<2> moved;
-      bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, 1e2 * radius, 8, move,
+      bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, 1e4 * radius, 8, move,
                                       moved, std::numeric_limits<double>::infinity());
       if (found && move.norm() <= options.cubicFinishStep * radius) {
         found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, radius, 4, move, moved,
