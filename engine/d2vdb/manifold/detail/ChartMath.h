@@ -30,6 +30,45 @@ inline Eigen::Vector3d cornerBary(const Eigen::Vector2d& z) {
   return {1.0 - bNext - bAfter, bNext, bAfter};
 }
 
+/// The polar radius r = |p| and angle of a point p = (x, y) as order-3 jets in the coordinates
+/// (x, y) themselves, in closed form (the angle's value is set to 0: only its derivatives are
+/// meaningful). p must not be 0.
+inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
+  const double rr = x * x + y * y;
+  const double length = std::sqrt(rr);
+  const double inv = 1.0 / length;
+  const double inv3 = inv / rr;
+  const double inv5 = inv3 / rr;
+  // r_x = x / r, r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
+  // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
+  r.v = length;
+  r.d[0] = x * inv;
+  r.d[1] = y * inv;
+  r.h[0] = y * y * inv3;
+  r.h[1] = -x * y * inv3;
+  r.h[2] = x * x * inv3;
+  r.t[0] = -3.0 * x * y * y * inv5;
+  r.t[1] = y * (2.0 * x * x - y * y) * inv5;
+  r.t[2] = x * (2.0 * y * y - x * x) * inv5;
+  r.t[3] = -3.0 * x * x * y * inv5;
+  // The angle (as in polarAngle): a_x = -y / r^2, a_y = x / r^2, a_xx = 2 x y / r^4,
+  // a_xy = (y^2 - x^2) / r^4, a_yy = -a_xx, a_xxx = 2 y (y^2 - 3 x^2) / r^6 = -a_xyy,
+  // a_xxy = 2 x (x^2 - 3 y^2) / r^6 = -a_yyy.
+  const double inv2 = 1.0 / rr;
+  const double inv4 = inv2 * inv2;
+  const double inv6 = inv4 * inv2;
+  angle.v = 0.0;
+  angle.d[0] = -y * inv2;
+  angle.d[1] = x * inv2;
+  angle.h[0] = 2.0 * x * y * inv4;
+  angle.h[1] = (y * y - x * x) * inv4;
+  angle.h[2] = -angle.h[0];
+  angle.t[0] = 2.0 * y * (y * y - 3.0 * x * x) * inv6;
+  angle.t[1] = 2.0 * x * (x * x - 3.0 * y * y) * inv6;
+  angle.t[2] = -angle.t[0];
+  angle.t[3] = -angle.t[1];
+}
+
 /// Constants of the polar map of a vertex of degree n.
 struct PolarMap {
   double angleScale;   ///< 6 / n: chart angle per canonical angle
@@ -193,45 +232,6 @@ struct PolarMap {
     zy.v = z.y();
   }
 };
-
-/// The polar radius r = |p| and angle of a point p = (x, y) as order-3 jets in the coordinates
-/// (x, y) themselves, in closed form (the angle's value is set to 0: only its derivatives are
-/// meaningful). p must not be 0.
-inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
-  const double rr = x * x + y * y;
-  const double length = std::sqrt(rr);
-  const double inv = 1.0 / length;
-  const double inv3 = inv / rr;
-  const double inv5 = inv3 / rr;
-  // r_x = x / r, r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
-  // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
-  r.v = length;
-  r.d[0] = x * inv;
-  r.d[1] = y * inv;
-  r.h[0] = y * y * inv3;
-  r.h[1] = -x * y * inv3;
-  r.h[2] = x * x * inv3;
-  r.t[0] = -3.0 * x * y * y * inv5;
-  r.t[1] = y * (2.0 * x * x - y * y) * inv5;
-  r.t[2] = x * (2.0 * y * y - x * x) * inv5;
-  r.t[3] = -3.0 * x * x * y * inv5;
-  // The angle (as in polarAngle): a_x = -y / r^2, a_y = x / r^2, a_xx = 2 x y / r^4,
-  // a_xy = (y^2 - x^2) / r^4, a_yy = -a_xx, a_xxx = 2 y (y^2 - 3 x^2) / r^6 = -a_xyy,
-  // a_xxy = 2 x (x^2 - 3 y^2) / r^6 = -a_yyy.
-  const double inv2 = 1.0 / rr;
-  const double inv4 = inv2 * inv2;
-  const double inv6 = inv4 * inv2;
-  angle.v = 0.0;
-  angle.d[0] = -y * inv2;
-  angle.d[1] = x * inv2;
-  angle.h[0] = 2.0 * x * y * inv4;
-  angle.h[1] = (y * y - x * x) * inv4;
-  angle.h[2] = -angle.h[0];
-  angle.t[0] = 2.0 * y * (y * y - 3.0 * x * x) * inv6;
-  angle.t[1] = 2.0 * x * (x * x - 3.0 * y * y) * inv6;
-  angle.t[2] = -angle.t[0];
-  angle.t[3] = -angle.t[1];
-}
 
 /// PolarMap(degree), from a table built once per process for degrees up to 64 (the map's
 /// constructor takes two cosines).
