@@ -52,9 +52,20 @@ TEST(ChartBump, DerivativesMatchFiniteDifferences) {
     const BumpValue b = chartBump(t);
     const double first = (chartBump(t + h).value - chartBump(t - h).value) / (2 * h);
     const double second = (chartBump(t + h).first - chartBump(t - h).first) / (2 * h);
+    const double third = (chartBump(t + h).second - chartBump(t - h).second) / (2 * h);
     EXPECT_NEAR(b.first, first, 1e-6 * (1.0 + std::abs(first))) << t;
     EXPECT_NEAR(b.second, second, 1e-5 * (1.0 + std::abs(second))) << t;
+    EXPECT_NEAR(b.third, third, 1e-5 * (1.0 + std::abs(third))) << t;
   }
+  // Odd symmetry about the midpoint (xi(5/8 + u) = 1 - xi(5/8 - u)): the third derivative is
+  // even, and the ends are flat to every order.
+  for (const double u : {0.05, 0.2, 0.3}) {
+    EXPECT_NEAR(chartBump(0.625 + u).third, chartBump(0.625 - u).third,
+                1e-12 * (1.0 + std::abs(chartBump(0.625 + u).third)));
+  }
+  EXPECT_EQ(chartBump(0.25).third, 0.0);
+  EXPECT_EQ(chartBump(1.0).third, 0.0);
+  EXPECT_LT(std::abs(chartBump(1.0 - 1e-3).third), 1e-40);
 }
 
 TEST(PnTriangles, InterpolatesVerticesTangentToTheirNormals) {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "ManifoldTestSupport.h"
@@ -267,6 +268,75 @@ TEST(PseudoManifold, ChartFitReproducesPolynomialsOfItsBidegree) {
   EXPECT_EQ(tested, 7);
 }
 
+/// d^i/dx^i d^j/dy^j of x^a y^c at p (exact).
+double monomialDerivative(const Eigen::Vector2d& p, int a, int c, int i, int j) {
+  if (i > a || j > c) return 0.0;
+  double factor = 1.0;
+  for (int k = 0; k < i; ++k) factor *= a - k;
+  for (int k = 0; k < j; ++k) factor *= c - k;
+  return factor * std::pow(p.x(), a - i) * std::pow(p.y(), c - j);
+}
+
+TEST(PseudoManifold, ThirdDerivativesReproducePolynomialsOfTheBidegree) {
+  // Where only the chart of v covers the surface, the surface is psi_v, which reproduces the
+  // source polynomial: its third derivatives in v's chart are the polynomial's, exactly.
+  const DoubleMesh mixed = test::mixedDegreeMesh();
+  const auto mesh = mixed.build();
+  std::vector<bool> seen(16, false);
+  int tested = 0;
+  for (Index v = 0; v < mesh->vertexCount(); ++v) {
+    const int n = mesh->degree(v);
+    if (seen[n]) continue;
+    seen[n] = true;
+    const int d = std::min(n + 1, 7);
+    const PolynomialSource source(mesh, v, d);
+    const PseudoManifold pps(source);
+    const double radius = ChartAtlas::radius(n);
+    double worst = 0.0;
+    double size = 0.0;
+    int points = 0;
+    for (int i = 0; i <= 20; ++i) {
+      for (int j = 0; j <= 20; ++j) {
+        const Eigen::Vector2d p(radius * (i / 40.0 - 0.25), radius * (j / 40.0 - 0.25));
+        const FacePoint q = pps.atlas().fromChart({v, p});
+        int corner = -1;
+        bool alone = true;
+        for (int k = 0; k < 3; ++k) {
+          if (mesh->corner(q.face, k) == v) {
+            corner = k;
+          } else if (ChartAtlas::inChart(q.bary, k)) {
+            alone = false;
+          }
+        }
+        ASSERT_GE(corner, 0);
+        if (!alone) continue;
+        const SmoothThirdDerivatives x = pps.chartThirdDerivatives(q, corner);
+        for (int m = 0; m < 4; ++m) {
+          Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+          for (int a = 0; a <= d; ++a) {
+            for (int c = 0; c <= d; ++c) {
+              expected +=
+                  monomialDerivative(p, a, c, 3 - m, m) *
+                  Eigen::Vector3d(1.0 + 0.3 * a - 0.2 * c, 0.5 * a * c - 1.0, 0.1 * (a + c));
+            }
+          }
+          worst = std::max(worst, (x.ddd[m] - expected).norm());
+          size = std::max(size, expected.norm());
+        }
+        ++points;
+      }
+    }
+    std::printf(
+        "degree %d, bidegree %d: third derivatives at %d points, largest error %.3g of "
+        "the largest\n",
+        n, d, points, worst / size);
+    EXPECT_GT(points, 100) << "degree " << n;
+    EXPECT_LT(worst / size, 1e-10) << "degree " << n;
+    ++tested;
+  }
+  EXPECT_EQ(tested, 7);
+}
+
 TEST(PseudoManifold, LoopBasedSurfaceIsAffineInvariant) {
   const DoubleMesh m = test::mixedDegreeMesh();
   Eigen::Matrix3d a;
@@ -339,6 +409,70 @@ TEST(PseudoManifold, DerivativesMatchFiniteDifferences) {
               worstFirst, worstSecond);
   EXPECT_LT(worstFirst, 1e-6);
   EXPECT_LT(worstSecond, 1e-4);
+}
+
+TEST(PseudoManifold, ThirdDerivativesMatchFiniteDifferencesOfTheSecond) {
+  // Points where two or three charts blend (every chain rule: polar maps of degrees 3 to 9 and
+  // 6, weights, patches, quotient), third derivatives against central differences of the
+  // (exact) second derivatives in the same chart; each third derivative is checked twice where
+  // it is a derivative of two different second derivatives.
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  const HalfEdgeMesh& mesh = *b.mesh;
+  double worst = 0.0;
+  double worstLower = 0.0;
+  const double h = 2e-5;
+  int points = 0;
+  for (Index f = 0; f < mesh.faceCount(); f += 7) {
+    for (const Eigen::Vector3d& bary :
+         {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
+          Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(0.45, 0.45, 0.1),
+          Eigen::Vector3d(1.0, 0.0, 0.0)}) {
+      for (int corner = 0; corner < 3; ++corner) {
+        if (!ChartAtlas::inChart(bary, corner)) continue;
+        const FacePoint point{f, bary};
+        const SmoothThirdDerivatives x = b.pps->chartThirdDerivatives(point, corner);
+        const SmoothDerivatives lower = b.pps->chartDerivatives(point, corner);
+        const ChartPoint c = b.pps->atlas().toChart(point, corner);
+        const auto secondAt = [&](double dx, double dy) {
+          const FacePoint q = b.pps->atlas().fromChart({c.vertex, c.p + Eigen::Vector2d(dx, dy)});
+          for (int k = 0; k < 3; ++k) {
+            if (mesh.corner(q.face, k) == c.vertex) return b.pps->chartDerivatives(q, k);
+          }
+          ADD_FAILURE() << "no corner of vertex " << c.vertex;
+          return SmoothDerivatives{};
+        };
+        const SmoothDerivatives px = secondAt(h, 0), mx = secondAt(-h, 0);
+        const SmoothDerivatives py = secondAt(0, h), my = secondAt(0, -h);
+        const Eigen::Vector3d dx[3] = {(px.dd[0] - mx.dd[0]) / (2 * h),
+                                       (px.dd[1] - mx.dd[1]) / (2 * h),
+                                       (px.dd[2] - mx.dd[2]) / (2 * h)};
+        const Eigen::Vector3d dy[3] = {(py.dd[0] - my.dd[0]) / (2 * h),
+                                       (py.dd[1] - my.dd[1]) / (2 * h),
+                                       (py.dd[2] - my.dd[2]) / (2 * h)};
+        double scale = 0.0;
+        for (const Eigen::Vector3d& t : x.ddd) scale = std::max(scale, t.norm());
+        for (const Eigen::Vector3d& t : x.dd) scale = std::max(scale, t.norm());
+        const Eigen::Vector3d differences[6] = {dx[0] - x.ddd[0], dy[0] - x.ddd[1],
+                                                dx[1] - x.ddd[1], dy[1] - x.ddd[2],
+                                                dx[2] - x.ddd[2], dy[2] - x.ddd[3]};
+        for (const Eigen::Vector3d& e : differences) worst = std::max(worst, e.norm() / scale);
+        // The lower derivatives are those of the order-2 evaluation to round-off (the order-3
+        // evaluation blends with normalised weights).
+        worstLower = std::max({worstLower, (x.position - lower.position).norm(),
+                               (x.d[0] - lower.d[0]).norm(), (x.d[1] - lower.d[1]).norm(),
+                               (x.dd[0] - lower.dd[0]).norm(), (x.dd[1] - lower.dd[1]).norm(),
+                               (x.dd[2] - lower.dd[2]).norm()});
+        ++points;
+      }
+    }
+  }
+  std::printf(
+      "third chart derivatives at %d points against central differences of the second: "
+      "largest error %.3g of the largest derivative; lower orders differ by %.3g\n",
+      points, worst, worstLower);
+  EXPECT_GT(points, 100);
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worstLower, 1e-12);
 }
 
 TEST(PseudoManifold, FaceAndChartDerivativesGiveTheSameGeometry) {
@@ -637,6 +771,105 @@ TEST(PseudoManifold, SecondOrderStartFromTheNeighboursMiss) {
   EXPECT_EQ(ignored.iterations, plain.iterations);
   EXPECT_EQ(ignored.position, plain.position);
   EXPECT_EQ(ignored.firstStepMiss.has_value(), plain.firstStepMiss.has_value());
+}
+
+// The cubic finish and the start from the nearby projection's cubic model
+// (SmoothProjectionOptions::cubicFinish, startFromModel, as the field projects its voxels) against
+// the plain iteration (footpoints to 1e-12 of the chart radius, geometry evaluated there): lines
+// of 30 points spaced like the voxels of a field (a thirtieth of an edge) within 4.5 spacings of
+// the surface, each point projected from the one before (with the second-order start), stopped
+// beyond three spacings; 6000 points on the mesh with vertex degrees 3 to 9.
+TEST(PseudoManifold, CubicFinishAgreesWithThePlainIteration) {
+  const Built b = buildLoop(test::mixedDegreeMesh());
+  const HalfEdgeMesh& mesh = *b.mesh;
+  const double spacing = 0.01;  // the mesh's edges are about 0.3 long, its radius 1
+  const double band = 3.0 * spacing;
+  SmoothProjectionOptions cubic;
+  cubic.extrapolateLastStep = true;
+  cubic.cubicFinish = true;
+  cubic.startFromModel = true;
+  cubic.stopBeyond = band;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double position = 0.0, distance = 0.0, normal = 0.0, curvature = 0.0, direction = 0.0;
+  long plainEvaluations = 0, cubicEvaluations = 0;
+  int points = 0, beyond = 0, withModel = 0;
+  for (int line = 0; line < 200; ++line) {
+    const auto face = static_cast<Index>(static_cast<std::size_t>(unit(random) * mesh.faceCount()) %
+                                         mesh.faceCount());
+    double u = unit(random), v = unit(random);
+    if (u + v > 1.0) {
+      u = 1.0 - u;
+      v = 1.0 - v;
+    }
+    const FacePoint start{face, Eigen::Vector3d(1.0 - u - v, u, v)};
+    const SmoothPoint surface = b.pps->evaluate(start, Derivatives::First);
+    const Eigen::Vector3d tangent =
+        surface.normal
+            .cross(Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5))
+            .normalized();
+    const Eigen::Vector3d origin =
+        surface.position + (9.0 * unit(random) - 4.5) * spacing * surface.normal;
+    PseudoManifold::Projection previousPlain, previousCubic;
+    for (int i = 0; i < 30; ++i) {
+      const Eigen::Vector3d x = origin + i * spacing * tangent;
+      PseudoManifold::Projection a, c;
+      if (i == 0) {
+        a = b.pps->project(x, start);
+        c = b.pps->project(x, start, cubic);
+      } else {
+        SmoothProjectionOptions plainStep, cubicStep = cubic;
+        if (i >= 2) {
+          plainStep.firstStepCorrection = previousPlain.firstStepMiss;
+          cubicStep.firstStepCorrection = previousCubic.firstStepMiss;
+        }
+        withModel += previousCubic.model.has_value() ? 1 : 0;
+        a = b.pps->project(x, previousPlain, plainStep);
+        c = b.pps->project(x, previousCubic, cubicStep);
+      }
+      ASSERT_TRUE(a.converged);
+      plainEvaluations += a.iterations;
+      cubicEvaluations += c.iterations;
+      ++points;
+      if (c.beyond) {
+        // Stopped: certainly beyond the band.
+        EXPECT_GT(a.distance, band);
+        ++beyond;
+      } else {
+        ASSERT_TRUE(c.converged);
+        position = std::max(position, (a.position - c.position).norm());
+        distance = std::max(distance, std::abs(a.distance - c.distance));
+        normal = std::max(normal, angleBetween(a.geometry.normal, c.geometry.normal));
+        const double scale = std::max({std::abs(a.geometry.k1), std::abs(a.geometry.k2), 1.0});
+        curvature = std::max({curvature, std::abs(a.geometry.k1 - c.geometry.k1) / scale,
+                              std::abs(a.geometry.k2 - c.geometry.k2) / scale});
+        if (a.geometry.k1 - a.geometry.k2 > 0.05 * scale) {
+          direction = std::max(direction,
+                               std::asin(std::min(1.0, a.geometry.e1.cross(c.geometry.e1).norm())));
+        }
+      }
+      if (a.distance < band) {
+        EXPECT_FALSE(c.beyond);
+      }
+      previousPlain = std::move(a);
+      previousCubic = std::move(c);
+    }
+  }
+  std::printf(
+      "cubic finish against the plain iteration at %d points (%d stopped beyond the band, "
+      "%d started from a model): positions %.3g, distances %.3g, normals %.3g rad, "
+      "curvatures %.3g of max(|k|, 1), e1 %.3g rad; surface evaluations %ld instead of "
+      "%ld\n",
+      points, beyond, withModel, position, distance, normal, curvature, direction, cubicEvaluations,
+      plainEvaluations);
+  EXPECT_GT(beyond, 500);
+  EXPECT_GT(withModel, 3000);
+  EXPECT_LT(position, 1e-9);
+  EXPECT_LT(distance, 1e-11);
+  EXPECT_LT(normal, 1e-8);
+  EXPECT_LT(curvature, 5e-5);
+  EXPECT_LT(direction, 1e-4);
+  EXPECT_LT(cubicEvaluations, 0.4 * plainEvaluations);
 }
 
 TEST(PseudoManifold, RefusesBadOptions) {

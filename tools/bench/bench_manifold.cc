@@ -136,6 +136,47 @@ void BM_EvaluatePositionNormal(benchmark::State& state) {
 void BM_EvaluateCurvature(benchmark::State& state) {
   evaluate(state, d2vdb::Derivatives::Second);
 }
+
+/// Chart derivatives of the second and of the third order (PseudoManifold::chartDerivatives and
+/// chartThirdDerivatives, the projection's two kinds of evaluation) at the same random points,
+/// in the chart of the nearest corner, one thread; counters: thread CPU seconds of each pass
+/// and their ratio third / second.
+void BM_ChartDerivativesThirdVsSecond(benchmark::State& state) {
+  const d2vdb::PseudoManifold& surface = bunnySurface();
+  const auto& points = randomPoints();
+  std::vector<int> corners;
+  for (const d2vdb::FacePoint& p : points) {
+    int best = 0;
+    for (int i = 1; i < 3; ++i) {
+      if (p.bary[i] > p.bary[best]) best = i;
+    }
+    corners.push_back(best);
+  }
+  const auto threadSeconds = [] {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  };
+  double second = 0.0, third = 0.0;
+  for (auto _ : state) {
+    double start = threadSeconds();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      benchmark::DoNotOptimize(surface.chartDerivatives(points[i], corners[i]).dd[2]);
+    }
+    second += threadSeconds() - start;
+    start = threadSeconds();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      benchmark::DoNotOptimize(surface.chartThirdDerivatives(points[i], corners[i]).ddd[3]);
+    }
+    third += threadSeconds() - start;
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(points.size()));
+  state.counters["second_s"] = second / static_cast<double>(state.iterations());
+  state.counters["third_s"] = third / static_cast<double>(state.iterations());
+  state.counters["ratio"] = third / second;
+}
+BENCHMARK(BM_ChartDerivativesThirdVsSecond)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 BENCHMARK(BM_EvaluatePosition)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_EvaluatePositionNormal)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_EvaluateCurvature)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

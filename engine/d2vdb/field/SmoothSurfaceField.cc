@@ -407,6 +407,12 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // step does not show.
   SmoothProjectionOptions projectionOptions;
   projectionOptions.extrapolateLastStep = true;
+  // Likewise their error of about 1e-5 of their value from a footpoint placed on the cubic
+  // Taylor model of the surface at the last iterate (a step of at most 1e-3 of the chart radius
+  // away), and from each voxel's start on its neighbour's model: most voxels then cost one
+  // surface evaluation (with third derivatives), some none.
+  projectionOptions.cubicFinish = true;
+  projectionOptions.startFromModel = true;
   // Voxels certainly beyond the band are discarded without converging.
   projectionOptions.stopBeyond = halfWidth * voxelSize;
   // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle

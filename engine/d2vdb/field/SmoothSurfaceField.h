@@ -27,16 +27,19 @@ inline constexpr const char* kSmoothSurfaceEstimator =
 /// derivatives and, along a line of such starts, its second-order correction; from the nearest
 /// seed for the first voxel of a leaf, and again from the nearest seed when the result is further
 /// than that seed (near the medial axis). Every start depends only on the leaf, so the field does
-/// not depend on the order of the voxels or the thread count. The last Newton step's geometry is
-/// extrapolated (SmoothProjectionOptions::extrapolateLastStep): footpoints are converged to 1e-12
-/// of the chart radius, curvatures to about 1e-6 of their value, far below their half-precision
-/// storage. Curvatures beyond 1 / voxel are clamped to it and flagged
-/// kFlagCurvatureClamped, as the level-set estimator does; kFlagCutLocus and kFlagDegradedEstimate
-/// as SmoothSurface sets them. The working domain pads the bounding box of the seeds (options);
-/// `label` says what the field is of (describe(), e.g. the input file's name). Parallel (TBB),
-/// deterministic. Throws InputError for a non-positive or non-finite voxel size, halfWidth
-/// outside 1..64, more than 4 x options.maxActiveVoxels seeds or a band over
-/// options.maxActiveVoxels (before the approximants are computed).
+/// not depend on the order of the voxels or the thread count. Where a voxel's neighbour ended on
+/// a cubic Taylor model of the surface, the voxel starts from that model's closest point
+/// (SmoothProjectionOptions::startFromModel); the iteration ends on the cubic model at its last
+/// iterate once the Newton step there is below 1e-3 of the chart radius
+/// (SmoothProjectionOptions::cubicFinish), or with the last step's geometry extrapolated
+/// (extrapolateLastStep): footpoints within about 1e-9 of the chart radius of the exact ones,
+/// curvatures within about 1e-5 of their value, far below their half-precision storage. Curvatures
+/// beyond 1 / voxel are clamped to it and flagged kFlagCurvatureClamped, as the level-set estimator
+/// does; kFlagCutLocus and kFlagDegradedEstimate as SmoothSurface sets them. The working domain
+/// pads the bounding box of the seeds (options); `label` says what the field is of (describe(),
+/// e.g. the input file's name). Parallel (TBB), deterministic. Throws InputError for a non-positive
+/// or non-finite voxel size, halfWidth outside 1..64, more than 4 x options.maxActiveVoxels seeds
+/// or a band over options.maxActiveVoxels (before the approximants are computed).
 ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelSize,
                                     double halfWidth, const std::string& label = {},
                                     const ApproximantFieldOptions& options = {},

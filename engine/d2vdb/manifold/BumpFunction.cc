@@ -5,7 +5,7 @@
 namespace d2vdb {
 
 BumpValue chartBump(double t) {
-  if (std::isnan(t)) return {t, t, t};
+  if (std::isnan(t)) return {t, t, t, t};
   if (t <= kBumpInner) return {1.0, 0.0, 0.0};
   if (t >= 1.0) return {0.0, 0.0, 0.0};
   constexpr double kWidth = 1.0 - kBumpInner;
@@ -22,15 +22,21 @@ BumpValue chartBump(double t) {
   const double e = std::exp(2.0 * s);
   const double xi = 1.0 / (1.0 + e);
   const double q = xi * (e * xi);  // xi (1 - xi) = xi e / (1 + e), without cancellation
-  // d xi / ds = -2 q, d^2 xi / ds^2 = 4 q (1 - 2 xi).
+  // d xi / ds = -2 q, d^2 xi / ds^2 = 4 q (1 - 2 xi), d^3 xi / ds^3 = 16 q^2 - 8 q (1 - 2 xi)^2
+  // (dq / ds = -2 q (1 - 2 xi)).
   const double dXi = -2.0 * q;
-  const double ddXi = 4.0 * q * (1.0 - 2.0 * xi);
-  // ds/dh = 1 / u^2 + 1 / h^2, d2s/dh2 = 2 / u^3 - 2 / h^3 (u = 1 - h).
+  const double across = 1.0 - 2.0 * xi;
+  const double ddXi = 4.0 * q * across;
+  const double dddXi = 16.0 * q * q - 8.0 * q * across * across;
+  // ds/dh = 1 / u^2 + 1 / h^2, d2s/dh2 = 2 / u^3 - 2 / h^3, d3s/dh3 = 6 / u^4 + 6 / h^4
+  // (u = 1 - h).
   const double inverseU2 = inverseU * inverseU;
   const double inverseH2 = inverseH * inverseH;
   const double dS = inverseU2 + inverseH2;
   const double ddS = 2.0 * (inverseU2 * inverseU - inverseH2 * inverseH);
-  return {xi, dXi * dS * dH, (ddXi * dS * dS + dXi * ddS) * dH * dH};
+  const double dddS = 6.0 * (inverseU2 * inverseU2 + inverseH2 * inverseH2);
+  return {xi, dXi * dS * dH, (ddXi * dS * dS + dXi * ddS) * dH * dH,
+          (dddXi * dS * dS * dS + 3.0 * ddXi * dS * ddS + dXi * dddS) * dH * dH * dH};
 }
 
 }  // namespace d2vdb

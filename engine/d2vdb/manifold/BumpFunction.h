@@ -3,11 +3,12 @@
 
 namespace d2vdb {
 
-/// The value and the first two derivatives of a scalar function of one variable.
+/// The value and the first three derivatives of a scalar function of one variable.
 struct BumpValue {
   double value = 0.0;
   double first = 0.0;
   double second = 0.0;
+  double third = 0.0;
 };
 
 /// Where the chart weight starts to fall, as a fraction of the chart radius: a quarter, as in
@@ -26,7 +27,7 @@ inline constexpr double kBumpInner = 0.25;
 /// to 0 and every derivative vanishes at both ends: xi is C-infinity on the whole line. At the
 /// midpoint t = 5/8 (H = 1/2, s = 0) xi = 1/2 exactly. Where exp(2 s) over- or underflows the
 /// value is the limit (0 or 1) with zero derivatives, which is exact to double precision.
-/// Returns xi and its first two derivatives with respect to t. Never throws; NaN gives NaN.
+/// Returns xi and its first three derivatives with respect to t. Never throws; NaN gives NaN.
 BumpValue chartBump(double t);
 
 }  // namespace d2vdb

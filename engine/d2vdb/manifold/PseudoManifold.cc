@@ -76,11 +76,12 @@ inline void pairBasis(const Pair* powers, double r, double r2, Pair* out) {
   }
 }
 
-/// The Bernstein basis of fixed degree D at s with first (Order >= 1) and second (Order >= 2)
-/// derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
-/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i).
+/// The Bernstein basis of fixed degree D at s with first (Order >= 1), second (Order >= 2) and
+/// third (Order 3) derivatives, as pairs (see pairBasis): dB^D_i = D (B^(D-1)_(i-1) - B^(D-1)_i),
+/// d2B^D_i = D (D - 1) (B^(D-2)_(i-2) - 2 B^(D-2)_(i-1) + B^(D-2)_i),
+/// d3B^D_i = D (D - 1) (D - 2) (B^(D-3)_(i-3) - 3 B^(D-3)_(i-2) + 3 B^(D-3)_(i-1) - B^(D-3)_i).
 template <int D, int Order>
-inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
+inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb, Pair* dddb) {
   constexpr int count = pairsPerRow(D);
   const double r = 1.0 - s;
   const double s2 = s * s;
@@ -109,16 +110,36 @@ inline void pairBernstein(double s, Pair* b, Pair* db, Pair* ddb) {
       previous = lower[k];
     }
   }
+  if constexpr (Order >= 3) {
+    if constexpr (D < 3) {
+      for (int k = 0; k < count; ++k) dddb[k] = Pair{0.0, 0.0};
+    } else {
+      Pair lower[count];
+      pairBasis<D, D - 3>(powers, r, r2, lower);
+      Pair beforePrevious = Pair{0.0, 0.0};
+      Pair previous = Pair{0.0, 0.0};
+      for (int k = 0; k < count; ++k) {
+        const Pair third = Pair{beforePrevious[1], previous[0]};  // (B_2k-3, B_2k-2)
+        const Pair first = Pair{previous[1], lower[k][0]};        // (B_2k-1, B_2k)
+        dddb[k] = static_cast<double>(D * (D - 1) * (D - 2)) *
+                  (third - 3.0 * previous + 3.0 * first - lower[k]);
+        beforePrevious = previous;
+        previous = lower[k];
+      }
+    }
+  }
 }
 
 /// The s-direction stage of fixedPatch: out[.][c] from the rows combined by the t-basis (t0)
-/// and its derivatives (t1, t2), a pair of columns at a time.
+/// and its derivatives (t1, t2, t3), a pair of columns at a time.
 template <int D, int Order>
-inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* t0,
-                        const Pair* t1, const Pair* t2, int c, double out[6][3]) {
+inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const Pair* dddbx,
+                        const Pair* t0, const Pair* t1, const Pair* t2, const Pair* t3, int c,
+                        double out[10][3]) {
   constexpr int count = pairsPerRow(D);
   Pair v = bx[0] * t0[0];
   Pair gs = Pair{0.0, 0.0}, gt = gs, hss = gs, hst = gs, htt = gs;
+  Pair sss = gs, sst = gs, stt = gs, ttt = gs;
   if constexpr (Order >= 1) {
     gs = dbx[0] * t0[0];
     gt = bx[0] * t1[0];
@@ -127,6 +148,12 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
     hss = ddbx[0] * t0[0];
     hst = dbx[0] * t1[0];
     htt = bx[0] * t2[0];
+  }
+  if constexpr (Order >= 3) {
+    sss = dddbx[0] * t0[0];
+    sst = ddbx[0] * t1[0];
+    stt = dbx[0] * t2[0];
+    ttt = bx[0] * t3[0];
   }
   for (int j = 1; j < count; ++j) {
     v += bx[j] * t0[j];
@@ -139,6 +166,12 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
       hst += dbx[j] * t1[j];
       htt += bx[j] * t2[j];
     }
+    if constexpr (Order >= 3) {
+      sss += dddbx[j] * t0[j];
+      sst += ddbx[j] * t1[j];
+      stt += dbx[j] * t2[j];
+      ttt += bx[j] * t3[j];
+    }
   }
   out[0][c] = v[0] + v[1];
   out[1][c] = gs[0] + gs[1];
@@ -146,30 +179,39 @@ inline void finishPatch(const Pair* bx, const Pair* dbx, const Pair* ddbx, const
   out[3][c] = hss[0] + hss[1];
   out[4][c] = hst[0] + hst[1];
   out[5][c] = htt[0] + htt[1];
+  if constexpr (Order >= 3) {
+    out[6][c] = sss[0] + sss[1];
+    out[7][c] = sst[0] + sst[1];
+    out[8][c] = stt[0] + stt[1];
+    out[9][c] = ttt[0] + ttt[1];
+  }
 }
 
 /// A tensor-product Bézier patch of bidegree (D, D) over the unit square at (s, t): value and
 /// derivatives in out[0] = value, [1] = d/ds, [2] = d/dt, [3] = d2/ds2, [4] = d2/dsdt,
-/// [5] = d2/dt2 (as far as Order asks), each with x, y, z. Controls: three blocks (x, y, z) of
+/// [5] = d2/dt2, [6] = d3/ds3, [7] = d3/ds2dt, [8] = d3/dsdt2, [9] = d3/dt3 (as far as Order
+/// asks), each with x, y, z. Controls: three blocks (x, y, z) of
 /// D + 1 rows of equal t-index, each row the D + 1 values of increasing s-index padded to
 /// 2 pairsPerRow(D) doubles (the padding is never read into a result: its basis values are 0).
 /// The rows are combined a pair of columns at a time.
 template <int D, int Order>
-void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
+void fixedPatch(const double* controls, double s, double t, double out[10][3]) {
   constexpr int m = D + 1;
   constexpr int count = pairsPerRow(D);
-  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
-  pairBernstein<D, Order>(s, bx, dbx, ddbx);
-  pairBernstein<D, Order>(t, by, dby, ddby);
+  Pair bx[count], dbx[count], ddbx[count], dddbx[count];
+  Pair by[count], dby[count], ddby[count], dddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx, dddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby, dddby);
   for (int c = 0; c < 3; ++c) {
     const Pair* block = reinterpret_cast<const Pair*>(controls) + c * m * count;
-    // t0, t1, t2: the rows weighted by the t-basis and its derivatives.
-    Pair t0[count], t1[count], t2[count];
+    // t0 .. t3: the rows weighted by the t-basis and its derivatives.
+    Pair t0[count], t1[count], t2[count], t3[count];
     for (int j = 0; j < count; ++j) {
       const Pair row = block[j];
       t0[j] = by[0][0] * row;
       if constexpr (Order >= 1) t1[j] = dby[0][0] * row;
       if constexpr (Order >= 2) t2[j] = ddby[0][0] * row;
+      if constexpr (Order >= 3) t3[j] = dddby[0][0] * row;
     }
     for (int k = 1; k < m; ++k) {
       const Pair* row = block + k * count;
@@ -183,8 +225,12 @@ void fixedPatch(const double* controls, double s, double t, double out[6][3]) {
         const double e = ddby[k / 2][k % 2];
         for (int j = 0; j < count; ++j) t2[j] += e * row[j];
       }
+      if constexpr (Order >= 3) {
+        const double f = dddby[k / 2][k % 2];
+        for (int j = 0; j < count; ++j) t3[j] += f * row[j];
+      }
     }
-    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+    finishPatch<D, Order>(bx, dbx, ddbx, dddbx, t0, t1, t2, t3, c, out);
   }
 }
 
@@ -198,33 +244,38 @@ typedef double Quad __attribute__((vector_size(32), aligned(8), may_alias));
 /// (no fused multiply-add: the target adds none and ISO C++ mode does not contract).
 template <int D, int Order>
 __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, double s, double t,
-                                                    double out[6][3]) {
+                                                    double out[10][3]) {
   constexpr int m = D + 1;
   constexpr int count = pairsPerRow(D);
   constexpr int quads = count / 2;       // whole quads per row
   constexpr bool tail = count % 2 != 0;  // and one pair after them
-  Pair bx[count], dbx[count], ddbx[count], by[count], dby[count], ddby[count];
-  pairBernstein<D, Order>(s, bx, dbx, ddbx);
-  pairBernstein<D, Order>(t, by, dby, ddby);
+  Pair bx[count], dbx[count], ddbx[count], dddbx[count];
+  Pair by[count], dby[count], ddby[count], dddby[count];
+  pairBernstein<D, Order>(s, bx, dbx, ddbx, dddbx);
+  pairBernstein<D, Order>(t, by, dby, ddby, dddby);
   for (int c = 0; c < 3; ++c) {
     const double* block = controls + c * m * 2 * count;
-    Quad q0[quads > 0 ? quads : 1], q1[quads > 0 ? quads : 1], q2[quads > 0 ? quads : 1];
-    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0;
+    constexpr int quadCount = quads > 0 ? quads : 1;
+    Quad q0[quadCount], q1[quadCount], q2[quadCount], q3[quadCount];
+    Pair p0 = Pair{0.0, 0.0}, p1 = p0, p2 = p0, p3 = p0;
     for (int k = 0; k < m; ++k) {
       const Quad* row = reinterpret_cast<const Quad*>(block + k * 2 * count);
       const Pair* rest = reinterpret_cast<const Pair*>(block + k * 2 * count) + 2 * quads;
       const double a = by[k / 2][k % 2];
       const double b = dby[k / 2][k % 2];
       const double e = ddby[k / 2][k % 2];
+      const double f = Order >= 3 ? dddby[k / 2][k % 2] : 0.0;
       for (int j = 0; j < quads; ++j) {
         if (k == 0) {
           q0[j] = a * row[j];
           if constexpr (Order >= 1) q1[j] = b * row[j];
           if constexpr (Order >= 2) q2[j] = e * row[j];
+          if constexpr (Order >= 3) q3[j] = f * row[j];
         } else {
           q0[j] += a * row[j];
           if constexpr (Order >= 1) q1[j] += b * row[j];
           if constexpr (Order >= 2) q2[j] += e * row[j];
+          if constexpr (Order >= 3) q3[j] += f * row[j];
         }
       }
       if constexpr (tail) {
@@ -232,14 +283,16 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
           p0 = a * rest[0];
           if constexpr (Order >= 1) p1 = b * rest[0];
           if constexpr (Order >= 2) p2 = e * rest[0];
+          if constexpr (Order >= 3) p3 = f * rest[0];
         } else {
           p0 += a * rest[0];
           if constexpr (Order >= 1) p1 += b * rest[0];
           if constexpr (Order >= 2) p2 += e * rest[0];
+          if constexpr (Order >= 3) p3 += f * rest[0];
         }
       }
     }
-    Pair t0[count], t1[count], t2[count];
+    Pair t0[count], t1[count], t2[count], t3[count];
     for (int j = 0; j < quads; ++j) {
       t0[2 * j] = Pair{q0[j][0], q0[j][1]};
       t0[2 * j + 1] = Pair{q0[j][2], q0[j][3]};
@@ -251,19 +304,24 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
         t2[2 * j] = Pair{q2[j][0], q2[j][1]};
         t2[2 * j + 1] = Pair{q2[j][2], q2[j][3]};
       }
+      if constexpr (Order >= 3) {
+        t3[2 * j] = Pair{q3[j][0], q3[j][1]};
+        t3[2 * j + 1] = Pair{q3[j][2], q3[j][3]};
+      }
     }
     if constexpr (tail) {
       t0[count - 1] = p0;
       t1[count - 1] = p1;
       t2[count - 1] = p2;
+      t3[count - 1] = p3;
     }
-    finishPatch<D, Order>(bx, dbx, ddbx, t0, t1, t2, c, out);
+    finishPatch<D, Order>(bx, dbx, ddbx, dddbx, t0, t1, t2, t3, c, out);
   }
 }
 #endif
 
 template <int D, int Order>
-inline void dispatchPatch(const double* controls, double s, double t, double out[6][3]) {
+inline void dispatchPatch(const double* controls, double s, double t, double out[10][3]) {
 #ifdef D2VDB_WIDE_PATCH
   static const bool wide = __builtin_cpu_supports("avx2");
   if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
@@ -272,7 +330,7 @@ inline void dispatchPatch(const double* controls, double s, double t, double out
 }
 
 template <int Order>
-void patch(int d, const double* controls, double s, double t, double out[6][3]) {
+void patch(int d, const double* controls, double s, double t, double out[10][3]) {
   switch (d) {
     case 2:
       return dispatchPatch<2, Order>(controls, s, t, out);
@@ -448,18 +506,20 @@ struct PseudoManifold::DegreeFit {
 
 // ------------------------------------------------------------------------------------------------
 
-/// Evaluation with derivatives of order `Order` (0, 1 or 2) with respect to two parameters.
+/// Evaluation with derivatives of order `Order` (0 to 3) with respect to two parameters.
 template <int Order>
 struct PseudoManifold::Evaluator {
   const PseudoManifold& pps;
 
-  /// psi_v composed with chart point jets (px, py).
-  Jet3<Order> shape(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+  /// psi_v composed with chart point jets (px, py). `identity`: px and py are the independent
+  /// variables (the chart's own coordinates), so the chain rule is the identity.
+  Jet3<Order> shape(Index vertex, const Jet<Order>& px, const Jet<Order>& py,
+                    bool identity = false) const {
     const int d = pps.bidegree(vertex);
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double* controls = pps.controls_.data() + pps.controlOffset_[vertex];
     const double inv = 0.5 / radius;
-    double result[6][3];
+    double result[10][3];
     patch<Order>(d, controls, (px.v + radius) * inv, (py.v + radius) * inv, result);
     const double* value = result[0];
     const double* gx = result[1];
@@ -470,6 +530,23 @@ struct PseudoManifold::Evaluator {
     Jet3<Order> out;
     out.v = toVector(value);
     if constexpr (Order >= 1) {
+      if (identity) {
+        // The chain rule below with px.d = (1, 0), py.d = (0, 1) and no higher derivatives:
+        // the same values (only the signs of zeros could differ).
+        out.d[0] = inv * toVector(gx);
+        out.d[1] = inv * toVector(gy);
+        if constexpr (Order >= 2) {
+          const double inv2 = inv * inv;
+          out.h[0] = inv2 * toVector(hxx);
+          out.h[1] = inv2 * toVector(hxy);
+          out.h[2] = inv2 * toVector(hyy);
+          if constexpr (Order >= 3) {
+            const double inv3 = inv2 * inv;
+            for (int m = 0; m < 4; ++m) out.t[m] = inv3 * toVector(result[6 + m]);
+          }
+        }
+        return out;
+      }
       const Eigen::Vector3d psiX = inv * toVector(gx);
       const Eigen::Vector3d psiY = inv * toVector(gy);
       for (int a = 0; a < 2; ++a) out.d[a] = psiX * px.d[a] + psiY * py.d[a];
@@ -485,32 +562,114 @@ struct PseudoManifold::Evaluator {
           out.h[m] = psiXX * (px.d[a] * px.d[b]) + psiXY * (px.d[a] * py.d[b] + py.d[a] * px.d[b]) +
                      psiYY * (py.d[a] * py.d[b]) + psiX * px.h[m] + psiY * py.h[m];
         }
+        if constexpr (Order >= 3) {
+          const double inv3 = inv2 * inv;
+          const Eigen::Vector3d psiXXX = inv3 * toVector(result[6]);
+          const Eigen::Vector3d psiXXY = inv3 * toVector(result[7]);
+          const Eigen::Vector3d psiXYY = inv3 * toVector(result[8]);
+          const Eigen::Vector3d psiYYY = inv3 * toVector(result[9]);
+          for (int m = 0; m < 4; ++m) {
+            out.t[m] = detail::chainThird<Eigen::Vector3d>(m, psiX, psiY, psiXX, psiXY, psiYY,
+                                                           psiXXX, psiXXY, psiXYY, psiYYY, px, py);
+          }
+        }
       }
     }
     return out;
   }
 
-  /// gamma_v composed with chart point jets.
-  Jet<Order> weight(Index vertex, const Jet<Order>& px, const Jet<Order>& py) const {
+  /// gamma_v composed with chart point jets (`identity`: as in shape(); `norm`: |p| as a jet,
+  /// when known).
+  Jet<Order> weight(Index vertex, const Jet<Order>& px, const Jet<Order>& py, bool identity = false,
+                    const Jet<Order>* norm = nullptr) const {
     const double radius = pps.fitFor(pps.mesh_->degree(vertex)).map.chartRadius;
     const double rr = px.v * px.v + py.v * py.v;
     if (rr <= (kBumpInner * radius) * (kBumpInner * radius)) return Jet<Order>::constant(1.0);
+    if constexpr (Order >= 3) {
+      if (norm != nullptr) {
+        const Jet<Order> t = (1.0 / radius) * *norm;
+        const BumpValue xi = chartBump(t.v);
+        return t.apply(xi.value, xi.first, xi.second, xi.third);
+      }
+      if (identity) {
+        // t = |p| / radius from the derivatives of r = |p| in closed form: r_x = x / r,
+        // r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
+        // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
+        const double x = px.v, y = py.v;
+        const double r = std::sqrt(rr);
+        const double s1 = 1.0 / (radius * r);  // 1 / (radius r)
+        const double s3 = s1 / rr;
+        const double s5 = s3 / rr;
+        Jet<Order> t;
+        t.v = r / radius;
+        t.d[0] = x * s1;
+        t.d[1] = y * s1;
+        t.h[0] = y * y * s3;
+        t.h[1] = -x * y * s3;
+        t.h[2] = x * x * s3;
+        t.t[0] = -3.0 * x * y * y * s5;
+        t.t[1] = y * (2.0 * x * x - y * y) * s5;
+        t.t[2] = x * (2.0 * y * y - x * x) * s5;
+        t.t[3] = -3.0 * x * x * y * s5;
+        const BumpValue xi = chartBump(t.v);
+        return t.apply(xi.value, xi.first, xi.second, xi.third);
+      }
+    }
     const Jet<Order> t = (1.0 / radius) * sqrt(px * px + py * py);
     const BumpValue xi = chartBump(t.v);
-    return t.apply(xi.value, xi.first, xi.second);
+    return t.apply(xi.value, xi.first, xi.second, xi.third);
   }
 
-  /// The blended surface over the given chart point jets of the active corners.
+  /// The blended surface over the given chart point jets of the active corners; the jets of
+  /// corner `identityCorner` (-1: none) are the independent variables; norms[i], where
+  /// haveNorm[i], is |p_i| as a jet (used at Order 3).
   Jet3<Order> blend(const Index vertices[3], const Jet<Order> px[3], const Jet<Order> py[3],
-                    const bool active[3]) const {
+                    const bool active[3], int identityCorner = -1,
+                    const Jet<Order>* norms = nullptr, const bool* haveNorm = nullptr) const {
     Jet3<Order> numerator;
     Jet<Order> denominator;
+    if constexpr (Order >= 3) {
+      // With the normalised weights u_i = w_i / sum_j w_j, which add up to 1, the surface is
+      // psi_last + sum over the other contributing charts of u_i (psi_i - psi_last): one product
+      // rule fewer than the weighted sum and no quotient of points; one contributing chart gives
+      // its shape function (no weight derivatives).
+      Jet<Order> w[3];
+      int contributing[3];
+      int count = 0;
+      for (int i = 0; i < 3; ++i) {
+        if (!active[i]) continue;
+        w[i] = weight(vertices[i], px[i], py[i], i == identityCorner,
+                      norms != nullptr && haveNorm[i] ? &norms[i] : nullptr);
+        if (w[i].v == 0.0) continue;  // beyond the cut-off: no contribution, no derivatives
+        contributing[count++] = i;
+      }
+      const int last = contributing[count - 1];
+      Jet3<Order> out = shape(vertices[last], px[last], py[last], last == identityCorner);
+      if (count == 1) return out;
+      Jet<Order> total = w[contributing[0]];
+      for (int j = 1; j < count; ++j) total = total + w[contributing[j]];
+      const double inverse = 1.0 / total.v;
+      const Jet<Order> reciprocal =
+          total.apply(inverse, -inverse * inverse, 2.0 * inverse * inverse * inverse,
+                      -6.0 * inverse * inverse * inverse * inverse);
+      const Jet3<Order> base = out;
+      for (int j = 0; j + 1 < count; ++j) {
+        const int i = contributing[j];
+        Jet3<Order> difference = shape(vertices[i], px[i], py[i], i == identityCorner);
+        difference.v -= base.v;
+        for (int a = 0; a < 2; ++a) difference.d[a] -= base.d[a];
+        for (int a = 0; a < 3; ++a) difference.h[a] -= base.h[a];
+        for (int a = 0; a < 4; ++a) difference.t[a] -= base.t[a];
+        detail::addProduct(out, w[i] * reciprocal, difference);
+      }
+      return out;
+    }
     for (int i = 0; i < 3; ++i) {
       if (!active[i]) continue;
       const Jet<Order> w = weight(vertices[i], px[i], py[i]);
       if (w.v == 0.0) continue;  // beyond the cut-off: no contribution, no derivatives
       denominator = denominator + w;
-      detail::addProduct(numerator, w, shape(vertices[i], px[i], py[i]));
+      detail::addProduct(numerator, w, shape(vertices[i], px[i], py[i], i == identityCorner));
     }
     return detail::divide(numerator, denominator);
   }
@@ -569,6 +728,8 @@ struct PseudoManifold::Evaluator {
     active[centre] = true;
     bool haveBary = false;
     Jet<Order> bary[3];
+    Jet<Order> norms[3];
+    bool haveNorm[3] = {false, false, false};
     for (int i = 0; i < 3; ++i) {
       if (i == centre) continue;
       const Index halfEdge = 3 * point.face + static_cast<Index>(i);
@@ -579,7 +740,7 @@ struct PseudoManifold::Evaluator {
         // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
         // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
         Jet<Order> zx, zy;
-        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy);
+        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy, true);
         const Jet<Order> after = (1.0 / kCos30) * zy;
         const Jet<Order> next = zx - 0.5 * after;
         bary[(centre + 1) % 3] = next;
@@ -590,9 +751,14 @@ struct PseudoManifold::Evaluator {
       const int n = mesh.degree(vertices[i]);
       Jet<Order> zx, zy;
       canonicalJets(bary, i, zx, zy);
+      if constexpr (Order >= 3) {
+        haveNorm[i] = pps.fitFor(n).map.toChartWithNorm(zx, zy, mesh.ringIndex(halfEdge), px[i],
+                                                        py[i], norms[i]);
+        if (haveNorm[i]) continue;
+      }
       pps.fitFor(n).map.toChart(zx, zy, mesh.ringIndex(halfEdge), px[i], py[i]);
     }
-    return blend(vertices, px, py, active);
+    return blend(vertices, px, py, active, centre, norms, haveNorm);
   }
 };
 
@@ -802,6 +968,24 @@ SmoothDerivatives toDerivatives(const Jet3<Order>& jet) {
   return out;
 }
 
+SmoothThirdDerivatives thirdDerivativesOf(const Jet3<2>& jet, const Eigen::Vector3d third[4]) {
+  SmoothThirdDerivatives out;
+  out.position = jet.v;
+  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
+  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
+  for (int i = 0; i < 4; ++i) out.ddd[i] = third[i];
+  return out;
+}
+
+SmoothThirdDerivatives toThirdDerivatives(const Jet3<3>& jet) {
+  SmoothThirdDerivatives out;
+  out.position = jet.v;
+  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
+  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
+  for (int i = 0; i < 4; ++i) out.ddd[i] = jet.t[i];
+  return out;
+}
+
 }  // namespace
 
 SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivatives) const {
@@ -881,6 +1065,18 @@ SmoothDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int c
   return toDerivatives(evaluator.chart(point, corner));
 }
 
+SmoothThirdDerivatives PseudoManifold::chartThirdDerivatives(const FacePoint& point,
+                                                             int corner) const {
+  if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
+    throw InputError("no such face or corner");
+  }
+  if (!ChartAtlas::inChart(point.bary, corner)) {
+    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
+  }
+  const Evaluator<3> evaluator{*this};
+  return toThirdDerivatives(evaluator.chart(point, corner));
+}
+
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, const FacePoint& start,
                                                    const SmoothProjectionOptions& options) const {
   if (!x.allFinite()) throw InputError("cannot project a non-finite point");
@@ -905,6 +1101,56 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
 
 namespace {
 
+/// The cubic Taylor model of a surface at a point (derivatives `jet` and `third`, indexed as in
+/// Jet) moved by `step`: position, first and second derivatives at the end (exact for a cubic).
+Jet3<2> cubicTaylor(const Jet3<2>& jet, const Eigen::Vector3d third[4],
+                    const Eigen::Vector2d& step) {
+  const double s[2] = {step.x(), step.y()};
+  Jet3<2> moved;
+  // Second derivatives: h_ab + t_abc s_c.
+  for (int ab = 0; ab < 3; ++ab) moved.h[ab] = jet.h[ab] + third[ab] * s[0] + third[ab + 1] * s[1];
+  // First: d_a + h_ab s_b + 1/2 t_abc s_b s_c = d_a + 1/2 (h_ab + moved h_ab) s_b.
+  for (int a = 0; a < 2; ++a) {
+    moved.d[a] =
+        jet.d[a] + 0.5 * ((jet.h[a] + moved.h[a]) * s[0] + (jet.h[a + 1] + moved.h[a + 1]) * s[1]);
+  }
+  // Position: v + d_a s_a + 1/2 h_ab s_a s_b + 1/6 t_abc s_a s_b s_c.
+  const Eigen::Vector3d hs[2] = {jet.h[0] * s[0] + jet.h[1] * s[1],
+                                 jet.h[1] * s[0] + jet.h[2] * s[1]};
+  const Eigen::Vector3d ts[2] = {
+      (third[0] * s[0] + third[1] * s[1]) * s[0] + (third[1] * s[0] + third[2] * s[1]) * s[1],
+      (third[1] * s[0] + third[2] * s[1]) * s[0] + (third[2] * s[0] + third[3] * s[1]) * s[1]};
+  moved.v = jet.v + (jet.d[0] + 0.5 * hs[0] + ts[0] * (1.0 / 6.0)) * s[0] +
+            (jet.d[1] + 0.5 * hs[1] + ts[1] * (1.0 / 6.0)) * s[1];
+  return moved;
+}
+
+/// Newton's method on the distance from x to the cubic model (jet, third) from `move` (chart
+/// coordinates relative to the model's origin), until a correction is below 1e-7 of `radius`
+/// (the next would be below about 1e-13 of it), at most `iterations` corrections. `moved`
+/// receives the model at the end. False when the model's Hessian of the distance is not positive
+/// definite on the way or a correction is not finite (move and moved are then where it stopped).
+bool minimiseCubicModel(const Jet3<2>& jet, const Eigen::Vector3d third[4],
+                        const Eigen::Vector3d& x, double radius, int iterations,
+                        Eigen::Vector2d& move, Jet3<2>& moved, double correction) {
+  moved = cubicTaylor(jet, third, move);
+  for (int k = 0; k < iterations && correction > 1e-7 * radius; ++k) {
+    const Eigen::Vector3d r = moved.v - x;
+    const double g0 = moved.d[0].dot(r), g1 = moved.d[1].dot(r);
+    const double a = moved.d[0].dot(moved.d[0]) + moved.h[0].dot(r);
+    const double b = moved.d[0].dot(moved.d[1]) + moved.h[1].dot(r);
+    const double c = moved.d[1].dot(moved.d[1]) + moved.h[2].dot(r);
+    const double determinant = a * c - b * b;
+    if (!(a > 0.0 && determinant > 0.0)) return false;
+    const Eigen::Vector2d delta((b * g1 - c * g0) / determinant, (b * g0 - a * g1) / determinant);
+    if (!delta.allFinite()) return false;
+    move += delta;
+    moved = cubicTaylor(jet, third, move);
+    correction = delta.norm();
+  }
+  return correction <= 1e-7 * radius;
+}
+
 template <int Order>
 Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
   Jet3<Order> jet;
@@ -922,6 +1168,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
+  const Evaluator<3> thirdEvaluator{*this};
   Projection result;
   FacePoint current = start;
   FacePoint previous = start;
@@ -941,8 +1188,14 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   bool corrected = false;
   // Where the last step taken ended, in the chart it was taken in (`current` is its face point).
   std::optional<ChartPoint> stepEnd;
+  // Evaluate `current` with third derivatives (options.cubicFinish: the step there is expected to
+  // end near the footpoint); `third` holds them when haveThird.
+  bool wantThird = false;
+  bool haveThird = false;
+  Eigen::Vector3d third[4];
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    haveThird = false;
     if (known) {
       jet = fromDerivatives<2>(nearby->derivatives);
       known = false;
@@ -953,10 +1206,21 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       const Index vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
       // A step taken in the chart of the same vertex: its end is the chart point already.
       const bool sameChart = stepEnd && stepEnd->vertex == vertex;
-      jet = evaluator.chart(current, centre, &chartPoint.p, sameChart ? &stepEnd->p : nullptr);
+      const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd->p : nullptr;
+      if (wantThird && !finalStep) {
+        const Jet3<3> full = thirdEvaluator.chart(current, centre, &chartPoint.p, knownPoint);
+        jet.v = full.v;
+        for (int i = 0; i < 2; ++i) jet.d[i] = full.d[i];
+        for (int i = 0; i < 3; ++i) jet.h[i] = full.h[i];
+        for (int i = 0; i < 4; ++i) third[i] = full.t[i];
+        haveThird = true;
+      } else {
+        jet = evaluator.chart(current, centre, &chartPoint.p, knownPoint);
+      }
       chartPoint.vertex = vertex;
       ++result.iterations;
     }
+    wantThird = false;
     stepEnd.reset();
     if (finalStep) {
       // Evaluated where the converging step ended: the answer (an uphill step cannot happen
@@ -1012,7 +1276,34 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       // that decrease is a safe bound this close to the minimum.
       const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
       if (lowest > options.stopBeyond * options.stopBeyond) {
+        // Stopped at an iterate evaluated with third derivatives: its model starts the
+        // neighbours (which may stop beyond on it without an evaluation).
+        if (haveThird)
+          result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
         result.beyond = true;
+        break;
+      }
+    }
+    if (haveThird && definite && !clipped && length <= options.cubicFinishStep * radius &&
+        (chartPoint.p + step).norm() < 0.98 * radius) {
+      // The cubic model's minimum of the distance, by Newton's method on the model from the
+      // Newton step (the model's first iterate: at the iterate the model has the surface's
+      // gradient and Hessian). Each iteration squares the correction: once a correction c is
+      // below 1e-7 of the radius the next (about 10 |c|^2 / radius) is below 1e-13 of it.
+      Eigen::Vector2d move = step;
+      Jet3<2> moved;
+      minimiseCubicModel(jet, third, x, radius, 4, move, moved, length);
+      const Eigen::Vector2d p = chartPoint.p + move;
+      if (move.norm() <= 2.0 * length && p.norm() < 0.99 * radius) {
+        current = atlas_.fromChart({chartPoint.vertex, p});
+        for (int c = 0; c < 3; ++c) {
+          if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+            centre = c;
+        }
+        result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
+        jet = moved;
+        chartPoint.p = p;
+        result.converged = true;
         break;
       }
     }
@@ -1021,6 +1312,68 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     // iterate's distance like any other, and being no plain Newton step it neither counts as
     // tiny nor feeds the prediction of quadratic convergence.
     const bool fromNearby = iteration == 0 && nearby != nullptr;
+    if (fromNearby && options.cubicFinish && options.startFromModel && nearby->model &&
+        nearby->model->origin.vertex == chartPoint.vertex) {
+      // Start from the minimum of the distance to the nearby projection's cubic model.
+      const Projection::CubicModel& model = *nearby->model;
+      const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
+      // From the Newton step at the nearby footpoint (the model's own first iterate there);
+      // to a last correction below 1e-3 of the radius (leaving about 1e-5 of it, below the
+      // model's own error there) where the iteration goes on from the result, 1e-7 where it is
+      // the answer.
+      Eigen::Vector2d move = chartPoint.p - model.origin.p;
+      if (definite && !clipped) move += step;
+      Jet3<2> moved;
+      bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, 1e4 * radius, 8, move,
+                                      moved, std::numeric_limits<double>::infinity());
+      if (found && move.norm() <= options.cubicFinishStep * radius) {
+        found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, radius, 4, move, moved,
+                                   std::numeric_limits<double>::infinity());
+      }
+      if (found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius) {
+        const Eigen::Vector2d p = model.origin.p + move;
+        const double modelDistance = (moved.v - x).norm();
+        if (move.norm() <= 0.1 * radius && modelDistance > 1.02 * options.stopBeyond) {
+          // Certainly beyond: the model's error this close to its origin is far below the
+          // margin (about |move|^4 of the radius times the surface's fourth derivatives).
+          current = atlas_.fromChart({chartPoint.vertex, p});
+          for (int c = 0; c < 3; ++c) {
+            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+              centre = c;
+          }
+          jet = moved;
+          chartPoint.p = p;
+          result.model = model;
+          result.beyond = true;
+          break;
+        }
+        if (move.norm() <= options.cubicFinishStep * radius) {
+          // Within the model's reach of its origin: the answer, as a cubic finish there.
+          current = atlas_.fromChart({chartPoint.vertex, p});
+          for (int c = 0; c < 3; ++c) {
+            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
+              centre = c;
+          }
+          jet = moved;
+          chartPoint.p = p;
+          result.model = model;
+          result.converged = true;
+          break;
+        }
+        // The model's minimum as the first step, checked by the next iterate's distance; no
+        // plain Newton step, so it neither counts as tiny nor feeds the convergence prediction.
+        wantThird = true;
+        corrected = true;
+        checkLast = true;
+        lastStep = 0.0;
+        stepEnd = ChartPoint{chartPoint.vertex, p};
+        current = atlas_.fromChart(*stepEnd);
+        continue;
+      }
+    }
+    // The first step from a nearby projection ends near the footpoint: the model there is
+    // expected to finish (or, beyond the band, to start the neighbours).
+    wantThird = options.cubicFinish && fromNearby;
     if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
       firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
     }
@@ -1069,10 +1422,17 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         result.converged = true;
         break;
       }
+      wantThird = options.cubicFinish;
       current = target(step);
       continue;
     }
     if (!careful && definite) {
+      if (options.cubicFinish && !corrected) {
+        // Where quadratic convergence predicts a next step the cubic model can take.
+        const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
+                                                : 10.0 * length * length / radius;
+        wantThird = wantThird || predicted <= options.cubicFinishStep * radius;
+      }
       lastStep = corrected ? 0.0 : length;
       corrected = false;
       checkLast = true;

@@ -64,6 +64,13 @@ struct SmoothDerivatives {
                            Eigen::Vector3d::Zero()};
 };
 
+/// SmoothDerivatives with the third derivatives: ddd[0] = d3X/ds3, ddd[1] = d3X/ds2dt,
+/// ddd[2] = d3X/dsdt2, ddd[3] = d3X/dt3.
+struct SmoothThirdDerivatives : SmoothDerivatives {
+  Eigen::Vector3d ddd[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                            Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+};
+
 /// The differential geometry (normal, principal curvatures and directions) of a parametrised
 /// surface from its first and second derivatives, conventions as in SmoothPoint. The tangent
 /// vectors must be linearly independent (the result is not finite otherwise).
@@ -78,6 +85,30 @@ struct SmoothProjectionOptions {
   /// O(step^2) of the chart radius (round-off), the curvatures to O(step), i.e. about 1e-6 of
   /// their value. Off: the surface is evaluated at the footpoint.
   bool extrapolateLastStep = false;
+  /// Finish with a cubic model: where a Newton step is expected to end near the footpoint, the
+  /// surface is evaluated there with third derivatives; when the next Newton step from that
+  /// iterate is below `cubicFinishStep` of the chart radius, the footpoint is taken as the
+  /// minimum of the distance to the cubic Taylor model of the surface at the iterate (found by
+  /// Newton's method on the model, no evaluation), and position, first and second derivatives
+  /// are carried there along the model (errors O(step^4), O(step^3) and O(step^2) of the chart
+  /// radius): the evaluation at the footpoint goes. The footpoint then lies within about
+  /// step^3 of the radius of the exact one (the model's error in the gradient of the distance),
+  /// the curvatures within about step^2 of their value. Off: the iteration runs on until a
+  /// Newton step predicts convergence to 1e-12 of the radius.
+  bool cubicFinish = false;
+  /// Largest Newton step (a fraction of the chart radius) that cubicFinish replaces by the cubic
+  /// model's minimum.
+  double cubicFinishStep = 1e-3;
+  /// With cubicFinish, project(x, nearby) starts from the minimum of the distance to the nearby
+  /// projection's cubic model (Projection::model) instead of a Newton step from its footpoint:
+  /// its error is of third order in the distance between the two footpoints, not of second.
+  /// When that minimum lies within cubicFinishStep of the chart radius of the model's origin it
+  /// is the answer (no evaluation; the same accuracy as cubicFinish); when it lies within a
+  /// tenth of the radius of the origin and its distance exceeds stopBeyond by 2 % the
+  /// projection stops `beyond` (no evaluation; the model's error there is far below that
+  /// margin); else the iteration continues from it (the step checked like any other).
+  /// firstStepCorrection is then not used.
+  bool startFromModel = false;
   /// Stop as soon as the distance is certainly above this (world units): when a Newton step
   /// below 1e-2 of the chart radius leaves, by four times the decrease the quadratic model
   /// predicts, a distance above it. The projection then ends unconverged with `beyond` set.
@@ -174,6 +205,10 @@ class PseudoManifold {
   /// at a point of the face inside that chart (ChartAtlas::inChart). Smooth everywhere in the
   /// chart, centre included. Throws InputError when the point is not in the chart.
   SmoothDerivatives chartDerivatives(const FacePoint& point, int corner) const;
+  /// chartDerivatives() with the third derivatives (exact chain rules through the polar maps,
+  /// the Bézier patches, the weights and their quotient). Throws InputError when the point is
+  /// not in the chart.
+  SmoothThirdDerivatives chartThirdDerivatives(const FacePoint& point, int corner) const;
 
   /// The closest surface point found by Newton's method on |X - x|^2 from `start`, in the
   /// coordinates of the chart nearest to the current iterate (walking across faces and charts).
@@ -194,9 +229,19 @@ class PseudoManifold {
     /// did not start from a nearby projection, did not end converged in that chart, the step was
     /// clipped (to its bound or the chart) or an unchecked first step had to be undone.
     std::optional<ChartPoint> firstStepMiss;
+    /// The cubic Taylor model of the surface the footpoint was found on
+    /// (SmoothProjectionOptions::cubicFinish): the point it expands about, in the chart the
+    /// derivatives refer to, and the surface's derivatives up to the third there. Empty when the
+    /// projection did not end on such a model.
+    struct CubicModel {
+      ChartPoint origin;
+      SmoothThirdDerivatives derivatives;
+    };
+    std::optional<CubicModel> model;
     int iterations = 0;  ///< surface evaluations made (the start's included unless it was given)
     /// The footpoint is a minimum of the distance to within 1e-12 of the chart radius (see
-    /// project()), or no step lowered the distance.
+    /// project()), or no step lowered the distance; with SmoothProjectionOptions::cubicFinish or
+    /// startFromModel, to within the cubic model's accuracy where it ended on one (`model`).
     bool converged = false;
     /// Stopped early: the distance is certainly above SmoothProjectionOptions::stopBeyond (the
     /// footpoint, position and derivatives are those of the last iterate; `geometry` then holds

@@ -30,6 +30,45 @@ inline Eigen::Vector3d cornerBary(const Eigen::Vector2d& z) {
   return {1.0 - bNext - bAfter, bNext, bAfter};
 }
 
+/// The polar radius r = |p| and angle of a point p = (x, y) as order-3 jets in the coordinates
+/// (x, y) themselves, in closed form (the angle's value is set to 0: only its derivatives are
+/// meaningful). p must not be 0.
+inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
+  const double rr = x * x + y * y;
+  const double length = std::sqrt(rr);
+  const double inv = 1.0 / length;
+  const double inv3 = inv / rr;
+  const double inv5 = inv3 / rr;
+  // r_x = x / r, r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
+  // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
+  r.v = length;
+  r.d[0] = x * inv;
+  r.d[1] = y * inv;
+  r.h[0] = y * y * inv3;
+  r.h[1] = -x * y * inv3;
+  r.h[2] = x * x * inv3;
+  r.t[0] = -3.0 * x * y * y * inv5;
+  r.t[1] = y * (2.0 * x * x - y * y) * inv5;
+  r.t[2] = x * (2.0 * y * y - x * x) * inv5;
+  r.t[3] = -3.0 * x * x * y * inv5;
+  // The angle (as in polarAngle): a_x = -y / r^2, a_y = x / r^2, a_xx = 2 x y / r^4,
+  // a_xy = (y^2 - x^2) / r^4, a_yy = -a_xx, a_xxx = 2 y (y^2 - 3 x^2) / r^6 = -a_xyy,
+  // a_xxy = 2 x (x^2 - 3 y^2) / r^6 = -a_yyy.
+  const double inv2 = 1.0 / rr;
+  const double inv4 = inv2 * inv2;
+  const double inv6 = inv4 * inv2;
+  angle.v = 0.0;
+  angle.d[0] = -y * inv2;
+  angle.d[1] = x * inv2;
+  angle.h[0] = 2.0 * x * y * inv4;
+  angle.h[1] = (y * y - x * x) * inv4;
+  angle.h[2] = -angle.h[0];
+  angle.t[0] = 2.0 * y * (y * y - 3.0 * x * x) * inv6;
+  angle.t[1] = 2.0 * x * (x * x - 3.0 * y * y) * inv6;
+  angle.t[2] = -angle.t[0];
+  angle.t[3] = -angle.t[1];
+}
+
 /// Constants of the polar map of a vertex of degree n.
 struct PolarMap {
   double angleScale;   ///< 6 / n: chart angle per canonical angle
@@ -119,6 +158,24 @@ struct PolarMap {
     py = rho * sine;
   }
 
+  /// toChart() for the polar form (degree != 6) that also gives |p| as a jet (the weight's
+  /// argument), from the radius it computes anyway. Returns false, leaving px, py, norm as they
+  /// are, for a rotation (degree 6).
+  template <int Order>
+  bool toChartWithNorm(const Jet<Order>& zx, const Jet<Order>& zy, int k, Jet<Order>& px,
+                       Jet<Order>& py, Jet<Order>& norm) const {
+    if (rotation) return false;
+    const Jet<Order> r = sqrt(zx * zx + zy * zy);
+    Jet<Order> angle = angleScale * atan2(zy, zx);
+    angle.v += sector * k;
+    norm = radiusScale * r;
+    Jet<Order> sine, cosine;
+    sinCos(angle, sine, cosine);
+    px = norm * cosine;
+    py = norm * sine;
+    return true;
+  }
+
   /// The canonical point of chart point p (jets) in sector k (p must not be 0 when Order > 0).
   /// The angle's value is measured from the sector's first ray.
   template <int Order>
@@ -142,9 +199,10 @@ struct PolarMap {
   /// already known, without trigonometry: the angle's cosine and sine are z / |z|, its
   /// derivatives those of the polar angle of p divided by angleScale. The values of zx, zy are
   /// z itself. p (and z) must not be 0 when Order > 0.
+  /// `variables`: px and py are the independent variables (closed-form polar jets at Order 3).
   template <int Order>
   void toCanonicalAt(const Jet<Order>& px, const Jet<Order>& py, int k, const Eigen::Vector2d& z,
-                     Jet<Order>& zx, Jet<Order>& zy) const {
+                     Jet<Order>& zx, Jet<Order>& zy, bool variables = false) const {
     if (rotation) {
       // The inverse rotation by 2 pi k / 6.
       double c, s;
@@ -152,8 +210,18 @@ struct PolarMap {
       zx = c * px + s * py;
       zy = c * py - s * px;
     } else {
-      const Jet<Order> r = (1.0 / radiusScale) * sqrt(px * px + py * py);
-      const Jet<Order> alpha = (1.0 / angleScale) * polarAngle(py, px, 0.0);
+      Jet<Order> r, alpha;
+      if constexpr (Order == 3) {
+        if (variables) {
+          polarJetsOfVariables(px.v, py.v, r, alpha);
+          r = (1.0 / radiusScale) * r;
+          alpha = (1.0 / angleScale) * alpha;
+        }
+      }
+      if (Order != 3 || !variables) {
+        r = (1.0 / radiusScale) * sqrt(px * px + py * py);
+        alpha = (1.0 / angleScale) * polarAngle(py, px, 0.0);
+      }
       const double length = z.norm();
       Jet<Order> sine, cosine;
       sinCosKnown(alpha, z.y() / length, z.x() / length, sine, cosine);
