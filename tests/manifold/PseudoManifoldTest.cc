@@ -233,12 +233,15 @@ class PolynomialSource final : public SourceSurface {
   int bidegree_;
 };
 
-TEST(PseudoManifold, ChartFitReproducesPolynomialsOfItsBidegree) {
+/// Calls check(mesh, v, n, d, source, pps) for one vertex v of each degree n = 3..9 of the
+/// mixed-degree mesh (bidegree d = 4..7), source a polynomial of bidegree d in v's chart and pps
+/// the pseudo-manifold built from it; returns the number of degrees visited.
+template <typename Check>
+int forOneVertexOfEachDegree(Check check) {
   const DoubleMesh mixed = test::mixedDegreeMesh();
   const auto mesh = mixed.build();
-  // One vertex of each degree 3..9 (bidegree 4..7).
   std::vector<bool> seen(16, false);
-  int tested = 0;
+  int visited = 0;
   for (Index v = 0; v < mesh->vertexCount(); ++v) {
     const int n = mesh->degree(v);
     if (seen[n]) continue;
@@ -246,25 +249,34 @@ TEST(PseudoManifold, ChartFitReproducesPolynomialsOfItsBidegree) {
     const int d = std::min(n + 1, 7);
     const PolynomialSource source(mesh, v, d);
     const PseudoManifold pps(source);
-    ASSERT_EQ(pps.bidegree(v), d);
-    double worst = 0.0;
-    double size = 0.0;
-    const double radius = ChartAtlas::radius(n);
-    for (int i = 0; i <= 20; ++i) {
-      for (int j = 0; j <= 20; ++j) {
-        const Eigen::Vector2d p(radius * (i / 10.0 - 1.0), radius * (j / 10.0 - 1.0));
-        if (p.norm() >= radius) continue;
-        const Eigen::Vector3d expected = source.polynomial(p);
-        worst = std::max(worst, (pps.shapeFunction({v, p}) - expected).norm());
-        size = std::max(size, expected.norm());
-      }
-    }
-    std::printf(
-        "degree %d, bidegree %d: largest error %.3g of the largest value (condition %.3g)\n", n, d,
-        worst / size, pps.fitConditionNumber(n));
-    EXPECT_LT(worst / size, 1e-11) << "degree " << n;
-    ++tested;
+    check(mesh, v, n, d, source, pps);
+    ++visited;
   }
+  return visited;
+}
+
+TEST(PseudoManifold, ChartFitReproducesPolynomialsOfItsBidegree) {
+  const int tested =
+      forOneVertexOfEachDegree([](const auto&, Index v, int n, int d,
+                                  const PolynomialSource& source, const PseudoManifold& pps) {
+        ASSERT_EQ(pps.bidegree(v), d);
+        double worst = 0.0;
+        double size = 0.0;
+        const double radius = ChartAtlas::radius(n);
+        for (int i = 0; i <= 20; ++i) {
+          for (int j = 0; j <= 20; ++j) {
+            const Eigen::Vector2d p(radius * (i / 10.0 - 1.0), radius * (j / 10.0 - 1.0));
+            if (p.norm() >= radius) continue;
+            const Eigen::Vector3d expected = source.polynomial(p);
+            worst = std::max(worst, (pps.shapeFunction({v, p}) - expected).norm());
+            size = std::max(size, expected.norm());
+          }
+        }
+        std::printf(
+            "degree %d, bidegree %d: largest error %.3g of the largest value (condition %.3g)\n", n,
+            d, worst / size, pps.fitConditionNumber(n));
+        EXPECT_LT(worst / size, 1e-11) << "degree " << n;
+      });
   EXPECT_EQ(tested, 7);
 }
 
@@ -280,60 +292,51 @@ double monomialDerivative(const Eigen::Vector2d& p, int a, int c, int i, int j) 
 TEST(PseudoManifold, ThirdDerivativesReproducePolynomialsOfTheBidegree) {
   // Where only the chart of v covers the surface, the surface is psi_v, which reproduces the
   // source polynomial: its third derivatives in v's chart are the polynomial's, exactly.
-  const DoubleMesh mixed = test::mixedDegreeMesh();
-  const auto mesh = mixed.build();
-  std::vector<bool> seen(16, false);
-  int tested = 0;
-  for (Index v = 0; v < mesh->vertexCount(); ++v) {
-    const int n = mesh->degree(v);
-    if (seen[n]) continue;
-    seen[n] = true;
-    const int d = std::min(n + 1, 7);
-    const PolynomialSource source(mesh, v, d);
-    const PseudoManifold pps(source);
-    const double radius = ChartAtlas::radius(n);
-    double worst = 0.0;
-    double size = 0.0;
-    int points = 0;
-    for (int i = 0; i <= 20; ++i) {
-      for (int j = 0; j <= 20; ++j) {
-        const Eigen::Vector2d p(radius * (i / 40.0 - 0.25), radius * (j / 40.0 - 0.25));
-        const FacePoint q = pps.atlas().fromChart({v, p});
-        int corner = -1;
-        bool alone = true;
-        for (int k = 0; k < 3; ++k) {
-          if (mesh->corner(q.face, k) == v) {
-            corner = k;
-          } else if (ChartAtlas::inChart(q.bary, k)) {
-            alone = false;
-          }
-        }
-        ASSERT_GE(corner, 0);
-        if (!alone) continue;
-        const SmoothThirdDerivatives x = pps.chartThirdDerivatives(q, corner);
-        for (int m = 0; m < 4; ++m) {
-          Eigen::Vector3d expected = Eigen::Vector3d::Zero();
-          for (int a = 0; a <= d; ++a) {
-            for (int c = 0; c <= d; ++c) {
-              expected +=
-                  monomialDerivative(p, a, c, 3 - m, m) *
-                  Eigen::Vector3d(1.0 + 0.3 * a - 0.2 * c, 0.5 * a * c - 1.0, 0.1 * (a + c));
+  const int tested =
+      forOneVertexOfEachDegree([](const auto& mesh, Index v, int n, int d, const PolynomialSource&,
+                                  const PseudoManifold& pps) {
+        const double radius = ChartAtlas::radius(n);
+        double worst = 0.0;
+        double size = 0.0;
+        int points = 0;
+        for (int i = 0; i <= 20; ++i) {
+          for (int j = 0; j <= 20; ++j) {
+            const Eigen::Vector2d p(radius * (i / 40.0 - 0.25), radius * (j / 40.0 - 0.25));
+            const FacePoint q = pps.atlas().fromChart({v, p});
+            int corner = -1;
+            bool alone = true;
+            for (int k = 0; k < 3; ++k) {
+              if (mesh->corner(q.face, k) == v) {
+                corner = k;
+              } else if (ChartAtlas::inChart(q.bary, k)) {
+                alone = false;
+              }
             }
+            ASSERT_GE(corner, 0);
+            if (!alone) continue;
+            const SmoothThirdDerivatives x = pps.chartThirdDerivatives(q, corner);
+            for (int m = 0; m < 4; ++m) {
+              Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+              for (int a = 0; a <= d; ++a) {
+                for (int c = 0; c <= d; ++c) {
+                  expected +=
+                      monomialDerivative(p, a, c, 3 - m, m) *
+                      Eigen::Vector3d(1.0 + 0.3 * a - 0.2 * c, 0.5 * a * c - 1.0, 0.1 * (a + c));
+                }
+              }
+              worst = std::max(worst, (x.ddd[m] - expected).norm());
+              size = std::max(size, expected.norm());
+            }
+            ++points;
           }
-          worst = std::max(worst, (x.ddd[m] - expected).norm());
-          size = std::max(size, expected.norm());
         }
-        ++points;
-      }
-    }
-    std::printf(
-        "degree %d, bidegree %d: third derivatives at %d points, largest error %.3g of "
-        "the largest\n",
-        n, d, points, worst / size);
-    EXPECT_GT(points, 100) << "degree " << n;
-    EXPECT_LT(worst / size, 1e-10) << "degree " << n;
-    ++tested;
-  }
+        std::printf(
+            "degree %d, bidegree %d: third derivatives at %d points, largest error %.3g of "
+            "the largest\n",
+            n, d, points, worst / size);
+        EXPECT_GT(points, 100) << "degree " << n;
+        EXPECT_LT(worst / size, 1e-10) << "degree " << n;
+      });
   EXPECT_EQ(tested, 7);
 }
 

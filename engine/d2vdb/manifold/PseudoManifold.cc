@@ -592,25 +592,8 @@ struct PseudoManifold::Evaluator {
         return t.apply(xi.value, xi.first, xi.second, xi.third);
       }
       if (identity) {
-        // t = |p| / radius from the derivatives of r = |p| in closed form: r_x = x / r,
-        // r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
-        // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
-        const double x = px.v, y = py.v;
-        const double r = std::sqrt(rr);
-        const double s1 = 1.0 / (radius * r);  // 1 / (radius r)
-        const double s3 = s1 / rr;
-        const double s5 = s3 / rr;
-        Jet<Order> t;
-        t.v = r / radius;
-        t.d[0] = x * s1;
-        t.d[1] = y * s1;
-        t.h[0] = y * y * s3;
-        t.h[1] = -x * y * s3;
-        t.h[2] = x * x * s3;
-        t.t[0] = -3.0 * x * y * y * s5;
-        t.t[1] = y * (2.0 * x * x - y * y) * s5;
-        t.t[2] = x * (2.0 * y * y - x * x) * s5;
-        t.t[3] = -3.0 * x * x * y * s5;
+        // t = |p| / radius from the derivatives of r = |p| in closed form.
+        const Jet<Order> t = detail::radiusJetOfVariables(px.v, py.v, radius);
         const BumpValue xi = chartBump(t.v);
         return t.apply(xi.value, xi.first, xi.second, xi.third);
       }
@@ -1044,6 +1027,20 @@ void PseudoManifold::evaluate(const std::vector<FacePoint>& points, Derivatives 
                     });
 }
 
+namespace {
+
+/// InputError unless `point` lies on a face of `mesh` and in the chart of its corner `corner`.
+void requireChartPoint(const HalfEdgeMesh& mesh, const FacePoint& point, int corner) {
+  if (point.face >= mesh.faceCount() || corner < 0 || corner > 2) {
+    throw InputError("no such face or corner");
+  }
+  if (!ChartAtlas::inChart(point.bary, corner)) {
+    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
+  }
+}
+
+}  // namespace
+
 std::optional<SmoothDerivatives> PseudoManifold::faceDerivatives(const FacePoint& point) const {
   if (point.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(point.face) + " does not exist");
@@ -1055,24 +1052,14 @@ std::optional<SmoothDerivatives> PseudoManifold::faceDerivatives(const FacePoint
 }
 
 SmoothDerivatives PseudoManifold::chartDerivatives(const FacePoint& point, int corner) const {
-  if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
-    throw InputError("no such face or corner");
-  }
-  if (!ChartAtlas::inChart(point.bary, corner)) {
-    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
-  }
+  requireChartPoint(*mesh_, point, corner);
   const Evaluator<2> evaluator{*this};
   return toDerivatives(evaluator.chart(point, corner));
 }
 
 SmoothThirdDerivatives PseudoManifold::chartThirdDerivatives(const FacePoint& point,
                                                              int corner) const {
-  if (point.face >= mesh_->faceCount() || corner < 0 || corner > 2) {
-    throw InputError("no such face or corner");
-  }
-  if (!ChartAtlas::inChart(point.bary, corner)) {
-    throw InputError("the point does not lie in the chart of corner " + std::to_string(corner));
-  }
+  requireChartPoint(*mesh_, point, corner);
   const Evaluator<3> evaluator{*this};
   return toThirdDerivatives(evaluator.chart(point, corner));
 }
@@ -1182,6 +1169,16 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   Jet3<2> jet;
   int centre = known ? nearby->chartCorner : 0;
   ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
+  // Ends the projection at chart point p of chartPoint's vertex with the jet `there`: its face
+  // point, the corner of that vertex and the jet.
+  const auto endAt = [&](const Eigen::Vector2d& p, const Jet3<2>& there) {
+    current = atlas_.fromChart({chartPoint.vertex, p});
+    for (int c = 0; c < 3; ++c) {
+      if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex) centre = c;
+    }
+    jet = there;
+    chartPoint.p = p;
+  };
   // Where the first Newton step from `nearby` ended (for Projection::firstStepMiss).
   std::optional<ChartPoint> firstEnd;
   // The first step included options.firstStepCorrection.
@@ -1336,26 +1333,14 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
         if (move.norm() <= 0.1 * radius && modelDistance > 1.02 * options.stopBeyond) {
           // Certainly beyond: the model's error this close to its origin is far below the
           // margin (about |move|^4 of the radius times the surface's fourth derivatives).
-          current = atlas_.fromChart({chartPoint.vertex, p});
-          for (int c = 0; c < 3; ++c) {
-            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
-              centre = c;
-          }
-          jet = moved;
-          chartPoint.p = p;
+          endAt(p, moved);
           result.model = model;
           result.beyond = true;
           break;
         }
         if (move.norm() <= options.cubicFinishStep * radius) {
           // Within the model's reach of its origin: the answer, as a cubic finish there.
-          current = atlas_.fromChart({chartPoint.vertex, p});
-          for (int c = 0; c < 3; ++c) {
-            if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
-              centre = c;
-          }
-          jet = moved;
-          chartPoint.p = p;
+          endAt(p, moved);
           result.model = model;
           result.converged = true;
           break;
@@ -1412,13 +1397,7 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
                    0.5 * (jet.h[0] * (a * a) + 2.0 * jet.h[1] * (a * b) + jet.h[2] * (b * b));
         moved.d[0] += jet.h[0] * a + jet.h[1] * b;
         moved.d[1] += jet.h[1] * a + jet.h[2] * b;
-        current = atlas_.fromChart({chartPoint.vertex, p});
-        for (int c = 0; c < 3; ++c) {
-          if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
-            centre = c;
-        }
-        jet = moved;
-        chartPoint.p = p;
+        endAt(p, moved);
         result.converged = true;
         break;
       }

@@ -30,18 +30,18 @@ inline Eigen::Vector3d cornerBary(const Eigen::Vector2d& z) {
   return {1.0 - bNext - bAfter, bNext, bAfter};
 }
 
-/// The polar radius r = |p| and angle of a point p = (x, y) as order-3 jets in the coordinates
-/// (x, y) themselves, in closed form (the angle's value is set to 0: only its derivatives are
-/// meaningful). p must not be 0.
-inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
+/// |p| / divisor for a point p = (x, y) as an order-3 jet in the coordinates (x, y) themselves, in
+/// closed form: r_x = x / r, r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3,
+/// r_xxx = -3 x y^2 / r^5, r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5,
+/// r_yyy = -3 x^2 y / r^5 (r = |p|), each divided by `divisor`. p must not be 0.
+inline Jet<3> radiusJetOfVariables(double x, double y, double divisor = 1.0) {
   const double rr = x * x + y * y;
   const double length = std::sqrt(rr);
-  const double inv = 1.0 / length;
+  const double inv = 1.0 / (divisor * length);
   const double inv3 = inv / rr;
   const double inv5 = inv3 / rr;
-  // r_x = x / r, r_xx = y^2 / r^3, r_xy = -x y / r^3, r_yy = x^2 / r^3, r_xxx = -3 x y^2 / r^5,
-  // r_xxy = y (2 x^2 - y^2) / r^5, r_xyy = x (2 y^2 - x^2) / r^5, r_yyy = -3 x^2 y / r^5.
-  r.v = length;
+  Jet<3> r;
+  r.v = length / divisor;
   r.d[0] = x * inv;
   r.d[1] = y * inv;
   r.h[0] = y * y * inv3;
@@ -51,6 +51,15 @@ inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
   r.t[1] = y * (2.0 * x * x - y * y) * inv5;
   r.t[2] = x * (2.0 * y * y - x * x) * inv5;
   r.t[3] = -3.0 * x * x * y * inv5;
+  return r;
+}
+
+/// The polar radius r = |p| and angle of a point p = (x, y) as order-3 jets in the coordinates
+/// (x, y) themselves, in closed form (the angle's value is set to 0: only its derivatives are
+/// meaningful). p must not be 0.
+inline void polarJetsOfVariables(double x, double y, Jet<3>& r, Jet<3>& angle) {
+  r = radiusJetOfVariables(x, y);
+  const double rr = x * x + y * y;
   // The angle (as in polarAngle): a_x = -y / r^2, a_y = x / r^2, a_xx = 2 x y / r^4,
   // a_xy = (y^2 - x^2) / r^4, a_yy = -a_xx, a_xxx = 2 y (y^2 - 3 x^2) / r^6 = -a_xyy,
   // a_xxy = 2 x (x^2 - 3 y^2) / r^6 = -a_yyy.
