@@ -211,7 +211,8 @@ void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
     //    b < h = order / 2 need only the rows a < h, the others all rows.
     const auto gramSums = [&](int order) {
       const int entryCount = d * (d + 1) / 2;
-      upper.assign(static_cast<std::size_t>(entryCount * order * order), 0.0);
+      // Only the pairs a <= b are written and read.
+      upper.resize(static_cast<std::size_t>(entryCount * order * order));
       if (isGrid) {
         const int orderU = static_cast<int>(valuesU.cols());
         const int orderV = static_cast<int>(valuesV.cols());

@@ -110,6 +110,20 @@ double fitResolution(double rms, int controlPoints, int count) {
   return count > 0 ? rms * std::sqrt(static_cast<double>(controlPoints) / count) : 0.0;
 }
 
+/// d_k^T A_k d_k for sensor k's share d_k = sum_j w_kj c_j of the per-control-point displacement
+/// `displacement` (z = 0 in 2D) and its form's matrix A_k: the square of the sensor's move in the
+/// form's metric.
+double squaredSensorMove(const FitLinearization& linearization,
+                         const std::vector<Eigen::Vector3d>& displacement, int dimension, int k) {
+  const SensorMap& basis = *linearization.basis;
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  for (int j = 0; j < basis.order(); ++j) {
+    delta += basis.weight(k, j) * displacement[static_cast<std::size_t>(basis.index(k, j))];
+  }
+  if (dimension == 2) delta.z() = 0.0;
+  return delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta);
+}
+
 /// Chooses the automatic bending weight (detail/FitLoop.h): solves the plain-form model at the
 /// current weight (the last one, scaled as the target changed since), measures the shift of its
 /// minimiser that the bending term causes, and moves the weight towards the one whose shift is
@@ -164,18 +178,13 @@ class AutomaticBending {
     if (count == 0) return 0.0;
     // Each sensor's term in parallel, summed in sensor order (the same sum for any thread count).
     std::vector<double> terms(static_cast<std::size_t>(count));
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, count, 1024), [&](const tbb::blocked_range<int>& range) {
-          for (int k = range.begin(); k != range.end(); ++k) {
-            Eigen::Vector3d delta = Eigen::Vector3d::Zero();
-            for (int j = 0; j < basis.order(); ++j) {
-              delta += basis.weight(k, j) * shift[static_cast<std::size_t>(basis.index(k, j))];
-            }
-            if (dimension == 2) delta.z() = 0.0;
-            terms[static_cast<std::size_t>(k)] =
-                delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta);
-          }
-        });
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, 1024),
+                      [&](const tbb::blocked_range<int>& range) {
+                        for (int k = range.begin(); k != range.end(); ++k) {
+                          terms[static_cast<std::size_t>(k)] =
+                              squaredSensorMove(linearization, shift, dimension, k);
+                        }
+                      });
     double sum = 0.0;
     for (const double term : terms) sum += term;
     return std::sqrt(std::max(0.0, sum) / count);
@@ -198,13 +207,7 @@ double largestSensorMove(const FitLinearization& linearization,
       tbb::blocked_range<int>(0, basis.sensorCount(), 1024), 0.0,
       [&](const tbb::blocked_range<int>& range, double running) {
         for (int k = range.begin(); k != range.end(); ++k) {
-          Eigen::Vector3d delta = Eigen::Vector3d::Zero();
-          for (int j = 0; j < basis.order(); ++j) {
-            delta += basis.weight(k, j) * step[static_cast<std::size_t>(basis.index(k, j))];
-          }
-          if (dimension == 2) delta.z() = 0.0;
-          running = std::max(running,
-                             delta.dot(linearization.forms[static_cast<std::size_t>(k)].A * delta));
+          running = std::max(running, squaredSensorMove(linearization, step, dimension, k));
         }
         return running;
       },
