@@ -156,35 +156,18 @@ D2VDB_JET_INLINE Jet<Order> sqrt(const Jet<Order>& a) {
   return a.apply(s, 0.5 / s, -0.25 / (s * a.v), 0.375 / (s * a.v * a.v));
 }
 
-template <int Order>
-Jet<Order> sin(const Jet<Order>& a) {
-  const double s = std::sin(a.v);
-  const double c = std::cos(a.v);
-  return a.apply(s, c, -s, -c);
-}
-
-template <int Order>
-Jet<Order> cos(const Jet<Order>& a) {
-  const double c = std::cos(a.v);
-  const double s = std::sin(a.v);
-  return a.apply(c, -s, -c, s);
-}
-
-/// sin(a) and cos(a) together (one evaluation of each at the value).
-template <int Order>
-D2VDB_JET_INLINE void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
-  const double s = std::sin(a.v);
-  const double c = std::cos(a.v);
-  sine = a.apply(s, c, -s, -c);
-  cosine = a.apply(c, -s, -c, s);
-}
-
 /// sin(a) and cos(a) when their values at a are already known (no trigonometry).
 template <int Order>
 D2VDB_JET_INLINE void sinCosKnown(const Jet<Order>& a, double s, double c, Jet<Order>& sine,
                                   Jet<Order>& cosine) {
   sine = a.apply(s, c, -s, -c);
   cosine = a.apply(c, -s, -c, s);
+}
+
+/// sin(a) and cos(a) together (one evaluation of each at the value).
+template <int Order>
+D2VDB_JET_INLINE void sinCos(const Jet<Order>& a, Jet<Order>& sine, Jet<Order>& cosine) {
+  sinCosKnown(a, std::sin(a.v), std::cos(a.v), sine, cosine);
 }
 
 /// The third derivative t[m] of F(x(s), y(s)) for a function F of two variables with partial
