@@ -29,8 +29,10 @@ namespace d2vdb {
 ///   (i, j, k) centred at (i, j, k) * voxelSize in world space) whose approximant has
 ///   |distance| < halfWidth * voxelSize. The candidates are the voxels within ceil(halfWidth) + 1
 ///   voxels (26-neighbour steps) of the voxels containing the seeds, which finds every such voxel
-///   provided every point of the target lies within half a voxel of a seed (e.g. points sampled
-///   along a curve or over a surface at most one voxel apart). The distance grid is made from the
+///   provided every point of the target lies within 1.5 voxels of a seed (e.g. points sampled
+///   along a curve or over a surface at most one voxel apart): a voxel centre v at a distance
+///   below halfWidth from the target is then within halfWidth + 1.5 voxels of a seed s, so the
+///   integer |v - round(s)| (largest coordinate) is below halfWidth + 2, at most ceil(halfWidth) + 1. The distance grid is made from the
 ///   kept voxels: for surfaces a level set (class GRID_LEVEL_SET, named "surface", background
 ///   halfWidth * voxelSize, inactive values signed by OpenVDB's signed flood fill, so the band must
 ///   close around the inside); for curves and points an unsigned grid named "unsigned_distance".

@@ -143,6 +143,9 @@ class SeedBlocks {
   struct Nearest {
     std::uint32_t index = 0;
     double distance = std::numeric_limits<double>::infinity();
+    /// The seed's position, to float precision of its offset from the leaf (the list's copy,
+    /// which is in cache, unlike the seed array).
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
   };
 
   /// The seeds within a radius of one leaf's voxel centres, as float offsets from the leaf's
@@ -163,8 +166,10 @@ class SeedBlocks {
       const std::int32_t first = minimum.first;
       const std::uint32_t bestIndex = index_[static_cast<std::size_t>(first)];
       if (static_cast<double>(best) > radius2_) return result;
+      const auto at = static_cast<std::size_t>(first);
       result.index = bestIndex;
       result.distance = std::sqrt(static_cast<double>(best));
+      result.position = origin_ + Eigen::Vector3f(xs_[at], ys_[at], zs_[at]).cast<double>();
       return result;
     }
 
@@ -326,7 +331,15 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   }
   const HalfEdgeMesh& mesh = surface.mesh();
   const std::size_t faceCount = mesh.faceCount();
-  const double spacing = 0.8 * voxelSize;
+  // Seeds at most 1.2 voxel apart: they find the band and start the projections of the first
+  // voxels of each leaf. Denser seeds cost surface evaluations and nearest-seed scans (at 0.8
+  // voxel there were 2.2 times as many and the bunny's field at 512 took 10 % more time, for the
+  // same band: one voxel beside the medial axis 0.003 voxel nearer, the rest within 1e-5 voxel);
+  // sparser ones let more voxels beyond the band through the nearest-seed test (at 1.6 voxels
+  // those projections cost what the fewer seeds save) and weaken the medial-axis test below (a
+  // local minimum is caught once it is further than a seed of the nearer sheet, whose distance
+  // exceeds that sheet's by up to about seedReach^2 / (2 distance) away from the surface).
+  const double spacing = 1.2 * voxelSize;
   const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
 
   // Intervals per face edge: a pilot lattice from the mesh's edge lengths (half as dense as
@@ -397,8 +410,6 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
   // by block and index, for the seeds near each leaf (SeedBlocks).
   const SeedBlocks blocks(seeds, voxelSize);
-  // The seeds' positions by index (the band takes the vector itself).
-  const std::vector<Eigen::Vector3d> seedPositions = seeds;
 
   FieldBand band =
       FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth);
@@ -421,7 +432,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // any acute one; an obtuse one's farthest point lies on its longest edge, within L / 2), plus a
   // fifth of a voxel for the curvature of a lattice triangle and the seeds' float rounding. So a
   // voxel whose nearest seed is further than the half-width plus seedReach cannot be in the
-  // band: it is not projected.
+  // band: it is not projected. (seedReach, 0.89 voxel, is below the 1.5 voxels FieldBand::
+  // nearSeeds needs to find every band voxel among its candidates.)
   const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
   const double skipBeyond = halfWidth * voxelSize + seedReach;
   // A projection stopped beyond the band from the neighbour's footpoint is repeated from the
@@ -504,7 +516,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
                 const bool elsewhere =
                     projection.distance > nearest.distance ||
                     (projection.beyond &&
-                     (seedPositions[nearest.index] - projection.position).norm() > sameSheet);
+                     (nearest.position - projection.position).norm() > sameSheet);
                 if (elsewhere) {
                   PseudoManifold::Projection fromSeed =
                       surface.project(centre, seedPoints[nearest.index], projectionOptions);

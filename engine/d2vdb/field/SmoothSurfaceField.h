@@ -16,12 +16,12 @@ inline constexpr const char* kSmoothSurfaceEstimator =
 
 /// Builds the approximant field of a smooth surface built from a mesh (PseudoManifold.h): the band
 /// holds every voxel (cubic, `voxelSize`, voxel (i, j, k) centred at (i, j, k) voxelSize) whose
-/// distance to the surface is below halfWidth voxels, found from seeds on the surface at most 0.8
-/// voxel apart (a barycentric lattice per face, refined until neighbouring seeds are that close);
+/// distance to the surface is below halfWidth voxels, found from seeds on the surface at most 1.2
+/// voxels apart (a barycentric lattice per face, refined until neighbouring seeds are that close);
 /// each voxel's approximant is SmoothSurface::approximantOf() the voxel centre's projection onto
 /// the surface: the exact footpoint, signed distance, the surface's own normal, k1 >= k2 and e1
 /// there, not second differences of a level set. Candidate voxels whose nearest seed is further
-/// than halfWidth + 1 voxel (a bound on their distance to the surface) are not projected. The
+/// than halfWidth + 0.9 voxel (a bound on their distance to the surface) are not projected. The
 /// projection (PseudoManifold::project(), Newton's method) starts from the projection of the
 /// voxel's neighbour at -z, -y or -x in the same 8^3 leaf node, with that projection's
 /// derivatives and, along a line of such starts, its second-order correction; from the nearest
