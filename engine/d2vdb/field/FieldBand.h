@@ -32,10 +32,11 @@ namespace d2vdb {
 ///   provided every point of the target lies within 1.5 voxels of a seed (e.g. points sampled
 ///   along a curve or over a surface at most one voxel apart): a voxel centre v at a distance
 ///   below halfWidth from the target is then within halfWidth + 1.5 voxels of a seed s, so the
-///   integer |v - round(s)| (largest coordinate) is below halfWidth + 2, at most ceil(halfWidth) + 1. The distance grid is made from the
-///   kept voxels: for surfaces a level set (class GRID_LEVEL_SET, named "surface", background
-///   halfWidth * voxelSize, inactive values signed by OpenVDB's signed flood fill, so the band must
-///   close around the inside); for curves and points an unsigned grid named "unsigned_distance".
+///   integer |v - round(s)| (largest coordinate) is below halfWidth + 2, at most ceil(halfWidth)
+///   + 1. The distance grid is made from the kept voxels: for surfaces a level set (class
+///   GRID_LEVEL_SET, named "surface", background halfWidth * voxelSize, inactive values signed by
+///   OpenVDB's signed flood fill, so the band must close around the inside); for curves and points
+///   an unsigned grid named "unsigned_distance".
 ///
 /// The approximants come from a function called once per candidate voxel (setApproximants()), or
 /// from a factory that makes one such function per block of work (setApproximantsPerWorker()) when
@@ -50,10 +51,12 @@ namespace d2vdb {
 /// the voxel size) and re-derives the footpoint as centre - distance * normal, so those must agree.
 /// Curvatures beyond what the voxel size resolves are stored as given: clamp them to 1 / voxel and
 /// set kFlagCurvatureClamped, as the level-set estimator does, if the SDM form must stay tame.
-/// Functions are called concurrently from several threads (each per-worker function from one
-/// thread at a time), in no particular order; the field does not depend on the order or the
-/// thread count as long as the function's answer depends only on the voxel. An exception thrown by
-/// the function stops the build and reaches the caller of fromBand().
+/// Functions are called concurrently from several threads, in no particular order; a per-worker
+/// function is made by the factory on the thread that then calls it, for one block of work, and
+/// is called from that thread only (so it may hold a reference to that thread's state, e.g. from
+/// a tbb::enumerable_thread_specific, kept from one block to the next); the field does not depend
+/// on the order or the thread count as long as the function's answer depends only on the voxel. An
+/// exception thrown by the function stops the build and reaches the caller of fromBand().
 ///
 /// Example (a smooth closed surface with an exact projection `project(x)` giving footpoint,
 /// outward normal, principal curvatures and e1; `samples` points on it at most a voxel apart):

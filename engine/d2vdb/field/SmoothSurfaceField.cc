@@ -1,5 +1,6 @@
 #include "d2vdb/field/SmoothSurfaceField.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -216,13 +217,17 @@ class SeedBlocks {
     });
     order_.resize(keyed.size());
     positions_.resize(keyed.size());
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
+    tbb::parallel_for(std::size_t{0}, keyed.size(), [&](std::size_t i) {
       order_[i] = keyed[i].second;
       positions_[i] = seeds[keyed[i].second];
-      if (i == 0 || keyed[i].first != keyed[i - 1].first) {
-        ranges_.emplace(keyed[i].first, std::make_pair(i, i));
+    });
+    // Each block's run of seeds, entered once at its end.
+    std::size_t first = 0;
+    for (std::size_t i = 1; i <= keyed.size(); ++i) {
+      if (i == keyed.size() || keyed[i].first != keyed[first].first) {
+        ranges_.emplace(keyed[first].first, std::make_pair(first, i));
+        first = i;
       }
-      ranges_[keyed[i].first].second = i + 1;
     }
   }
 
@@ -443,115 +448,118 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // sheet lie within seedReach of its footpoint, the iterate within a few hundredths of a voxel
   // of that).
   const double sameSheet = 1.5 * seedReach;
+  // Everything a voxel's function keeps depends only on the current leaf node (8^3 voxels,
+  // visited in offset order, all in one call sequence), so the field does not depend on the order
+  // of the leaves or the thread count: the seeds within skipBeyond of the leaf (the nearest seed
+  // of a voxel, ties to the lowest index, is exact up to that distance), and the projections of
+  // the leaf's voxels: each voxel's Newton iteration starts from its projected neighbour at -z,
+  // -y or -x in the same leaf. One such state per thread, kept from one block of leaves to the
+  // next (its buffers, 0.4 MB, would otherwise be allocated and cleared for each of some
+  // thousands of blocks).
+  struct State {
+    openvdb::Coord leaf = openvdb::Coord::max();
+    std::uint32_t generation = 0;
+    std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
+    std::vector<PseudoManifold::Projection> projections =
+        std::vector<PseudoManifold::Projection>(512);
+    // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from, 0 for
+    // a start from a seed.
+    std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
+    SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
+  };
+  tbb::enumerable_thread_specific<State> states;
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
-        // Everything below depends only on the current leaf node (8^3 voxels, visited in offset
-        // order, all in one call sequence), so the field does not depend on the order of the
-        // leaves or the thread count: the seeds within skipBeyond of the leaf (the nearest seed of
-        // a voxel, ties to the lowest index, is exact up to that distance), and the projections
-        // of the leaf's voxels: each voxel's Newton iteration starts from its projected
-        // neighbour at -z, -y or -x in the same leaf.
-        struct State {
-          openvdb::Coord leaf = openvdb::Coord::max();
-          std::uint32_t generation = 0;
-          std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
-          std::vector<PseudoManifold::Projection> projections =
-              std::vector<PseudoManifold::Projection>(512);
-          // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from,
-          // 0 for a start from a seed.
-          std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
-          SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
+        // The factory runs on the thread that uses the function it makes (FieldBand).
+        return [&, statePointer = &states.local()](const openvdb::Coord& ijk,
+                                                   const Eigen::Vector3d& centre) {
+          State& state = *statePointer;
+          const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+          if (leaf != state.leaf) {
+            state.leaf = leaf;
+            ++state.generation;
+            blocks.near(leaf, skipBeyond, state.subNear);
+          }
+          const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+          const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+          if (!(nearest.distance <= skipBeyond)) {
+            // Outside the band (a lower bound of the distance, which the band discards).
+            Approximant outside;
+            outside.kind = TargetKind::Surface;
+            outside.origin = centre;
+            outside.distance = skipBeyond - seedReach;
+            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
+            return outside;
+          }
+          const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+          const auto projected = [&](int neighbour) {
+            return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
+          };
+          int neighbour = -1;
+          std::uint8_t axis = 0;
+          if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
+            neighbour = offset - 1;
+            axis = 1;
+          } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
+            neighbour = offset - 8;
+            axis = 2;
+          } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
+            neighbour = offset - 64;
+            axis = 3;
+          }
+          PseudoManifold::Projection projection;
+          if (neighbour >= 0) {
+            // Second-order start: when the neighbour was itself projected from its neighbour
+            // along the same axis (the same displacement), the first Newton step here misses
+            // the footpoint by nearly what the neighbour's missed it by.
+            const auto from = static_cast<std::size_t>(neighbour);
+            SmoothProjectionOptions options = projectionOptions;
+            if (state.startAxis[from] == axis) {
+              options.firstStepCorrection = state.projections[from].firstStepMiss;
+            }
+            projection = surface.project(centre, state.projections[from], options);
+            // A surface point (the nearest seed) is nearer than the local minimum found from
+            // the neighbour: that minimum is not the closest point (the voxel is near the
+            // medial axis); start from the seed instead. (A projection stopped beyond the band
+            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
+            // may stand for a surface point inside the band, is the sign of a nearer part.)
+            const bool elsewhere =
+                projection.distance > nearest.distance ||
+                (projection.beyond && (nearest.position - projection.position).norm() > sameSheet);
+            if (elsewhere) {
+              PseudoManifold::Projection fromSeed =
+                  surface.project(centre, seedPoints[nearest.index], projectionOptions);
+              if (fromSeed.distance < projection.distance) {
+                projection = std::move(fromSeed);
+                axis = 0;
+              }
+            }
+          } else {
+            projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
+          }
+          const auto at = static_cast<std::size_t>(offset);
+          if (projection.beyond) {
+            // Outside the band (its distance is above the half-width; the band discards it).
+            // Its last iterate still starts its neighbours' projections.
+            Approximant outside;
+            outside.kind = TargetKind::Surface;
+            outside.origin = centre;
+            outside.distance = projection.distance;
+            state.projections[at] = std::move(projection);
+            state.startAxis[at] = axis;
+            state.stamp[at] = state.generation;
+            return outside;
+          }
+          Approximant a = SmoothSurface::approximantOf(centre, projection);
+          state.projections[at] = std::move(projection);
+          state.startAxis[at] = axis;
+          state.stamp[at] = state.generation;
+          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
+            a.k1 = std::clamp(a.k1, -clamp, clamp);
+            a.k2 = std::clamp(a.k2, -clamp, clamp);
+            a.flags |= kFlagCurvatureClamped;
+          }
+          return a;
         };
-        return
-            [&, state = State{}](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) mutable {
-              const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
-              if (leaf != state.leaf) {
-                state.leaf = leaf;
-                ++state.generation;
-                blocks.near(leaf, skipBeyond, state.subNear);
-              }
-              const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-              const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
-              if (!(nearest.distance <= skipBeyond)) {
-                // Outside the band (a lower bound of the distance, which the band discards).
-                Approximant outside;
-                outside.kind = TargetKind::Surface;
-                outside.origin = centre;
-                outside.distance = skipBeyond - seedReach;
-                if (std::isfinite(nearest.distance))
-                  outside.distance = nearest.distance - seedReach;
-                return outside;
-              }
-              const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
-              const auto projected = [&](int neighbour) {
-                return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
-              };
-              int neighbour = -1;
-              std::uint8_t axis = 0;
-              if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
-                neighbour = offset - 1;
-                axis = 1;
-              } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
-                neighbour = offset - 8;
-                axis = 2;
-              } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
-                neighbour = offset - 64;
-                axis = 3;
-              }
-              PseudoManifold::Projection projection;
-              if (neighbour >= 0) {
-                // Second-order start: when the neighbour was itself projected from its neighbour
-                // along the same axis (the same displacement), the first Newton step here misses
-                // the footpoint by nearly what the neighbour's missed it by.
-                const auto from = static_cast<std::size_t>(neighbour);
-                SmoothProjectionOptions options = projectionOptions;
-                if (state.startAxis[from] == axis) {
-                  options.firstStepCorrection = state.projections[from].firstStepMiss;
-                }
-                projection = surface.project(centre, state.projections[from], options);
-                // A surface point (the nearest seed) is nearer than the local minimum found from
-                // the neighbour: that minimum is not the closest point (the voxel is near the
-                // medial axis); start from the seed instead. (A projection stopped beyond the band
-                // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
-                // may stand for a surface point inside the band, is the sign of a nearer part.)
-                const bool elsewhere =
-                    projection.distance > nearest.distance ||
-                    (projection.beyond &&
-                     (nearest.position - projection.position).norm() > sameSheet);
-                if (elsewhere) {
-                  PseudoManifold::Projection fromSeed =
-                      surface.project(centre, seedPoints[nearest.index], projectionOptions);
-                  if (fromSeed.distance < projection.distance) {
-                    projection = std::move(fromSeed);
-                    axis = 0;
-                  }
-                }
-              } else {
-                projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
-              }
-              const auto at = static_cast<std::size_t>(offset);
-              if (projection.beyond) {
-                // Outside the band (its distance is above the half-width; the band discards it).
-                // Its last iterate still starts its neighbours' projections.
-                Approximant outside;
-                outside.kind = TargetKind::Surface;
-                outside.origin = centre;
-                outside.distance = projection.distance;
-                state.projections[at] = std::move(projection);
-                state.startAxis[at] = axis;
-                state.stamp[at] = state.generation;
-                return outside;
-              }
-              Approximant a = SmoothSurface::approximantOf(centre, projection);
-              state.projections[at] = std::move(projection);
-              state.startAxis[at] = axis;
-              state.stamp[at] = state.generation;
-              if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-                a.k1 = std::clamp(a.k1, -clamp, clamp);
-                a.k2 = std::clamp(a.k2, -clamp, clamp);
-                a.flags |= kFlagCurvatureClamped;
-              }
-              return a;
-            };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")
       .setLabel("smooth surface (" + surface.sourceName() + ") of " + std::to_string(faceCount) +

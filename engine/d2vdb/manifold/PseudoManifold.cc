@@ -1248,12 +1248,16 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
     hessian(0, 1) += jet.h[1].dot(residual);
     hessian(1, 0) += jet.h[1].dot(residual);
     hessian(1, 1) += jet.h[2].dot(residual);
-    // Newton where the Hessian is positive definite, else Gauss-Newton (always a descent step).
+    // Newton where the Hessian is positive definite (a > 0 and a c - b^2 > 0; the step by the
+    // 2 x 2 inverse), else Gauss-Newton (always a descent step).
     Eigen::Vector2d step;
-    const Eigen::LLT<Eigen::Matrix2d> newton(hessian);
-    const bool definite = newton.info() == Eigen::Success;
-    step = definite ? Eigen::Vector2d(-newton.solve(gradient))
-                    : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
+    const double determinant = hessian(0, 0) * hessian(1, 1) - hessian(0, 1) * hessian(0, 1);
+    const bool definite = hessian(0, 0) > 0.0 && determinant > 0.0;
+    step = definite
+               ? Eigen::Vector2d(
+                     (hessian(0, 1) * gradient.y() - hessian(1, 1) * gradient.x()) / determinant,
+                     (hessian(0, 1) * gradient.x() - hessian(0, 0) * gradient.y()) / determinant)
+               : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
     if (!step.allFinite()) {
       result.converged = true;  // a degenerate point: stay (the jet there is the answer)
       break;
