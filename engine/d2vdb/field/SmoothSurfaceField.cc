@@ -402,16 +402,20 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
     throw InputError("smooth-surface field: the surface could not be sampled at voxel size " +
                      std::to_string(voxelSize) + " (a face stretches too far)");
   }
-  std::vector<Eigen::Vector3d> seeds;
-  std::vector<FacePoint> seedPoints;
-  for (std::size_t f = 0; f < faceCount; ++f) {
+  // The seeds face by face (each face's from its offset on), in parallel.
+  std::vector<std::size_t> seedOffset(faceCount + 1, 0);
+  for (std::size_t f = 0; f < faceCount; ++f)
+    seedOffset[f + 1] = seedOffset[f] + facePositions[f].size();
+  std::vector<Eigen::Vector3d> seeds(seedOffset[faceCount]);
+  std::vector<FacePoint> seedPoints(seedOffset[faceCount]);
+  tbb::parallel_for(std::size_t{0}, faceCount, [&](std::size_t f) {
     const std::vector<Eigen::Vector3d> lattice = faceLattice(static_cast<int>(intervals[f]));
     for (std::size_t i = 0; i < lattice.size(); ++i) {
-      seeds.push_back(facePositions[f][i]);
-      seedPoints.push_back({static_cast<Index>(f), lattice[i]});
+      seeds[seedOffset[f] + i] = facePositions[f][i];
+      seedPoints[seedOffset[f] + i] = {static_cast<Index>(f), lattice[i]};
     }
     std::vector<Eigen::Vector3d>().swap(facePositions[f]);
-  }
+  });
   // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
   // by block and index, for the seeds near each leaf (SeedBlocks).
   const SeedBlocks blocks(seeds, voxelSize);
