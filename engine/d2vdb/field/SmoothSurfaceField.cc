@@ -336,7 +336,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   }
   const HalfEdgeMesh& mesh = surface.mesh();
   const std::size_t faceCount = mesh.faceCount();
-  // Seeds at most 1.2 voxel apart: they find the band and start the projections of the first
+  // Seeds at most 1.2 voxels apart: they find the band and start the projections of the first
   // voxels of each leaf. Denser seeds cost surface evaluations and nearest-seed scans (at 0.8
   // voxel there were 2.2 times as many and the bunny's field at 512 took 10 % more time, for the
   // same band: one voxel beside the medial axis 0.003 voxel nearer, the rest within 1e-5 voxel);
