@@ -1422,8 +1422,11 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       current = target(step);
       continue;
     }
+    // A halved (or Gauss-Newton) step: a plain step, so a tiny one may end the iteration even
+    // after a corrected first step.
     lastStep = 0.0;
     checkLast = false;
+    corrected = false;
     bool accepted = false;
     for (int halving = 0; halving < 40 && !accepted; ++halving) {
       const FacePoint next = target(step);
