@@ -1334,9 +1334,13 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       if (found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius) {
         const Eigen::Vector2d p = model.origin.p + move;
         const double modelDistance = (moved.v - x).norm();
-        if (move.norm() <= 0.1 * radius && modelDistance > 1.02 * options.stopBeyond) {
-          // Certainly beyond: the model's error this close to its origin is far below the
-          // margin (about |move|^4 of the radius times the surface's fourth derivatives).
+        // Within 0.15 of the radius of the origin, a margin of 2 % of stopBeyond up to a tenth
+        // of the radius, growing with |move|^4 beyond (to 10 % at 0.15).
+        const double reach = move.norm() / (0.1 * radius);
+        const double margin = 0.02 * std::max(1.0, reach * reach * reach * reach);
+        if (reach <= 1.5 && modelDistance > (1.0 + margin) * options.stopBeyond) {
+          // Certainly beyond: the model's error is far below the margin (it grows like the
+          // margin, about |move|^4 of the radius times the surface's fourth derivatives).
           endAt(p, moved);
           result.model = model;
           result.beyond = true;

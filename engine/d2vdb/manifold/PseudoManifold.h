@@ -103,10 +103,11 @@ struct SmoothProjectionOptions {
   /// projection's cubic model (Projection::model) instead of a Newton step from its footpoint:
   /// its error is of third order in the distance between the two footpoints, not of second.
   /// When that minimum lies within cubicFinishStep of the chart radius of the model's origin it
-  /// is the answer (no evaluation; the same accuracy as cubicFinish); when it lies within a
-  /// tenth of the radius of the origin and its distance exceeds stopBeyond by 2 % the
-  /// projection stops `beyond` (no evaluation; the model's error there is far below that
-  /// margin); else the iteration continues from it (the step checked like any other).
+  /// is the answer (no evaluation; the same accuracy as cubicFinish); when it lies within 0.15
+  /// of the radius of the origin and its distance exceeds stopBeyond by a margin (2 % within a
+  /// tenth of the radius, beyond that 2 % times (|move| / (radius / 10))^4, up to 10 %) the
+  /// projection stops `beyond` (no evaluation; the model's error, which grows like the margin,
+  /// is far below it); else the iteration continues from it (the step checked like any other).
   /// firstStepCorrection is then not used.
   bool startFromModel = false;
   /// Stop as soon as the distance is certainly above this (world units): when a Newton step
