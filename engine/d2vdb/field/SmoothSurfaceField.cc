@@ -341,9 +341,9 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // voxel there were 2.2 times as many and the bunny's field at 512 took 10 % more time, for the
   // same band: one voxel beside the medial axis 0.003 voxel nearer, the rest within 1e-5 voxel);
   // sparser ones let more voxels beyond the band through the nearest-seed test (at 1.6 voxels
-  // those projections cost what the fewer seeds save) and weaken the medial-axis test below (a
-  // local minimum is caught once it is further than a seed of the nearer sheet, whose distance
-  // exceeds that sheet's by up to about seedReach^2 / (2 distance) away from the surface).
+  // those projections cost what the fewer seeds save) and weaken the medial-axis test below (it
+  // misses a nearer sheet whose seeds are all further than a seed near the local minimum found:
+  // a seed exceeds its sheet's distance by up to about seedReach^2 / (2 distance)).
   const double spacing = 1.2 * voxelSize;
   const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
 
@@ -445,12 +445,12 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // nearSeeds needs to find every band voxel among its candidates.)
   const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
   const double skipBeyond = halfWidth * voxelSize + seedReach;
-  // A projection stopped beyond the band from the neighbour's footpoint is repeated from the
-  // nearest seed only when that seed may stand for another part of the surface: when it is
-  // nearer than the iterate (so it is not on the iterate's sheet near its local minimum) or
-  // further than this from the iterate's surface point (the nearest seeds of the iterate's own
-  // sheet lie within seedReach of its footpoint, the iterate within a few hundredths of a voxel
-  // of that).
+  // A projection from the neighbour's footpoint is repeated from the nearest seed when that seed
+  // may stand for a nearer part of the surface: when it is nearer than the local minimum found
+  // (or the iterate, for a projection stopped beyond the band) or further than this from its
+  // surface point (the nearest seeds of its own sheet lie within seedReach of the footpoint, a
+  // stopped iterate within a few hundredths of a voxel of that): then the nearest seed lies on
+  // another sheet, which may be nearer than that seed by up to about seedReach^2 / (2 distance).
   const double sameSheet = 1.5 * seedReach;
   // Everything a voxel's function keeps depends only on the current leaf node (8^3 voxels,
   // visited in offset order, all in one call sequence), so the field does not depend on the order
@@ -522,13 +522,11 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             }
             projection = surface.project(centre, state.projections[from], options);
             // A surface point (the nearest seed) is nearer than the local minimum found from
-            // the neighbour: that minimum is not the closest point (the voxel is near the
-            // medial axis); start from the seed instead. (A projection stopped beyond the band
-            // is unconverged: there a nearer seed, or one away from the iterate's sheet, which
-            // may stand for a surface point inside the band, is the sign of a nearer part.)
-            const bool elsewhere =
-                projection.distance > nearest.distance ||
-                (projection.beyond && (nearest.position - projection.position).norm() > sameSheet);
+            // the neighbour, or the nearest seed lies on another sheet: that minimum may not be
+            // the closest point (the voxel is near the medial axis); project from the seed too
+            // and keep the nearer.
+            const bool elsewhere = projection.distance > nearest.distance ||
+                                   (nearest.position - projection.position).norm() > sameSheet;
             if (elsewhere) {
               PseudoManifold::Projection fromSeed =
                   surface.project(centre, seedPoints[nearest.index], projectionOptions);

@@ -26,7 +26,8 @@ inline constexpr const char* kSmoothSurfaceEstimator =
 /// voxel's neighbour at -z, -y or -x in the same 8^3 leaf node, with that projection's
 /// derivatives and, along a line of such starts, its second-order correction; from the nearest
 /// seed for the first voxel of a leaf, and again from the nearest seed when the result is further
-/// than that seed (near the medial axis). Every start depends only on the leaf, so the field does
+/// than that seed or that seed lies away from the result's footpoint, on another sheet (near the
+/// medial axis). Every start depends only on the leaf, so the field does
 /// not depend on the order of the voxels or the thread count. Where a voxel's neighbour ended on
 /// a cubic Taylor model of the surface, the voxel starts from that model's closest point
 /// (SmoothProjectionOptions::startFromModel); the iteration ends on the cubic model at its last
