@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <memory>
 #include <random>
 #include <vector>
@@ -375,19 +376,31 @@ TEST(PseudoManifold, WeightsHaveTheirExactValues) {
   }
 }
 
+/// Calls visit(point, corner) for every `faceStep`-th face of `mesh`, each of the barycentric
+/// points `barys` on it and each corner whose chart contains the point.
+template <typename Visit>
+void forEachChartPoint(const HalfEdgeMesh& mesh, Index faceStep,
+                       std::initializer_list<Eigen::Vector3d> barys, Visit visit) {
+  for (Index f = 0; f < mesh.faceCount(); f += faceStep) {
+    for (const Eigen::Vector3d& bary : barys) {
+      for (int corner = 0; corner < 3; ++corner) {
+        if (ChartAtlas::inChart(bary, corner)) visit(FacePoint{f, bary}, corner);
+      }
+    }
+  }
+}
+
 TEST(PseudoManifold, DerivativesMatchFiniteDifferences) {
   const Built b = buildLoop(test::mixedDegreeMesh());
   const HalfEdgeMesh& mesh = *b.mesh;
   double worstFirst = 0.0;
   double worstSecond = 0.0;
   const double h = 1e-4;
-  for (Index f = 0; f < mesh.faceCount(); f += 11) {
-    for (const Eigen::Vector3d& bary :
-         {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
-          Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(1.0, 0.0, 0.0)}) {
-      for (int corner = 0; corner < 3; ++corner) {
-        if (!ChartAtlas::inChart(bary, corner)) continue;
-        const FacePoint point{f, bary};
+  forEachChartPoint(
+      mesh, 11,
+      {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
+       Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(1.0, 0.0, 0.0)},
+      [&](const FacePoint& point, int corner) {
         const SmoothDerivatives d = b.pps->chartDerivatives(point, corner);
         const ChartPoint c = b.pps->atlas().toChart(point, corner);
         const auto at = [&](double dx, double dy) {
@@ -405,9 +418,7 @@ TEST(PseudoManifold, DerivativesMatchFiniteDifferences) {
         const double scale2 = std::max({d.dd[0].norm(), d.dd[1].norm(), d.dd[2].norm(), scale1});
         worstSecond = std::max({worstSecond, (fxx - d.dd[0]).norm() / scale2,
                                 (fxy - d.dd[1]).norm() / scale2, (fyy - d.dd[2]).norm() / scale2});
-      }
-    }
-  }
+      });
   std::printf("chart derivatives against central differences: first %.3g, second %.3g\n",
               worstFirst, worstSecond);
   EXPECT_LT(worstFirst, 1e-6);
@@ -425,14 +436,12 @@ TEST(PseudoManifold, ThirdDerivativesMatchFiniteDifferencesOfTheSecond) {
   double worstLower = 0.0;
   const double h = 2e-5;
   int points = 0;
-  for (Index f = 0; f < mesh.faceCount(); f += 7) {
-    for (const Eigen::Vector3d& bary :
-         {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
-          Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(0.45, 0.45, 0.1),
-          Eigen::Vector3d(1.0, 0.0, 0.0)}) {
-      for (int corner = 0; corner < 3; ++corner) {
-        if (!ChartAtlas::inChart(bary, corner)) continue;
-        const FacePoint point{f, bary};
+  forEachChartPoint(
+      mesh, 7,
+      {Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(0.7, 0.2, 0.1),
+       Eigen::Vector3d(0.05, 0.9, 0.05), Eigen::Vector3d(0.45, 0.45, 0.1),
+       Eigen::Vector3d(1.0, 0.0, 0.0)},
+      [&](const FacePoint& point, int corner) {
         const SmoothThirdDerivatives x = b.pps->chartThirdDerivatives(point, corner);
         const SmoothDerivatives lower = b.pps->chartDerivatives(point, corner);
         const ChartPoint c = b.pps->atlas().toChart(point, corner);
@@ -466,9 +475,7 @@ TEST(PseudoManifold, ThirdDerivativesMatchFiniteDifferencesOfTheSecond) {
                                (x.dd[0] - lower.dd[0]).norm(), (x.dd[1] - lower.dd[1]).norm(),
                                (x.dd[2] - lower.dd[2]).norm()});
         ++points;
-      }
-    }
-  }
+      });
   std::printf(
       "third chart derivatives at %d points against central differences of the second: "
       "largest error %.3g of the largest derivative; lower orders differ by %.3g\n",
