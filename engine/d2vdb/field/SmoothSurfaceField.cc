@@ -5,6 +5,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -322,6 +323,23 @@ class SeedBlocks {
   std::unordered_map<openvdb::Coord, std::pair<std::size_t, std::size_t>> ranges_;
 };
 
+/// Displacements (within a leaf) of the voxels a voxel's projection may start from, in order of
+/// preference: the face neighbours at -z, -y, -x, then the edge and corner neighbours among the
+/// voxels visited before it in offset order (x, then y, then z ascending).
+constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
+                                                                  {0, -1, 0},
+                                                                  {-1, 0, 0},
+                                                                  {0, -1, -1},
+                                                                  {0, -1, 1},
+                                                                  {-1, 0, -1},
+                                                                  {-1, 0, 1},
+                                                                  {-1, -1, 0},
+                                                                  {-1, 1, 0},
+                                                                  {-1, -1, -1},
+                                                                  {-1, -1, 1},
+                                                                  {-1, 1, -1},
+                                                                  {-1, 1, 1}}};
+
 }  // namespace
 
 ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelSize,
@@ -466,8 +484,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
     std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
     std::vector<PseudoManifold::Projection> projections =
         std::vector<PseudoManifold::Projection>(512);
-    // The axis (1: z, 2: y, 3: x) of the neighbour each voxel's projection started from, 0 for
-    // a start from a seed.
+    // The neighbour each voxel's projection started from (1 + its index in kStartNeighbours), 0
+    // for a start from a seed.
     std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
     SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
   };
@@ -498,17 +516,24 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           const auto projected = [&](int neighbour) {
             return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
           };
+          // The neighbour to start from: the first projected one of kStartNeighbours whose
+          // projection ended on a cubic model (the start then costs about one evaluation), else
+          // the first projected one (a Newton iteration from its footpoint), else none (a seed).
           int neighbour = -1;
           std::uint8_t axis = 0;
-          if ((ijk.z() & 7) != 0 && projected(offset - 1)) {
-            neighbour = offset - 1;
-            axis = 1;
-          } else if ((ijk.y() & 7) != 0 && projected(offset - 8)) {
-            neighbour = offset - 8;
-            axis = 2;
-          } else if ((ijk.x() & 7) != 0 && projected(offset - 64)) {
-            neighbour = offset - 64;
-            axis = 3;
+          const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
+          for (std::size_t k = 0; k < kStartNeighbours.size(); ++k) {
+            const auto& [dx, dy, dz] = kStartNeighbours[k];
+            if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) continue;
+            const int candidate = offset + 64 * dx + 8 * dy + dz;
+            if (!projected(candidate)) continue;
+            const bool modelled =
+                state.projections[static_cast<std::size_t>(candidate)].model.has_value();
+            if (neighbour < 0 || modelled) {
+              neighbour = candidate;
+              axis = static_cast<std::uint8_t>(k + 1);
+            }
+            if (modelled) break;
           }
           PseudoManifold::Projection projection;
           if (neighbour >= 0) {

@@ -1277,10 +1277,15 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
       // that decrease is a safe bound this close to the minimum.
       const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
       if (lowest > options.stopBeyond * options.stopBeyond) {
-        // Stopped at an iterate evaluated with third derivatives: its model starts the
-        // neighbours (which may stop beyond on it without an evaluation).
-        if (haveThird)
+        // Stopped at an iterate evaluated with third derivatives, or at the nearby footpoint
+        // found on a cubic model: that model starts the neighbours (which may stop beyond on it
+        // without an evaluation).
+        if (haveThird) {
           result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
+        } else if (iteration == 0 && nearby != nullptr && nearby->model &&
+                   nearby->model->origin.vertex == chartPoint.vertex) {
+          result.model = nearby->model;
+        }
         result.beyond = true;
         break;
       }
