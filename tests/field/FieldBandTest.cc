@@ -63,9 +63,12 @@ double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 
 /// The torus field the way a smooth-surface target would build it: seeds on the surface, the
 /// exact projection at every voxel centre.
-ApproximantField exactTorusField(const Torus& torus, double R, double r, double h) {
-  FieldBand band =
-      FieldBand::nearSeeds(TargetKind::Surface, torusSeeds(torus.centre(), R, r, 0.7 * h), h, 3.0);
+/// Seeds 0.7 voxel apart along both circles: every point of the torus lies within about 0.5
+/// voxel of one (`seedReach`, voxels, is passed on to nearSeeds).
+ApproximantField exactTorusField(const Torus& torus, double R, double r, double h,
+                                 double seedReach = 1.5) {
+  FieldBand band = FieldBand::nearSeeds(
+      TargetKind::Surface, torusSeeds(torus.centre(), R, r, 0.7 * h), h, 3.0, seedReach);
   band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
         return exactApproximant(torus, centre);
       })
@@ -132,6 +135,29 @@ TEST(FieldBand, NearSeedsSurfaceFromAnExactProjection) {
   EXPECT_LT(valueAt(torus.centre() + Eigen::Vector3d(0, -R, 0)), 0.0f);
   EXPECT_GT(valueAt(torus.centre()), 0.0f);
   EXPECT_GT(valueAt(torus.centre() + Eigen::Vector3d(0, 0, 0.8)), 0.0f);
+}
+
+TEST(FieldBand, NearSeedsWithTheSeedsReachFindsTheSameBand) {
+  // Told that the seeds lie within 0.6 voxel of every torus point (0.5 by their spacing), the
+  // band's candidates shrink (two 26-neighbour and two 6-neighbour steps instead of three and
+  // one) and the band is the same: every voxel within 3 voxels of the torus.
+  const double h = 0.03, R = 0.9, r = 0.3;
+  const Torus torus(Eigen::Vector3d(0.02, -0.01, 0.005), R, r);
+  const ApproximantField wide = exactTorusField(torus, R, r, h);
+  const ApproximantField narrow = exactTorusField(torus, R, r, h, 0.6);
+  std::set<std::tuple<int, int, int>> wideVoxels, narrowVoxels;
+  for (auto voxel = wide.distanceGrid()->cbeginValueOn(); voxel; ++voxel) {
+    wideVoxels.emplace(voxel.getCoord().x(), voxel.getCoord().y(), voxel.getCoord().z());
+  }
+  for (auto voxel = narrow.distanceGrid()->cbeginValueOn(); voxel; ++voxel) {
+    narrowVoxels.emplace(voxel.getCoord().x(), voxel.getCoord().y(), voxel.getCoord().z());
+  }
+  EXPECT_GT(narrowVoxels.size(), 10000u);
+  EXPECT_TRUE(wideVoxels == narrowVoxels);
+  // And it is the band of the distance function itself.
+  for (const auto& [i, j, k] : narrowVoxels) {
+    ASSERT_LT(std::abs(torus.signedDistance(Eigen::Vector3d(i, j, k) * h)), 3.0 * h);
+  }
 }
 
 TEST(FieldBand, SameFieldForOneAndTwoThreads) {
@@ -208,6 +234,11 @@ TEST(FieldBand, RefusesBadBandsWithClearErrors) {
               "voxel size");
   expectError(FieldBand::nearSeeds(TargetKind::Surface, seeds, h, 0.5).setApproximants(exact),
               "half-width");
+  expectError(FieldBand::nearSeeds(TargetKind::Surface, seeds, h, 3.0, 0.0).setApproximants(exact),
+              "reach");
+  expectError(
+      FieldBand::nearSeeds(TargetKind::Surface, seeds, h, 3.0, std::nan("")).setApproximants(exact),
+      "reach");
   // Approximants with NaN or a normal that is not a unit vector.
   expectError(FieldBand::nearSeeds(TargetKind::Surface, seeds, h, 3.0)
                   .setApproximants([&](const openvdb::Coord& ijk, const Eigen::Vector3d& c) {

@@ -20,6 +20,7 @@
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/detail/FieldStorage.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
+#include "d2vdb/field/detail/SeedDilation.h"
 #include "d2vdb/field/detail/SurfaceEstimator.h"
 
 namespace d2vdb {
@@ -206,14 +207,23 @@ std::vector<BandRecord> recordsOfGridBand(const FieldBand& band, const BandLayou
   return records;
 }
 
-/// The voxels within `radius` voxels (26-neighbour steps) of the voxels containing `seeds`.
+/// The voxels containing `seeds` dilated so as to include every voxel whose centre lies within
+/// `radius` voxels of a seed (detail::seedDilation()).
 openvdb::MaskGrid::Ptr seedCandidates(const std::vector<Eigen::Vector3d>& seeds,
-                                      const IndexFrame& frame, int radius) {
+                                      const IndexFrame& frame, double radius) {
   auto mask = openvdb::MaskGrid::create(false);
   auto accessor = mask->getAccessor();
   for (const Eigen::Vector3d& p : seeds) accessor.setValueOn(roundToCoord(frame.worldToIndex(p)));
-  openvdb::tools::dilateActiveValues(mask->tree(), radius, openvdb::tools::NN_FACE_EDGE_VERTEX,
-                                     openvdb::tools::IGNORE_TILES);
+  const detail::SeedDilation dilation = detail::seedDilation(radius);
+  if (dilation.cubeSteps > 0) {
+    openvdb::tools::dilateActiveValues(mask->tree(), dilation.cubeSteps,
+                                       openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                       openvdb::tools::IGNORE_TILES);
+  }
+  if (dilation.diamondSteps > 0) {
+    openvdb::tools::dilateActiveValues(mask->tree(), dilation.diamondSteps, openvdb::tools::NN_FACE,
+                                       openvdb::tools::IGNORE_TILES);
+  }
   return mask;
 }
 
@@ -227,8 +237,7 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
   const double limit = band.halfWidth() * h;
   const IndexFrame frame(*openvdb::math::Transform::createLinearTransform(h), source);
   const RecordCodec codec(band.kind(), frame);
-  const auto mask =
-      seedCandidates(band.seeds(), frame, static_cast<int>(std::ceil(band.halfWidth())) + 1);
+  const auto mask = seedCandidates(band.seeds(), frame, band.halfWidth() + band.seedReach());
   std::vector<const openvdb::MaskGrid::TreeType::LeafNodeType*> leaves;
   for (auto leaf = mask->tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
   // The kept voxels of each candidate leaf, in offset order, with their records.
@@ -308,6 +317,10 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
 /// Checks a nearSeeds() band's parameters and seeds; the target bounds are the seeds' box.
 Eigen::AlignedBox3d checkSeeds(const FieldBand& band, const std::string& source) {
   checkBandParameters(band.voxelSize(), band.halfWidth(), source.c_str());
+  if (!(band.seedReach() > 0.0 && band.seedReach() <= 8.0)) {
+    throw InputError(source + ": the seeds' reach must lie in (0, 8] voxels, not " +
+                     formatNumber(band.seedReach(), kDigits));
+  }
   if (band.seeds().empty()) throw InputError(source + ": no seed points given");
   Eigen::AlignedBox3d bounds;
   bounds.setEmpty();

@@ -14,12 +14,13 @@ FieldBand FieldBand::activeVoxelsOf(TargetKind kind, openvdb::FloatGrid::ConstPt
 }
 
 FieldBand FieldBand::nearSeeds(TargetKind kind, std::vector<Eigen::Vector3d> seeds,
-                               double voxelSize, double halfWidth) {
+                               double voxelSize, double halfWidth, double seedReach) {
   FieldBand band;
   band.kind_ = kind;
   band.seeds_ = std::move(seeds);
   band.voxelSize_ = voxelSize;
   band.halfWidth_ = halfWidth;
+  band.seedReach_ = seedReach;
   return band;
 }
 

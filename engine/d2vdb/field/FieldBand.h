@@ -25,18 +25,21 @@ namespace d2vdb {
 ///   transform, name, metadata, class and inactive values are kept; its active values become the
 ///   approximants' distances, on a copy when they differ). For data that already lives on a grid,
 ///   such as a stored field's companion grids.
-/// - nearSeeds(kind, seeds, voxelSize, halfWidth): every voxel (cubic voxels of `voxelSize`, voxel
-///   (i, j, k) centred at (i, j, k) * voxelSize in world space) whose approximant has
-///   |distance| < halfWidth * voxelSize. The candidates are the voxels within ceil(halfWidth) + 1
-///   voxels (26-neighbour steps) of the voxels containing the seeds, which finds every such voxel
-///   provided every point of the target lies within 1.5 voxels of a seed (e.g. points sampled
-///   along a curve or over a surface at most one voxel apart): a voxel centre v at a distance
-///   below halfWidth from the target is then within halfWidth + 1.5 voxels of a seed s, so the
-///   integer |v - round(s)| (largest coordinate) is below halfWidth + 2, at most ceil(halfWidth)
-///   + 1. The distance grid is made from the kept voxels: for surfaces a level set (class
-///   GRID_LEVEL_SET, named "surface", background halfWidth * voxelSize, inactive values signed by
-///   OpenVDB's signed flood fill, so the band must close around the inside); for curves and points
-///   an unsigned grid named "unsigned_distance".
+/// - nearSeeds(kind, seeds, voxelSize, halfWidth, seedReach): every voxel (cubic voxels of
+///   `voxelSize`, voxel (i, j, k) centred at (i, j, k) * voxelSize in world space) whose
+///   approximant has |distance| < halfWidth * voxelSize, provided every point of the target lies
+///   within seedReach voxels of a seed (1.5 by default: e.g. points sampled along a curve or over
+///   a surface at most one voxel apart). A voxel centre v at a distance below halfWidth from the
+///   target is then within R = halfWidth + seedReach voxels of a seed s, so its offset w = v -
+///   round(s) from the voxel containing s lies within R of the cube [-1/2, 1/2]^3 (sum_i
+///   max(|w_i| - 1/2, 0)^2 < R^2). The candidates are the voxels containing the seeds dilated by
+///   the fewest 26-neighbour and 6-neighbour steps whose offsets include all those w (a rounded
+///   cube; for halfWidth 3 and seedReach 1.5 three 26-neighbour steps and one 6-neighbour step,
+///   637 offsets instead of the 729 of the cube of four 26-neighbour steps; for seedReach 0.89,
+///   two of each, 485 offsets). The distance grid is made from the kept voxels: for surfaces a
+///   level set (class GRID_LEVEL_SET, named "surface", background halfWidth * voxelSize, inactive
+///   values signed by OpenVDB's signed flood fill, so the band must close around the inside); for
+///   curves and points an unsigned grid named "unsigned_distance".
 ///
 /// The approximants come from a function called once per candidate voxel (setApproximants()), or
 /// from a factory that makes one such function per block of work (setApproximantsPerWorker()) when
@@ -92,10 +95,11 @@ class FieldBand {
   /// modified. Checked by fromBand().
   static FieldBand activeVoxelsOf(TargetKind kind, openvdb::FloatGrid::ConstPtr grid);
   /// The voxels within halfWidth voxels of the target found from `seeds` (world points on or near
-  /// the target; see the class comment). Checked by fromBand(): voxelSize > 0 and finite,
-  /// 1 <= halfWidth <= 64, at least one seed, every seed finite.
+  /// the target, every point of the target within `seedReach` voxels of one; see the class
+  /// comment). Checked by fromBand(): voxelSize > 0 and finite, 1 <= halfWidth <= 64,
+  /// 0 < seedReach <= 8, at least one seed, every seed finite.
   static FieldBand nearSeeds(TargetKind kind, std::vector<Eigen::Vector3d> seeds, double voxelSize,
-                             double halfWidth);
+                             double halfWidth, double seedReach = 1.5);
 
   /// The per-voxel approximant; must be thread-safe (it is shared by every worker).
   FieldBand& setApproximants(VoxelApproximant approximant);
@@ -119,6 +123,8 @@ class FieldBand {
   double voxelSize() const { return voxelSize_; }
   /// nearSeeds() only.
   double halfWidth() const { return halfWidth_; }
+  /// nearSeeds() only: the largest distance (voxels) of a target point from its nearest seed.
+  double seedReach() const { return seedReach_; }
   const VoxelApproximantFactory& approximantFactory() const { return factory_; }
   const std::string& estimator() const { return estimator_; }
   const std::string& label() const { return label_; }
@@ -131,6 +137,7 @@ class FieldBand {
   std::vector<Eigen::Vector3d> seeds_;
   double voxelSize_ = 0.0;
   double halfWidth_ = 0.0;
+  double seedReach_ = 0.0;
   VoxelApproximantFactory factory_;
   std::string estimator_;
   std::string label_;

@@ -438,8 +438,18 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // by block and index, for the seeds near each leaf (SeedBlocks).
   const SeedBlocks blocks(seeds, voxelSize);
 
-  FieldBand band =
-      FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth);
+  // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle
+  // are at most `spacing` apart, every point of a flat triangle whose edges are at most L long is
+  // within L / sqrt(3) of a corner (the circumradius of the equilateral triangle bounds that of
+  // any acute one; an obtuse one's farthest point lies on its longest edge, within L / 2), plus a
+  // fifth of a voxel for the curvature of a lattice triangle and the seeds' float rounding. So
+  // the band's candidates need only be the voxels within the half-width plus seedReach (0.89
+  // voxel) of a seed (FieldBand::nearSeeds), and a voxel whose nearest seed is further than that
+  // cannot be in the band: it is not projected.
+  const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
+  const double skipBeyond = halfWidth * voxelSize + seedReach;
+  FieldBand band = FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth,
+                                        seedReach / voxelSize);
   const double clamp = 1.0 / voxelSize;
   // The field stores curvatures in half precision: their O(1e-6) error from an extrapolated last
   // step does not show.
@@ -453,16 +463,6 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   projectionOptions.startFromModel = true;
   // Voxels certainly beyond the band are discarded without converging.
   projectionOptions.stopBeyond = halfWidth * voxelSize;
-  // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle
-  // are at most `spacing` apart, every point of a flat triangle whose edges are at most L long is
-  // within L / sqrt(3) of a corner (the circumradius of the equilateral triangle bounds that of
-  // any acute one; an obtuse one's farthest point lies on its longest edge, within L / 2), plus a
-  // fifth of a voxel for the curvature of a lattice triangle and the seeds' float rounding. So a
-  // voxel whose nearest seed is further than the half-width plus seedReach cannot be in the
-  // band: it is not projected. (seedReach, 0.89 voxel, is below the 1.5 voxels FieldBand::
-  // nearSeeds needs to find every band voxel among its candidates.)
-  const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
-  const double skipBeyond = halfWidth * voxelSize + seedReach;
   // A projection from the neighbour's footpoint is repeated from the nearest seed when that seed
   // may stand for a nearer part of the surface: when it is nearer than the local minimum found
   // (or the iterate, for a projection stopped beyond the band) or further than this from its
