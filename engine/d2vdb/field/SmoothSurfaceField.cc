@@ -535,7 +535,10 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             }
             if (modelled) break;
           }
-          PseudoManifold::Projection projection;
+          // The voxel's projection goes straight into its slot (the leaf's earlier voxels, the
+          // neighbour among them, have other slots).
+          const auto at = static_cast<std::size_t>(offset);
+          PseudoManifold::Projection& projection = state.projections[at];
           if (neighbour >= 0) {
             // Second-order start: when the neighbour was itself projected from its neighbour
             // along the same axis (the same displacement), the first Newton step here misses
@@ -563,7 +566,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           } else {
             projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
           }
-          const auto at = static_cast<std::size_t>(offset);
+          state.startAxis[at] = axis;
+          state.stamp[at] = state.generation;
           if (projection.beyond) {
             // Outside the band (its distance is above the half-width; the band discards it).
             // Its last iterate still starts its neighbours' projections.
@@ -571,15 +575,9 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             outside.kind = TargetKind::Surface;
             outside.origin = centre;
             outside.distance = projection.distance;
-            state.projections[at] = std::move(projection);
-            state.startAxis[at] = axis;
-            state.stamp[at] = state.generation;
             return outside;
           }
           Approximant a = SmoothSurface::approximantOf(centre, projection);
-          state.projections[at] = std::move(projection);
-          state.startAxis[at] = axis;
-          state.stamp[at] = state.generation;
           if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
             a.k1 = std::clamp(a.k1, -clamp, clamp);
             a.k2 = std::clamp(a.k2, -clamp, clamp);

@@ -11,9 +11,11 @@ BumpValue chartBump(double t) {
   constexpr double kWidth = 1.0 - kBumpInner;
   constexpr double dH = 1.0 / kWidth;
   const double h = (t - kBumpInner) / kWidth;  // exactly 1/2 at the midpoint t = 5/8
-  // Four divisions in all: this one, 1 / (1 - h), 1 / h and 1 / (1 + exp(2 s)).
-  const double inverseU = 1.0 / (1.0 - h);
-  const double inverseH = 1.0 / h;
+  // Three divisions in all: this one, 1 / (h (1 - h)) (giving 1 / (1 - h) and 1 / h) and
+  // 1 / (1 + exp(2 s)).
+  const double inverseProduct = 1.0 / (h * (1.0 - h));
+  const double inverseU = h * inverseProduct;
+  const double inverseH = (1.0 - h) * inverseProduct;
   const double s = inverseU - inverseH;
   // exp(2 s) overflows beyond s ~ 354 and xi = 1 to double precision below s ~ -19; the
   // derivatives carry the factor xi (1 - xi) < exp(-2 |s|), far below anything they multiply.

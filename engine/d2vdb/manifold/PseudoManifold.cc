@@ -420,7 +420,9 @@ SmoothPoint surfaceGeometry(const SmoothDerivatives& x) {
   const double sb = -b;
   const double sc = -c;
   const double mean = 0.5 * (sa + sc);
-  const double radius = std::hypot(0.5 * (sa - sc), sb);
+  // (No overflow to guard against: hypot's care costs more than the rest of this function.)
+  const double halfAcross = 0.5 * (sa - sc);
+  const double radius = std::sqrt(halfAcross * halfAcross + sb * sb);
   result.k1 = mean + radius;
   result.k2 = mean - radius;
   // e1 at the angle phi = atan2(2 sb, sa - sc) / 2 in (-pi/2, pi/2] from t1, by the half-angle
