@@ -713,6 +713,59 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   EXPECT_FALSE(inside.beyond);
   EXPECT_TRUE(inside.converged);
   EXPECT_NEAR(inside.distance, fromNearestSample(near).distance, 1e-13);
+  // Written into an existing projection: every member as project() returns it, whatever the
+  // projection held before (a stopped one without differential geometry, a converged one with a
+  // cubic model); never over the projection it starts from.
+  const auto expectSame = [](const PseudoManifold::Projection& a,
+                             const PseudoManifold::Projection& e) {
+    EXPECT_EQ(a.point.face, e.point.face);
+    EXPECT_EQ(a.point.bary, e.point.bary);
+    EXPECT_EQ(a.position, e.position);
+    EXPECT_EQ(a.distance, e.distance);
+    EXPECT_EQ(a.geometry.position, e.geometry.position);
+    EXPECT_EQ(a.geometry.normal, e.geometry.normal);
+    EXPECT_EQ(a.geometry.k1, e.geometry.k1);
+    EXPECT_EQ(a.geometry.k2, e.geometry.k2);
+    EXPECT_EQ(a.geometry.e1, e.geometry.e1);
+    EXPECT_EQ(a.geometry.e2, e.geometry.e2);
+    for (int i = 0; i < 2; ++i) EXPECT_EQ(a.derivatives.d[i], e.derivatives.d[i]);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(a.derivatives.dd[i], e.derivatives.dd[i]);
+    EXPECT_EQ(a.chartCorner, e.chartCorner);
+    EXPECT_EQ(a.chartPoint, e.chartPoint);
+    ASSERT_EQ(a.firstStepMiss.has_value(), e.firstStepMiss.has_value());
+    if (a.firstStepMiss) {
+      EXPECT_EQ(a.firstStepMiss->p, e.firstStepMiss->p);
+    }
+    ASSERT_EQ(a.model.has_value(), e.model.has_value());
+    if (a.model) {
+      EXPECT_EQ(a.model->origin.p, e.model->origin.p);
+      for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(a.model->derivatives.ddd[i], e.model->derivatives.ddd[i]);
+    }
+    EXPECT_EQ(a.iterations, e.iterations);
+    EXPECT_EQ(a.converged, e.converged);
+    EXPECT_EQ(a.beyond, e.beyond);
+  };
+  SmoothProjectionOptions cubic;
+  cubic.cubicFinish = true;
+  cubic.startFromModel = true;
+  const PseudoManifold::Projection modelled =
+      b.pps->project(near, samples.nearest(near).first, cubic);
+  ASSERT_TRUE(modelled.model.has_value());
+  const Eigen::Vector3d next = near + Eigen::Vector3d(0.01, -0.005, 0.008);
+  const PseudoManifold::Projection returned = b.pps->project(next, modelled, cubic);
+  EXPECT_TRUE(returned.converged);
+  PseudoManifold::Projection written = stopped;
+  b.pps->project(next, modelled, cubic, written);
+  expectSame(written, returned);
+  SmoothProjectionOptions cubicBounded = cubic;
+  cubicBounded.stopBeyond = 0.05;
+  const PseudoManifold::Projection returnedBeyond = b.pps->project(next, modelled, cubicBounded);
+  EXPECT_TRUE(returnedBeyond.beyond);
+  written = modelled;
+  b.pps->project(next, modelled, cubicBounded, written);
+  expectSame(written, returnedBeyond);
+  EXPECT_THROW(b.pps->project(next, written, cubic, written), InputError);
   EXPECT_THROW(b.pps->project(Eigen::Vector3d(std::nan(""), 0.0, 0.0), reference), InputError);
   PseudoManifold::Projection broken = reference;
   broken.chartCorner = 3;

@@ -548,7 +548,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
             if (state.startAxis[from] == axis) {
               options.firstStepCorrection = state.projections[from].firstStepMiss;
             }
-            projection = surface.project(centre, state.projections[from], options);
+            surface.project(centre, state.projections[from], options, projection);
             // A surface point (the nearest seed) is nearer than the local minimum found from
             // the neighbour, or the nearest seed lies on another sheet: that minimum may not be
             // the closest point (the voxel is near the medial axis); project from the seed too

@@ -1072,12 +1072,21 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x, con
   if (start.face >= mesh_->faceCount()) {
     throw InputError("face " + std::to_string(start.face) + " does not exist");
   }
-  return projectFrom(x, start, nullptr, options);
+  Projection result;
+  projectFrom(x, start, nullptr, options, result);
+  return result;
 }
 
 PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
                                                    const Projection& nearby,
                                                    const SmoothProjectionOptions& options) const {
+  Projection result;
+  project(x, nearby, options, result);
+  return result;
+}
+
+void PseudoManifold::project(const Eigen::Vector3d& x, const Projection& nearby,
+                             const SmoothProjectionOptions& options, Projection& result) const {
   if (!x.allFinite()) throw InputError("cannot project a non-finite point");
   if (nearby.point.face >= mesh_->faceCount() || nearby.chartCorner < 0 || nearby.chartCorner > 2 ||
       !nearby.chartPoint.allFinite()) {
@@ -1085,7 +1094,10 @@ PseudoManifold::Projection PseudoManifold::project(const Eigen::Vector3d& x,
                      std::to_string(nearby.point.face) + " or corner " +
                      std::to_string(nearby.chartCorner));
   }
-  return projectFrom(x, nearby.point, &nearby, options);
+  if (&result == &nearby) {
+    throw InputError("a projection cannot be written over the one it starts from");
+  }
+  projectFrom(x, nearby.point, &nearby, options, result);
 }
 
 namespace {
@@ -1151,14 +1163,19 @@ Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
 
 }  // namespace
 
-PseudoManifold::Projection PseudoManifold::projectFrom(
-    const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
-    const SmoothProjectionOptions& options) const {
+void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& start,
+                                 const Projection* nearby, const SmoothProjectionOptions& options,
+                                 Projection& result) const {
   constexpr double tolerance = 1e-12;
   const bool extrapolate = options.extrapolateLastStep;
   const Evaluator<2> evaluator{*this};
   const Evaluator<3> thirdEvaluator{*this};
-  Projection result;
+  // Every member of `result` not written below on every path starts as in a new Projection.
+  result.firstStepMiss.reset();
+  result.model.reset();
+  result.iterations = 0;
+  result.converged = false;
+  result.beyond = false;
   FacePoint current = start;
   FacePoint previous = start;
   double previousValue = std::numeric_limits<double>::infinity();
@@ -1468,11 +1485,11 @@ PseudoManifold::Projection PseudoManifold::projectFrom(
   result.derivatives = toDerivatives(jet);
   result.chartCorner = centre;
   if (result.beyond) {
+    result.geometry = SmoothPoint{};
     result.geometry.position = jet.v;  // stopped: no differential geometry
   } else {
     result.geometry = surfaceGeometry(result.derivatives);
   }
-  return result;
 }
 
 std::size_t PseudoManifold::memoryBytes() const {

@@ -267,6 +267,11 @@ class PseudoManifold {
   /// or chart corner does not exist (or whose chart point is not finite).
   Projection project(const Eigen::Vector3d& x, const Projection& nearby,
                      const SmoothProjectionOptions& options = {}) const;
+  /// project(x, nearby, options) written into `result` (every member set, no copy of a returned
+  /// projection), for callers that keep many projections. Throws InputError as that does, and
+  /// when `result` is `nearby`.
+  void project(const Eigen::Vector3d& x, const Projection& nearby,
+               const SmoothProjectionOptions& options, Projection& result) const;
   /// Bytes held (control points, tables).
   std::size_t memoryBytes() const;
 
@@ -278,8 +283,8 @@ class PseudoManifold {
   const DegreeFit& fitFor(int degree) const;
   /// project() from `start`; when `nearby` is given it is a projection that ended at start,
   /// whose derivatives and chart point (in the chart of its corner chartCorner) are used.
-  Projection projectFrom(const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
-                         const SmoothProjectionOptions& options) const;
+  void projectFrom(const Eigen::Vector3d& x, const FacePoint& start, const Projection* nearby,
+                   const SmoothProjectionOptions& options, Projection& result) const;
   /// The least-squares tables of one (degree, bidegree, density), computed once per process and
   /// shared (they do not depend on the mesh).
   static std::shared_ptr<const DegreeFit> sharedFit(int degree, int bidegree,
