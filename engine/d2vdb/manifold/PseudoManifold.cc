@@ -953,15 +953,6 @@ SmoothDerivatives toDerivatives(const Jet3<Order>& jet) {
   return out;
 }
 
-SmoothThirdDerivatives thirdDerivativesOf(const Jet3<2>& jet, const Eigen::Vector3d third[4]) {
-  SmoothThirdDerivatives out;
-  out.position = jet.v;
-  for (int i = 0; i < 2; ++i) out.d[i] = jet.d[i];
-  for (int i = 0; i < 3; ++i) out.dd[i] = jet.h[i];
-  for (int i = 0; i < 4; ++i) out.ddd[i] = third[i];
-  return out;
-}
-
 SmoothThirdDerivatives toThirdDerivatives(const Jet3<3>& jet) {
   SmoothThirdDerivatives out;
   out.position = jet.v;
@@ -1104,8 +1095,9 @@ namespace {
 
 /// The cubic Taylor model of a surface at a point (derivatives `jet` and `third`, indexed as in
 /// Jet) moved by `step`: position, first and second derivatives at the end (exact for a cubic).
-Jet3<2> cubicTaylor(const Jet3<2>& jet, const Eigen::Vector3d third[4],
-                    const Eigen::Vector2d& step) {
+inline __attribute__((always_inline)) Jet3<2> cubicTaylor(const Jet3<2>& jet,
+                                                          const Eigen::Vector3d third[4],
+                                                          const Eigen::Vector2d& step) {
   const double s[2] = {step.x(), step.y()};
   Jet3<2> moved;
   // Second derivatives: h_ab + t_abc s_c.
@@ -1209,6 +1201,15 @@ void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& star
   bool wantThird = false;
   bool haveThird = false;
   Eigen::Vector3d third[4];
+  // Keeps the cubic model at the current iterate (jet and third) in the result, built in place.
+  const auto keepModel = [&] {
+    Projection::CubicModel& model = result.model.emplace();
+    model.origin = chartPoint;
+    model.derivatives.position = jet.v;
+    for (int i = 0; i < 2; ++i) model.derivatives.d[i] = jet.d[i];
+    for (int i = 0; i < 3; ++i) model.derivatives.dd[i] = jet.h[i];
+    for (int i = 0; i < 4; ++i) model.derivatives.ddd[i] = third[i];
+  };
   constexpr int kMaxIterations = 60;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     haveThird = false;
@@ -1300,7 +1301,7 @@ void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& star
         // found on a cubic model: that model starts the neighbours (which may stop beyond on it
         // without an evaluation).
         if (haveThird) {
-          result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
+          keepModel();
         } else if (iteration == 0 && nearby != nullptr && nearby->model &&
                    nearby->model->origin.vertex == chartPoint.vertex) {
           result.model = nearby->model;
@@ -1325,7 +1326,7 @@ void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& star
           if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
             centre = c;
         }
-        result.model = Projection::CubicModel{chartPoint, thirdDerivativesOf(jet, third)};
+        keepModel();
         jet = moved;
         chartPoint.p = p;
         result.converged = true;
