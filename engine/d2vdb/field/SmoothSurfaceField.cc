@@ -323,9 +323,9 @@ class SeedBlocks {
   std::unordered_map<openvdb::Coord, std::pair<std::size_t, std::size_t>> ranges_;
 };
 
-/// Displacements (within a leaf) of the voxels a voxel's projection may start from, in order of
-/// preference: the face neighbours at -z, -y, -x, then the edge and corner neighbours among the
-/// voxels visited before it in offset order (x, then y, then z ascending).
+/// Displacements (within a leaf) of the voxels a voxel's projection may start from: the face
+/// neighbours at -z, -y, -x (the first kFaceNeighbours), then the edge and corner neighbours among
+/// the voxels visited before it in offset order (x, then y, then z ascending).
 constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
                                                                   {0, -1, 0},
                                                                   {-1, 0, 0},
@@ -339,6 +339,9 @@ constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
                                                                   {-1, -1, 1},
                                                                   {-1, 1, -1},
                                                                   {-1, 1, 1}}};
+constexpr std::size_t kFaceNeighbours = 3;
+/// Infinity, for "no such distance".
+constexpr double kFar = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
@@ -516,16 +519,39 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           const auto projected = [&](int neighbour) {
             return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
           };
-          // The neighbour to start from: the first projected one of kStartNeighbours whose
-          // projection ended on a cubic model (the start then costs about one evaluation), else
-          // the first projected one (a Newton iteration from its footpoint), else none (a seed).
+          // The neighbour to start from: of the face neighbours whose projection ended on a
+          // cubic model, the one whose model is expanded nearest to this voxel's centre (its
+          // footpoint is then mostly the nearest to this voxel's: the shortest step along the
+          // model, the most accurate start, the fewest evaluations); without one, the first of
+          // the other kStartNeighbours with a model; else the first projected neighbour (a Newton
+          // iteration from its footpoint); else none (a seed).
           int neighbour = -1;
           std::uint8_t axis = 0;
           const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
-          for (std::size_t k = 0; k < kStartNeighbours.size(); ++k) {
-            const auto& [dx, dy, dz] = kStartNeighbours[k];
-            if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) continue;
-            const int candidate = offset + 64 * dx + 8 * dy + dz;
+          const auto inLeaf = [&](const std::array<int, 3>& d) {
+            return x + d[0] >= 0 && y + d[1] >= 0 && z + d[2] >= 0 && y + d[1] <= 7 &&
+                   z + d[2] <= 7;
+          };
+          const auto slotOf = [&](const std::array<int, 3>& d) {
+            return offset + 64 * d[0] + 8 * d[1] + d[2];
+          };
+          double nearestOrigin = kFar;
+          for (std::size_t k = 0; k < kFaceNeighbours; ++k) {
+            if (!inLeaf(kStartNeighbours[k])) continue;
+            const int candidate = slotOf(kStartNeighbours[k]);
+            if (!projected(candidate)) continue;
+            const auto& model = state.projections[static_cast<std::size_t>(candidate)].model;
+            if (!model) continue;
+            const double squared = (model->derivatives.position - centre).squaredNorm();
+            if (squared < nearestOrigin) {
+              nearestOrigin = squared;
+              neighbour = candidate;
+              axis = static_cast<std::uint8_t>(k + 1);
+            }
+          }
+          for (std::size_t k = 0; k < kStartNeighbours.size() && !(nearestOrigin < kFar); ++k) {
+            if (!inLeaf(kStartNeighbours[k])) continue;
+            const int candidate = slotOf(kStartNeighbours[k]);
             if (!projected(candidate)) continue;
             const bool modelled =
                 state.projections[static_cast<std::size_t>(candidate)].model.has_value();
