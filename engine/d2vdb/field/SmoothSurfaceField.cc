@@ -477,10 +477,10 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // visited in offset order, all in one call sequence), so the field does not depend on the order
   // of the leaves or the thread count: the seeds within skipBeyond of the leaf (the nearest seed
   // of a voxel, ties to the lowest index, is exact up to that distance), and the projections of
-  // the leaf's voxels: each voxel's Newton iteration starts from its projected neighbour at -z,
-  // -y or -x in the same leaf. One such state per thread, kept from one block of leaves to the
-  // next (its buffers, 0.4 MB, would otherwise be allocated and cleared for each of some
-  // thousands of blocks).
+  // the leaf's voxels: each voxel's Newton iteration starts from a projected neighbour visited
+  // before it in the same leaf (kStartNeighbours). One such state per thread, kept from one block
+  // of leaves to the next (its buffers, 0.4 MB, would otherwise be allocated and cleared for each
+  // of some thousands of blocks).
   struct State {
     openvdb::Coord leaf = openvdb::Coord::max();
     std::uint32_t generation = 0;

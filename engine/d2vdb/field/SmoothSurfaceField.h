@@ -20,16 +20,19 @@ inline constexpr const char* kSmoothSurfaceEstimator =
 /// voxels apart (a barycentric lattice per face, refined until neighbouring seeds are that close);
 /// each voxel's approximant is SmoothSurface::approximantOf() the voxel centre's projection onto
 /// the surface: the exact footpoint, signed distance, the surface's own normal, k1 >= k2 and e1
-/// there, not second differences of a level set. Candidate voxels whose nearest seed is further
-/// than halfWidth + 0.9 voxel (a bound on their distance to the surface) are not projected. The
-/// projection (PseudoManifold::project(), Newton's method) starts from the projection of the
-/// voxel's neighbour at -z, -y or -x in the same 8^3 leaf node, with that projection's
-/// derivatives and, along a line of such starts, its second-order correction; from the nearest
-/// seed for the first voxel of a leaf, and again from the nearest seed when the result is further
-/// than that seed or that seed lies away from the result's footpoint, on another sheet (near the
-/// medial axis). Every start depends only on the leaf, so the field does
-/// not depend on the order of the voxels or the thread count. Where a voxel's neighbour ended on
-/// a cubic Taylor model of the surface, the voxel starts from that model's closest point
+/// there, not second differences of a level set. The candidates are the voxels within halfWidth
+/// + 0.9 voxel of a seed (FieldBand::nearSeeds with that reach); those whose nearest seed is
+/// further than that (a bound on their distance to the surface) are not projected. The
+/// projection (PseudoManifold::project(), Newton's method) starts from the projection of a
+/// neighbour visited before the voxel in the same 8^3 leaf node: of the face neighbours (-z, -y,
+/// -x) whose projection ended on a cubic Taylor model of the surface, the one whose model is
+/// expanded nearest to the voxel's centre, else an edge or corner neighbour with such a model,
+/// else a face neighbour's footpoint with its derivatives (and, along a line of such starts, its
+/// second-order correction); from the nearest seed when no neighbour was projected, and again
+/// from the nearest seed when the result is further than that seed or that seed lies away from
+/// the result's footpoint, on another sheet (near the medial axis). Every start depends only on
+/// the leaf, so the field does not depend on the order of the voxels or the thread count. From a
+/// neighbour's model the voxel starts at that model's closest point
 /// (SmoothProjectionOptions::startFromModel); the iteration ends on the cubic model at its last
 /// iterate once the Newton step there is below 1e-3 of the chart radius
 /// (SmoothProjectionOptions::cubicFinish), or with the last step's geometry extrapolated

@@ -233,7 +233,8 @@ class PseudoManifold {
     /// The cubic Taylor model of the surface the footpoint was found on
     /// (SmoothProjectionOptions::cubicFinish): the point it expands about, in the chart the
     /// derivatives refer to, and the surface's derivatives up to the third there. Empty when the
-    /// projection did not end on such a model.
+    /// projection did not end on such a model. A projection from a nearby one that stops beyond
+    /// at the nearby footpoint (before any step) keeps the nearby projection's model.
     struct CubicModel {
       ChartPoint origin;
       SmoothThirdDerivatives derivatives;
