@@ -1321,14 +1321,8 @@ void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& star
       minimiseCubicModel(jet, third, x, radius, 4, move, moved, length);
       const Eigen::Vector2d p = chartPoint.p + move;
       if (move.norm() <= 2.0 * length && p.norm() < 0.99 * radius) {
-        current = atlas_.fromChart({chartPoint.vertex, p});
-        for (int c = 0; c < 3; ++c) {
-          if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex)
-            centre = c;
-        }
-        keepModel();
-        jet = moved;
-        chartPoint.p = p;
+        keepModel();  // at the iterate, before endAt moves jet and chart point to the minimum
+        endAt(p, moved);
         result.converged = true;
         break;
       }
