@@ -340,8 +340,6 @@ constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
                                                                   {-1, 1, -1},
                                                                   {-1, 1, 1}}};
 constexpr std::size_t kFaceNeighbours = 3;
-/// Infinity, for "no such distance".
-constexpr double kFar = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
@@ -489,7 +487,7 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
         std::vector<PseudoManifold::Projection>(512);
     // The neighbour each voxel's projection started from (1 + its index in kStartNeighbours), 0
     // for a start from a seed.
-    std::vector<std::uint8_t> startAxis = std::vector<std::uint8_t>(512, 0);
+    std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
     SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
   };
   tbb::enumerable_thread_specific<State> states;
@@ -526,38 +524,37 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           // the other kStartNeighbours with a model; else the first projected neighbour (a Newton
           // iteration from its footpoint); else none (a seed).
           int neighbour = -1;
-          std::uint8_t axis = 0;
+          std::uint8_t startedFrom = 0;
+          // The slot of kStartNeighbours[k] when it lies in the leaf and was projected, else -1.
           const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
-          const auto inLeaf = [&](const std::array<int, 3>& d) {
-            return x + d[0] >= 0 && y + d[1] >= 0 && z + d[2] >= 0 && y + d[1] <= 7 &&
-                   z + d[2] <= 7;
+          const auto projectedSlot = [&](std::size_t k) {
+            const auto& [dx, dy, dz] = kStartNeighbours[k];
+            if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) return -1;
+            const int slot = offset + 64 * dx + 8 * dy + dz;
+            return projected(slot) ? slot : -1;
           };
-          const auto slotOf = [&](const std::array<int, 3>& d) {
-            return offset + 64 * d[0] + 8 * d[1] + d[2];
-          };
-          double nearestOrigin = kFar;
+          double nearestOrigin = std::numeric_limits<double>::infinity();
           for (std::size_t k = 0; k < kFaceNeighbours; ++k) {
-            if (!inLeaf(kStartNeighbours[k])) continue;
-            const int candidate = slotOf(kStartNeighbours[k]);
-            if (!projected(candidate)) continue;
+            const int candidate = projectedSlot(k);
+            if (candidate < 0) continue;
             const auto& model = state.projections[static_cast<std::size_t>(candidate)].model;
             if (!model) continue;
             const double squared = (model->derivatives.position - centre).squaredNorm();
             if (squared < nearestOrigin) {
               nearestOrigin = squared;
               neighbour = candidate;
-              axis = static_cast<std::uint8_t>(k + 1);
+              startedFrom = static_cast<std::uint8_t>(k + 1);
             }
           }
-          for (std::size_t k = 0; k < kStartNeighbours.size() && !(nearestOrigin < kFar); ++k) {
-            if (!inLeaf(kStartNeighbours[k])) continue;
-            const int candidate = slotOf(kStartNeighbours[k]);
-            if (!projected(candidate)) continue;
+          const bool modelledFace = neighbour >= 0;
+          for (std::size_t k = 0; k < kStartNeighbours.size() && !modelledFace; ++k) {
+            const int candidate = projectedSlot(k);
+            if (candidate < 0) continue;
             const bool modelled =
                 state.projections[static_cast<std::size_t>(candidate)].model.has_value();
             if (neighbour < 0 || modelled) {
               neighbour = candidate;
-              axis = static_cast<std::uint8_t>(k + 1);
+              startedFrom = static_cast<std::uint8_t>(k + 1);
             }
             if (modelled) break;
           }
@@ -566,12 +563,12 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
           const auto at = static_cast<std::size_t>(offset);
           PseudoManifold::Projection& projection = state.projections[at];
           if (neighbour >= 0) {
-            // Second-order start: when the neighbour was itself projected from its neighbour
-            // along the same axis (the same displacement), the first Newton step here misses
-            // the footpoint by nearly what the neighbour's missed it by.
+            // Second-order start: when the neighbour was itself projected from its neighbour by
+            // the same displacement, the first Newton step here misses the footpoint by nearly
+            // what the neighbour's missed it by.
             const auto from = static_cast<std::size_t>(neighbour);
             SmoothProjectionOptions options = projectionOptions;
-            if (state.startAxis[from] == axis) {
+            if (state.startedFrom[from] == startedFrom) {
               options.firstStepCorrection = state.projections[from].firstStepMiss;
             }
             surface.project(centre, state.projections[from], options, projection);
@@ -586,13 +583,13 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
                   surface.project(centre, seedPoints[nearest.index], projectionOptions);
               if (fromSeed.distance < projection.distance) {
                 projection = std::move(fromSeed);
-                axis = 0;
+                startedFrom = 0;
               }
             }
           } else {
             projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
           }
-          state.startAxis[at] = axis;
+          state.startedFrom[at] = startedFrom;
           state.stamp[at] = state.generation;
           if (projection.beyond) {
             // Outside the band (its distance is above the half-width; the band discards it).
