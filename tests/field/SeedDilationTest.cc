@@ -67,6 +67,19 @@ TEST(SeedDilation, WithinRadiusOfVoxelIsTheDistanceToTheVoxelCube) {
   }
 }
 
+TEST(SeedDilation, OffsetCountIsTheNumberOfOffsetsItContains) {
+  for (int c = 0; c <= 6; ++c) {
+    for (int d = 0; d <= 6; ++d) {
+      const SeedDilation dilation{c, d};
+      std::int64_t contained = 0;
+      forEachOffset(c + d + 1, [&](const std::array<int, 3>& w) {
+        if (dilation.contains(w)) ++contained;
+      });
+      EXPECT_EQ(dilation.offsetCount(), contained) << c << " " << d;
+    }
+  }
+}
+
 TEST(SeedDilation, IsTheSmallestCoveringDilation) {
   for (double radius = 0.3; radius <= 8.0; radius += 0.125) {
     const SeedDilation chosen = seedDilation(radius);

@@ -16,11 +16,18 @@ bool SeedDilation::contains(const std::array<int, 3>& w) const {
 }
 
 std::int64_t SeedDilation::offsetCount() const {
-  const int extent = cubeSteps + diamondSteps;
+  // By the excess e_i = max(|w_i| - cubeSteps, 0) of each coordinate: 2 cubeSteps + 1 values of
+  // w_i have e_i = 0, two have each e_i > 0; the offsets are those with e_1 + e_2 + e_3 <=
+  // diamondSteps.
+  const auto values = [&](int excess) -> std::int64_t {
+    return excess == 0 ? 2 * cubeSteps + 1 : 2;
+  };
   std::int64_t count = 0;
-  for (int x = -extent; x <= extent; ++x) {
-    for (int y = -extent; y <= extent; ++y) {
-      for (int z = -extent; z <= extent; ++z) count += contains({x, y, z}) ? 1 : 0;
+  for (int e1 = 0; e1 <= diamondSteps; ++e1) {
+    for (int e2 = 0; e1 + e2 <= diamondSteps; ++e2) {
+      for (int e3 = 0; e1 + e2 + e3 <= diamondSteps; ++e3) {
+        count += values(e1) * values(e2) * values(e3);
+      }
     }
   }
   return count;
