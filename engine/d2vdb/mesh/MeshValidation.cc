@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "d2vdb/core/detail/DisjointSets.h"
 #include "d2vdb/mesh/detail/MeshIndexCheck.h"
 
 namespace d2vdb {
@@ -17,36 +18,7 @@ namespace {
 
 using Index = TriangleMesh::Index;
 
-/// Union-find over 0..n-1 with path halving; the root of a set is its smallest member.
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t size) : parent_(size) {
-    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
-  }
-
-  std::size_t find(std::size_t element) {
-    while (parent_[element] != element) {
-      parent_[element] = parent_[parent_[element]];
-      element = parent_[element];
-    }
-    return element;
-  }
-
-  void unite(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a < b) {
-      parent_[b] = a;
-    } else if (b < a) {
-      parent_[a] = b;
-    }
-  }
-
-  bool isRoot(std::size_t element) const { return parent_[element] == element; }
-
- private:
-  std::vector<std::size_t> parent_;
-};
+using DisjointSets = detail::DisjointSets<std::size_t>;
 
 /// Half-edge h = 3 * t + k runs from corner k to corner (k + 1) % 3 of triangle t.
 struct HalfEdgeKey {

@@ -13,33 +13,11 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/detail/DisjointSets.h"
 #include "d2vdb/mesh/VertexNormals.h"
 
 namespace d2vdb {
 namespace {
-
-// Union-find over triangle indices (path halving; the smaller root wins, so components are
-// labelled deterministically by their first triangle).
-struct Components {
-  std::vector<std::size_t> parent;
-  explicit Components(std::size_t count) : parent(count) {
-    std::iota(parent.begin(), parent.end(), std::size_t{0});
-  }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) {
-      parent[i] = parent[parent[i]];
-      i = parent[i];
-    }
-    return i;
-  }
-  void join(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    if (b < a) std::swap(a, b);
-    parent[b] = a;
-  }
-};
 
 // The mesh with one unit normal per vertex (its own, or area-weighted ones), indices checked.
 TriangleMesh withNormals(const TriangleMesh& mesh, const std::string& sourceName) {
@@ -345,7 +323,7 @@ SupportPatchSet fitSupportPatches(const TriangleMesh& input, const SupportPatchO
     }
   }
   // Regions: triangles of one class that share an edge.
-  Components components(mesh.triangles.size());
+  detail::DisjointSets<std::size_t> components(mesh.triangles.size());
   std::unordered_map<std::uint64_t, std::size_t> firstOfEdge;
   firstOfEdge.reserve(3 * mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -355,7 +333,7 @@ SupportPatchSet fitSupportPatches(const TriangleMesh& input, const SupportPatchO
       const std::uint64_t b = mesh.triangles[t][(k + 1) % 3];
       const std::uint64_t key = (std::min(a, b) << 32) | std::max(a, b);
       const auto [it, inserted] = firstOfEdge.emplace(key, t);
-      if (!inserted && classes[it->second] == classes[t]) components.join(it->second, t);
+      if (!inserted && classes[it->second] == classes[t]) components.unite(it->second, t);
     }
   }
   std::vector<std::vector<std::size_t>> regions;

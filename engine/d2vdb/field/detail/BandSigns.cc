@@ -12,6 +12,7 @@
 #include <numeric>
 #include <vector>
 
+#include "d2vdb/core/detail/DisjointSets.h"
 #include "d2vdb/field/detail/TriangleClosestPoint.h"
 
 namespace d2vdb::detail {
@@ -110,33 +111,6 @@ class LeafTable {
   std::vector<FloatLeaf*> leaves_;
   std::vector<Entry> sorted_;
   std::vector<std::array<std::uint32_t, 6>> neighbours_;
-};
-
-/// Union-find whose roots are the smallest members (so that representatives do not depend on
-/// the order of the unions).
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t size) : parent_(size) {
-    std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a < b)
-      parent_[b] = a;
-    else if (b < a)
-      parent_[a] = b;
-  }
-
- private:
-  std::vector<std::uint32_t> parent_;
 };
 
 /// The range of W over the near voxels linked to a group.
@@ -435,7 +409,7 @@ Eigen::Vector3d pointOf(const openvdb::Coord& ijk) {
 struct FarGroups {
   std::vector<LocalGroups> local;
   std::vector<std::uint32_t> base;  ///< leafCount + 1 entries; the last is the number of groups
-  DisjointSets sets;
+  DisjointSets<std::uint32_t> sets;
 };
 
 FarGroups joinFarGroups(const LeafTable& table, const std::vector<States>& states,
@@ -449,7 +423,7 @@ FarGroups joinFarGroups(const LeafTable& table, const std::vector<States>& state
     base[i + 1] = base[i] + static_cast<std::uint32_t>(local[i].representative.size());
   }
   const std::uint32_t total = base[leafCount];
-  FarGroups groups{std::move(local), std::move(base), DisjointSets(total)};
+  FarGroups groups{std::move(local), std::move(base), DisjointSets<std::uint32_t>(total)};
   for (std::size_t i = 0; i < leafCount; ++i) {
     for (int axis = 0; axis < 3; ++axis) {
       const std::uint32_t j = table.neighbour(i, 2 * axis + 1);
@@ -693,11 +667,12 @@ class BandSignCorrection {
 
   /// Every far voxel takes its group's W (its own winding number in a conflicting group).
   void assignGroupWindings(FarGroups& groups, const std::vector<std::int16_t>& groupWinding) {
+    groups.sets.flatten();  // root() reads without writing, so the loop below may share the sets
     tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
       const LocalGroups& local = groups.local[i];
       for (openvdb::Index o = 0; o < kVoxels; ++o) {
         if (local.label[o] == kNoLabel) continue;
-        const std::int16_t w = groupWinding[groups.sets.find(groups.base[i] + local.label[o])];
+        const std::int16_t w = groupWinding[groups.sets.root(groups.base[i] + local.label[o])];
         if (w == kPerVoxel) {
           windings_[i][o] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
           ++summaries_[i].queries;
