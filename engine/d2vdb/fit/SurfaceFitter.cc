@@ -13,9 +13,9 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/SurfaceTarget.h"
-#include "d2vdb/fit/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
 #include "d2vdb/fit/detail/SurfaceReparametrization.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/TargetProblem.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/BasisFunctions.h"
@@ -45,10 +45,11 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
  public:
   SurfaceTargetProblem(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                        const SurfaceFitOptions& options)
-      : TargetProblem(target,
-                      std::make_unique<SurfaceSensorBasis>(
-                          initial, uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
-                      options.method, options.pdmWeight),
+      : TargetProblem(
+            target,
+            std::make_unique<detail::SurfaceSensorBasis>(
+                initial, detail::uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
+            options.method, options.pdmWeight),
         exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
 
   void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
@@ -56,7 +57,7 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
     const std::vector<Approximant>& approximants = approximantsAt(controlPoints);
     setForms(approximants, linearization);
     const std::size_t count = approximants.size();
-    RankOneTerms& secondOrder = linearization.secondOrder;
+    detail::RankOneTerms& secondOrder = linearization.secondOrder;
     secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? 3 : 0, true);
     if (!exactSecondOrder_) return;
     std::vector<double> weights(2 * count, 0.0);
@@ -145,7 +146,7 @@ class PointProblem final : public detail::FitProblem {
     const int q = surface.degreeV();
     const int order = (p + 1) * (q + 1);
     const int length = 3 * order;
-    RankOneTerms& secondOrder = linearization.secondOrder;
+    detail::RankOneTerms& secondOrder = linearization.secondOrder;
     secondOrder.reset(static_cast<int>(count), length);
     if (exactSecondOrder_) {
       for (std::size_t k = 0; k < count; ++k) {
@@ -306,7 +307,7 @@ class PointProblem final : public detail::FitProblem {
   FitMethod method_;
   double pdmWeight_;
   bool exactSecondOrder_;
-  std::optional<SurfaceSensorBasis> basis_;
+  std::optional<detail::SurfaceSensorBasis> basis_;
   std::vector<SurfaceFootpoint> current_;
   std::vector<SurfaceFootpoint> candidate_;
 };
@@ -323,7 +324,7 @@ constexpr double kReparametrizationShift = 0.01;
 constexpr int kFirstRunIterations = 8;
 
 /// Whether every sensor of `sensors` on `surface` lies inside `domain`.
-bool covers(const SensorMap& sensors, const BSplineSurface& surface,
+bool covers(const detail::SensorMap& sensors, const BSplineSurface& surface,
             const Eigen::AlignedBox3d& domain) {
   for (const Eigen::Vector3d& sensor : sensors.positions(surface.controlPoints())) {
     if (!domain.contains(sensor)) return false;

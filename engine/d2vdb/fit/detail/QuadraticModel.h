@@ -1,5 +1,6 @@
-// The quadratic model of one fitting iteration: assembly of the sensors' quadratic forms and the
-// smoothing energy into a sparse symmetric system over the control points, and its solution.
+// Internal: the quadratic model of one fitting iteration: assembly of the sensors' quadratic forms
+// and the smoothing energy into a sparse symmetric system over the control points, and its
+// solution.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -13,13 +14,11 @@
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
-namespace detail {
 class SupernodalCholesky;
-}
 
 /// Rank-one terms alpha (u . c_k)^2 attached to the sensors of a SensorMap, with c_k the
 /// displacements of sensor k's control points: u has order() * dimension entries, entry
@@ -234,7 +233,7 @@ class QuadraticModel {
     Solver solverUsed = Solver::none;
     bool analyzed = false;      ///< the supernodal factorisation has the current pattern
     bool ldltAnalyzed = false;  ///< the LDLT factorisation has the current pattern
-    std::unique_ptr<detail::SupernodalCholesky> cholesky;
+    std::unique_ptr<SupernodalCholesky> cholesky;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
     Eigen::LLT<Eigen::MatrixXd> denseCholesky;
     Eigen::LDLT<Eigen::MatrixXd> denseLdlt;
@@ -249,4 +248,4 @@ class QuadraticModel {
   int current_ = 0;  ///< the slot of the last solve
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/fit/QuadraticModel.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,7 +11,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/detail/SupernodalCholesky.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 namespace {
 
@@ -551,7 +551,7 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
     }
   } else {
     if (unknowns > kSimplicialUnknowns) {
-      if (!f.cholesky) f.cholesky = std::make_unique<detail::SupernodalCholesky>();
+      if (!f.cholesky) f.cholesky = std::make_unique<SupernodalCholesky>();
       if (!f.analyzed) {
         f.cholesky->analyzePattern(system_);
         f.analyzed = true;
@@ -784,4 +784,4 @@ double QuadraticModel::smoothingEnergy(const std::vector<Eigen::Vector3d>& contr
   return energy;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail
