@@ -26,7 +26,410 @@ Eigen::SparseMatrix<double> sized(Eigen::SparseMatrix<double> matrix, int n, con
   return matrix;
 }
 
+/// Throws InputError when `set`'s forms or rank-one terms do not match its basis, or its basis
+/// another control-point count than `controlPointCount`.
+void requireMatching(const SensorTerms& set, int controlPointCount, int dimension) {
+  if (set.basis == nullptr || set.forms == nullptr ||
+      static_cast<int>(set.forms->size()) != set.basis->sensorCount() ||
+      set.basis->controlPointCount() != controlPointCount) {
+    throw InputError("a sensor set of the fitting model does not match its basis or net");
+  }
+  const RankOneTerms* rankOne = set.rankOne;
+  if (rankOne != nullptr && !rankOne->empty() &&
+      (rankOne->length != (rankOne->separable ? dimension : set.basis->order() * dimension) ||
+       static_cast<int>(rankOne->start.size()) != set.basis->sensorCount() + 1 ||
+       rankOne->vectors.size() != rankOne->coefficients.size() * rankOne->length ||
+       rankOne->start.back() != static_cast<int>(rankOne->coefficients.size()))) {
+    throw InputError("the rank-one terms of a sensor set do not match its basis");
+  }
+}
+
+/// One span group of a sensor set: sensors basis.spanOrder()[first .. last), which all share the
+/// control points of the first of them, `sensor`.
+struct SpanGroup {
+  const SensorTerms* set = nullptr;
+  int first = 0;
+  int last = 0;
+  int sensor = 0;
+};
+
+/// Per span group: a dense block over its control points (the group's local unknowns a * d + r)
+/// and the right-hand side, and the same for the rank-one terms (empty without them).
+struct GroupSums {
+  Eigen::MatrixXd block, rankOneBlock;
+  Eigen::VectorXd right, rankOneRight;
+};
+
+/// Index of the pair (a, b), a <= b, among the pairs of n functions.
+int pairIndex(int n, int a, int b) {
+  return a * n - a * (a - 1) / 2 + (b - a);
+}
+
+/// A knot cell whose sensors form a full grid of countU x countV (u, v) parameters of a
+/// tensor-product map (SensorMap::orderU()), and the Gram sums over it direction by direction.
+class CellGrid {
+ public:
+  /// Whether the sensors basis.spanOrder()[first .. last) form such a grid; if so, remembers it.
+  bool detect(const SensorMap& basis, int first, int last) {
+    isGrid_ = false;
+    const int orderU = basis.orderU();
+    if (orderU <= 0) return false;
+    const int orderV = basis.order() / orderU;
+    const Eigen::Index count = last - first;
+    rowKeyU_.resize(count);
+    rowKeyV_.resize(count);
+    for (Eigen::Index row = 0; row < count; ++row) {
+      const int k = basis.spanOrder()[first + row];
+      rowKeyU_[row] = basis.uKey(k);
+      rowKeyV_[row] = basis.vKey(k);
+    }
+    keysU_ = distinct(rowKeyU_);
+    keysV_ = distinct(rowKeyV_);
+    countU_ = static_cast<Eigen::Index>(keysU_.size());
+    countV_ = static_cast<Eigen::Index>(keysV_.size());
+    if (countU_ * countV_ != count) return false;
+    gridRow_.assign(count, -1);
+    valuesU_.resize(countU_, orderU);
+    valuesV_.resize(countV_, orderV);
+    for (Eigen::Index row = 0; row < count; ++row) {
+      const Eigen::Index iu = position(keysU_, rowKeyU_[row]);
+      const Eigen::Index iv = position(keysV_, rowKeyV_[row]);
+      Eigen::Index& slot = gridRow_[iu * countV_ + iv];
+      if (slot >= 0) return false;  // two sensors at one grid point: not a grid
+      slot = row;
+      const int k = basis.spanOrder()[first + row];
+      for (int a = 0; a < orderU; ++a) valuesU_(iu, a) = basis.uWeight(k, a);
+      for (int b = 0; b < orderV; ++b) valuesV_(iv, b) = basis.vWeight(k, b);
+    }
+    isGrid_ = true;
+    return true;
+  }
+
+  /// The upper triangles of G_e = W^T diag(entries.col(e)) W, W = N (x) M the sensors' basis
+  /// values, into upper[(a * order + b) * entryCount + e] for a <= b: G_e((a, b), (a', b')) =
+  /// sum_iu N_a N_a'(u_iu) sum_iv M_b M_b'(v_iv) S_e(iu, iv), summed over the pairs a <= a' and
+  /// b <= b': for bicubic patches and 10 x 10 sensors about a fifth of the products of the
+  /// general sum (BENCHMARKS.md, "Surface fitting goals", "Assembly by grid cells").
+  void gramSums(const Eigen::MatrixXd& entries, int order, std::vector<double>& upper) {
+    const int entryCount = static_cast<int>(entries.cols());
+    const int orderU = static_cast<int>(valuesU_.cols());
+    const int orderV = static_cast<int>(valuesV_.cols());
+    const int pairCountV = orderV * (orderV + 1) / 2;
+    pairProducts(valuesU_, pairsU_);
+    pairProducts(valuesV_, pairsV_);
+    for (int e = 0; e < entryCount; ++e) {
+      partial_.setZero(pairCountV, countU_);
+      for (Eigen::Index iu = 0; iu < countU_; ++iu) {
+        for (Eigen::Index iv = 0; iv < countV_; ++iv) {
+          const double value = entries(gridRow_[iu * countV_ + iv], e);
+          partial_.col(iu) += value * pairsV_.row(iv).transpose();
+        }
+      }
+      tensorGram_.noalias() = partial_ * pairsU_;  // pairCountV x pairCountU
+      for (int a = 0; a < order; ++a) {
+        const int au = a / orderV, av = a % orderV;
+        for (int b = a; b < order; ++b) {
+          const int bu = b / orderV, bv = b % orderV;
+          upper[(a * order + b) * entryCount + e] =
+              tensorGram_(pairIndex(orderV, std::min(av, bv), std::max(av, bv)),
+                          pairIndex(orderU, std::min(au, bu), std::max(au, bu)));
+        }
+      }
+    }
+  }
+
+  bool isGrid() const { return isGrid_; }
+
+ private:
+  static std::vector<int> distinct(std::vector<int> keys) {
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    return keys;
+  }
+  static Eigen::Index position(const std::vector<int>& keys, int key) {
+    return std::lower_bound(keys.begin(), keys.end(), key) - keys.begin();
+  }
+  /// pairs.col(pairIndex(n, a, b)) = values.col(a) .* values.col(b) for a <= b < n.
+  static void pairProducts(const Eigen::MatrixXd& values, Eigen::MatrixXd& pairs) {
+    const int n = static_cast<int>(values.cols());
+    pairs.resize(values.rows(), n * (n + 1) / 2);
+    for (int a = 0; a < n; ++a) {
+      for (int b = a; b < n; ++b) {
+        pairs.col(pairIndex(n, a, b)) = values.col(a).cwiseProduct(values.col(b));
+      }
+    }
+  }
+
+  bool isGrid_ = false;
+  Eigen::Index countU_ = 0, countV_ = 0;
+  /// gridRow_[iu * countV_ + iv]: the group's row of the sensor at (u_iu, v_iv).
+  std::vector<Eigen::Index> gridRow_;
+  std::vector<int> keysU_, keysV_, rowKeyU_, rowKeyV_;
+  /// The u and v basis values of the grid's lines.
+  Eigen::MatrixXd valuesU_, valuesV_;
+  Eigen::MatrixXd pairsU_, pairsV_, partial_, tensorGram_;
+};
+
+/// Sums span groups into their GroupSums, one group after the other, with scratch space that it
+/// keeps between groups (one per thread).
+class GroupAssembler {
+ public:
+  GroupAssembler(int dimension, const std::vector<Eigen::Vector3d>& controlPoints)
+      : d_(dimension), entryCount_(dimension * (dimension + 1) / 2), controlPoints_(controlPoints) {
+    // Entry S(r, c) of the symmetric d x d matrices, r <= c, is entry number entryOf_[r][c].
+    for (int r = 0, entry = 0; r < d_; ++r) {
+      for (int c = r; c < d_; ++c, ++entry) entryOf_[r][c] = entryOf_[c][r] = entry;
+    }
+  }
+
+  /// The weighted sums of `group`'s forms and rank-one terms.
+  void sum(const SpanGroup& group, GroupSums& sum) {
+    const SensorTerms& set = *group.set;
+    loadForms(group);
+    grid_.detect(*set.basis, group.first, group.last);
+    kroneckerSums(sum.block, sum.right);
+    sum.block *= set.weight;
+    sum.right *= set.weight;
+    if (set.rankOne == nullptr || set.rankOne->empty()) return;
+    // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
+    // b += alpha u (u . x_now).
+    if (set.rankOne->separable) {
+      loadSeparableTerms(group);
+      kroneckerSums(sum.rankOneBlock, sum.rankOneRight);
+    } else {
+      expandedTermSums(group, sum);
+    }
+    sum.rankOneBlock *= set.weight;
+    sum.rankOneRight *= set.weight;
+  }
+
+ private:
+  /// Row `row` of entries_ and rights_: the upper triangle of `matrix` and the first d entries of
+  /// `right`.
+  void setRow(Eigen::Index row, const Eigen::Matrix3d& matrix, const Eigen::Vector3d& right) {
+    int entry = 0;
+    for (int r = 0; r < d_; ++r) {
+      rights_(row, r) = right[r];
+      for (int c = r; c < d_; ++c) entries_(row, entry++) = matrix(r, c);
+    }
+  }
+
+  /// Each sensor's basis weights, form matrix and form right-hand side, a row per sensor.
+  void loadForms(const SpanGroup& group) {
+    const SensorMap& basis = *group.set->basis;
+    const std::vector<QuadraticForm>& forms = *group.set->forms;
+    order_ = basis.order();
+    const Eigen::Index count = group.last - group.first;
+    weights_.resize(count, order_);
+    entries_.resize(count, entryCount_);
+    rights_.resize(count, d_);
+    for (Eigen::Index row = 0; row < count; ++row) {
+      const int k = basis.spanOrder()[group.first + row];
+      for (int a = 0; a < order_; ++a) weights_(row, a) = basis.weight(k, a);
+      setRow(row, forms[k].A, forms[k].b);
+    }
+  }
+
+  /// Separable terms u = w (x) t: per sensor S = sum alpha t t^T and r = S x_k (x_k = sum_j w_j
+  /// x_now_j, the sensor's point), into the rows of entries_ and rights_ to be summed like the
+  /// forms.
+  void loadSeparableTerms(const SpanGroup& group) {
+    const SensorMap& basis = *group.set->basis;
+    const RankOneTerms& rankOne = *group.set->rankOne;
+    const std::size_t length = d_;  // entries per direction (std::size_t: t * length may pass int)
+    for (Eigen::Index row = 0; row < weights_.rows(); ++row) {
+      const int k = basis.spanOrder()[group.first + row];
+      Eigen::Vector3d point = Eigen::Vector3d::Zero();
+      for (int a = 0; a < order_; ++a) {
+        point.head(d_) += weights_(row, a) * controlPoints_[basis.index(group.sensor, a)].head(d_);
+      }
+      Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+      for (int t = rankOne.start[k]; t < rankOne.start[k + 1]; ++t) {
+        Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+        for (int a = 0; a < d_; ++a) direction[a] = rankOne.vectors[t * length + a];
+        S += rankOne.coefficients[t] * direction * direction.transpose();
+      }
+      const Eigen::Vector3d right = S * point;
+      setRow(row, S, right);
+    }
+  }
+
+  /// General terms: the group's vectors u (columns of U) and alpha u (columns of W), in sensor
+  /// order, give sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
+  void expandedTermSums(const SpanGroup& group, GroupSums& sum) {
+    const SensorMap& basis = *group.set->basis;
+    const RankOneTerms& rankOne = *group.set->rankOne;
+    const int blockSize = order_ * d_;
+    const std::size_t length = blockSize;  // std::size_t: t * length may pass int
+    int termCount = 0;
+    for (int j = group.first; j < group.last; ++j) {
+      const int k = basis.spanOrder()[j];
+      termCount += rankOne.start[k + 1] - rankOne.start[k];
+    }
+    local_.resize(blockSize);
+    for (int a = 0; a < order_; ++a) {
+      local_.segment(a * d_, d_) = controlPoints_[basis.index(group.sensor, a)].head(d_);
+    }
+    Eigen::MatrixXd U(blockSize, termCount);
+    Eigen::MatrixXd W(blockSize, termCount);
+    int column = 0;
+    for (int j = group.first; j < group.last; ++j) {
+      const int k = basis.spanOrder()[j];
+      for (int t = rankOne.start[k]; t < rankOne.start[k + 1]; ++t, ++column) {
+        U.col(column) =
+            Eigen::Map<const Eigen::VectorXd>(rankOne.vectors.data() + t * length, blockSize);
+        W.col(column) = rankOne.coefficients[t] * U.col(column);
+      }
+    }
+    sum.rankOneBlock.noalias() = U * W.transpose();
+    sum.rankOneRight.noalias() = W * (U.transpose() * local_);
+  }
+
+  /// The upper triangles of the weighted Gram matrices G_rc = W^T diag(S_rc) W of the group, one
+  /// per entry S(r, c), r <= c, of the rows of entries_, into upper_ (only the pairs a <= b are
+  /// written and read): on a grid direction by direction (CellGrid), otherwise by two dense
+  /// products that give the triangles of all entries at once (the columns b < h = order / 2 need
+  /// only the rows a < h, the others all rows).
+  void gramSums() {
+    upper_.resize(entryCount_ * order_ * order_);
+    if (grid_.isGrid()) {
+      grid_.gramSums(entries_, order_, upper_);
+      return;
+    }
+    const int low = order_ / 2, high = order_ - low;
+    scaledLow_.resize(weights_.rows(), entryCount_ * low);
+    scaledHigh_.resize(weights_.rows(), entryCount_ * high);
+    for (int e = 0; e < entryCount_; ++e) {
+      for (int b = 0; b < order_; ++b) {
+        auto column = b < low ? scaledLow_.col(e * low + b) : scaledHigh_.col(e * high + b - low);
+        column = weights_.col(b).cwiseProduct(entries_.col(e));
+      }
+    }
+    gramLow_.noalias() = weights_.leftCols(low).transpose() * scaledLow_;
+    gramHigh_.noalias() = weights_.transpose() * scaledHigh_;
+    for (int e = 0; e < entryCount_; ++e) {
+      for (int b = 0; b < order_; ++b) {
+        for (int a = 0; a <= b; ++a) {
+          upper_[(a * order_ + b) * entryCount_ + e] =
+              b < low ? gramLow_(a, e * low + b) : gramHigh_(a, e * high + b - low);
+        }
+      }
+    }
+  }
+
+  /// block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and r
+  /// the rows of entries_ and rights_; the block mirrored from the upper triangles of the Gram
+  /// sums, so that it is exactly symmetric.
+  void kroneckerSums(Eigen::MatrixXd& block, Eigen::VectorXd& right) {
+    gramSums();
+    block.resize(order_ * d_, order_ * d_);
+    for (int b = 0; b < order_; ++b) {
+      for (int c = 0; c < d_; ++c) {
+        double* column = block.col(b * d_ + c).data();
+        for (int a = 0; a < order_; ++a) {
+          const double* pair =
+              upper_.data() + (std::min(a, b) * order_ + std::max(a, b)) * entryCount_;
+          for (int r = 0; r < d_; ++r) column[a * d_ + r] = pair[entryOf_[r][c]];
+        }
+      }
+    }
+    const Eigen::MatrixXd sums = weights_.transpose() * rights_;  // order x d
+    right.resize(order_ * d_);
+    for (int b = 0; b < order_; ++b) {
+      for (int r = 0; r < d_; ++r) right[b * d_ + r] = sums(b, r);
+    }
+  }
+
+  const int d_;
+  const int entryCount_;  ///< entries of a symmetric d x d matrix
+  const std::vector<Eigen::Vector3d>& controlPoints_;
+  int entryOf_[3][3] = {};
+  int order_ = 0;            ///< the current group's control points
+  Eigen::MatrixXd weights_;  ///< sensors x order: each sensor's basis weights
+  Eigen::MatrixXd entries_;  ///< sensors x d(d+1)/2: each sensor's symmetric d x d matrix
+  Eigen::MatrixXd rights_;   ///< sensors x d: each sensor's right-hand side
+  Eigen::MatrixXd scaledLow_, scaledHigh_, gramLow_, gramHigh_;
+  Eigen::VectorXd local_;
+  std::vector<double> upper_;  ///< the Gram values of one group, [(a * order + b) * E + e]
+  CellGrid grid_;
+};
+
+/// The appearances of each control point in the span groups, as (group, local index) in group
+/// order.
+class ControlPointAppearances {
+ public:
+  using Appearance = std::pair<std::size_t, int>;
+
+  ControlPointAppearances(const std::vector<SpanGroup>& groups, int controlPointCount)
+      : start_(controlPointCount + 1, 0) {
+    for (const SpanGroup& group : groups) {
+      const SensorMap& basis = *group.set->basis;
+      for (int a = 0; a < basis.order(); ++a) ++start_[basis.index(group.sensor, a) + 1];
+    }
+    for (std::size_t j = 1; j < start_.size(); ++j) start_[j] += start_[j - 1];
+    appearances_.resize(start_.back());
+    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const SensorMap& basis = *groups[i].set->basis;
+      for (int a = 0; a < basis.order(); ++a) {
+        appearances_[next[basis.index(groups[i].sensor, a)]++] = {i, a};
+      }
+    }
+  }
+
+  /// Control point j's appearances: [begin(j), end(j)).
+  const Appearance* begin(int j) const { return appearances_.data() + start_[j]; }
+  const Appearance* end(int j) const { return appearances_.data() + start_[j + 1]; }
+
+ private:
+  std::vector<std::size_t> start_;
+  std::vector<Appearance> appearances_;
+};
+
 }  // namespace
+
+/// Every span group of every sensor set, in set order, with its sums and the places of its
+/// (a, b) blocks in the pattern.
+struct QuadraticModel::Assembly {
+  Assembly(const std::vector<SensorTerms>& terms, int controlPointCount, int dimension) {
+    for (const SensorTerms& set : terms) {
+      requireMatching(set, controlPointCount, dimension);
+      const std::vector<int>& begin = set.basis->spanBegin();
+      for (std::size_t g = 0; g + 1 < begin.size(); ++g) {
+        groups.push_back({&set, begin[g], begin[g + 1], set.basis->spanOrder()[begin[g]]});
+      }
+    }
+    rankStart.assign(groups.size() + 1, 0);
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const int order = groups[i].set->basis->order();
+      rankStart[i + 1] = rankStart[i] + order * order;
+    }
+    ranks.resize(rankStart.back());
+    sums.resize(groups.size());
+  }
+
+  /// Every pair (a, b) of control points that share a group (with repetitions).
+  std::vector<std::pair<int, int>> controlPointPairs() const {
+    std::vector<std::pair<int, int>> pairs;
+    pairs.reserve(ranks.size());
+    for (const SpanGroup& group : groups) {
+      const SensorMap& basis = *group.set->basis;
+      for (int a = 0; a < basis.order(); ++a) {
+        for (int b = 0; b < basis.order(); ++b) {
+          pairs.emplace_back(basis.index(group.sensor, a), basis.index(group.sensor, b));
+        }
+      }
+    }
+    return pairs;
+  }
+
+  std::vector<SpanGroup> groups;
+  std::vector<GroupSums> sums;
+  /// Group i's (a, b) block goes to the rank ranks[rankStart[i] + a * order + b] of control
+  /// point a's row in b's column of the pattern (-1 outside the stored pattern).
+  std::vector<std::size_t> rankStart;
+  std::vector<int> ranks;
+};
 
 QuadraticModel::QuadraticModel(int controlPointCount, int dimension,
                                Eigen::SparseMatrix<double> smoothing,
@@ -72,409 +475,88 @@ std::vector<Eigen::Vector3d> QuadraticModel::solve(
 
 void QuadraticModel::assemble(const std::vector<SensorTerms>& terms,
                               const std::vector<Eigen::Vector3d>& controlPoints) {
-  const int d = dimension_;
   if (static_cast<int>(controlPoints.size()) != controlPointCount_) {
     throw InputError("the fitting model expects " + std::to_string(controlPointCount_) +
                      " control points, got " + std::to_string(controlPoints.size()));
   }
-  // Every span group of every sensor set, in set order: (set, group).
-  std::vector<std::pair<int, int>> groupList;
-  for (std::size_t s = 0; s < terms.size(); ++s) {
-    const SensorTerms& set = terms[s];
-    if (set.basis == nullptr || set.forms == nullptr ||
-        static_cast<int>(set.forms->size()) != set.basis->sensorCount() ||
-        set.basis->controlPointCount() != controlPointCount_) {
-      throw InputError("a sensor set of the fitting model does not match its basis or net");
-    }
-    if (set.rankOne != nullptr && !set.rankOne->empty() &&
-        (set.rankOne->length != (set.rankOne->separable ? d : set.basis->order() * d) ||
-         static_cast<int>(set.rankOne->start.size()) != set.basis->sensorCount() + 1 ||
-         set.rankOne->vectors.size() !=
-             set.rankOne->coefficients.size() * static_cast<std::size_t>(set.rankOne->length) ||
-         set.rankOne->start.back() != static_cast<int>(set.rankOne->coefficients.size()))) {
-      throw InputError("the rank-one terms of a sensor set do not match its basis");
-    }
-    const int groups = static_cast<int>(set.basis->spanBegin().size()) - 1;
-    for (int g = 0; g < groups; ++g) groupList.emplace_back(static_cast<int>(s), g);
-  }
-  const int groups = static_cast<int>(groupList.size());
-  const auto setOf = [&](int i) -> const SensorTerms& {
-    return terms[static_cast<std::size_t>(groupList[static_cast<std::size_t>(i)].first)];
-  };
-  // The first sensor of group i (all of its sensors share their control points).
-  const auto firstSensor = [&](int i) {
-    const SensorMap& basis = *setOf(i).basis;
-    return basis.spanOrder()[static_cast<std::size_t>(basis.spanBegin()[static_cast<std::size_t>(
-        groupList[static_cast<std::size_t>(i)].second)])];
-  };
-  std::vector<int> rankStart(static_cast<std::size_t>(groups) + 1, 0);
-  for (int i = 0; i < groups; ++i) {
-    const int order = setOf(i).basis->order();
-    rankStart[static_cast<std::size_t>(i) + 1] =
-        rankStart[static_cast<std::size_t>(i)] + order * order;
-  }
-
-  // Where each group's (a, b) block goes: the rank of control point a's row in b's column of the
-  // pattern (false when a pair lies outside the stored pattern).
-  std::vector<int> ranks(static_cast<std::size_t>(rankStart.back()));
-  const auto findRanks = [&](int i) {
-    const SensorMap& basis = *setOf(i).basis;
-    const int order = basis.order();
-    const int k = firstSensor(i);
-    bool found = true;
-    for (int a = 0; a < order; ++a) {
-      for (int b = 0; b < order; ++b) {
-        const int rank = patternRank(basis.index(k, a), basis.index(k, b));
-        found = found && rank >= 0;
-        ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)] =
-            rank;
-      }
-    }
-    return found;
-  };
-
-  // Per span group: a dense block over its control points (its upper block triangle summed
-  // sensor by sensor, then mirrored: the forms are symmetric) and the right-hand side; the same
-  // for the rank-one terms.
-  struct GroupSums {
-    Eigen::MatrixXd block, rankOneBlock;
-    Eigen::VectorXd right, rankOneRight;
-  };
-  std::vector<GroupSums> sums(static_cast<std::size_t>(groups));
+  Assembly assembly(terms, controlPointCount_, dimension_);
   std::atomic<bool> outsidePattern{false};
-  tbb::parallel_for(tbb::blocked_range<int>(0, groups, 1), [&](const tbb::blocked_range<int>&
-                                                                   range) {
-    Eigen::MatrixXd weights;  // sensors x order: each sensor's basis weights
-    Eigen::MatrixXd entries;  // sensors x d(d+1)/2: each sensor's symmetric d x d matrix
-    Eigen::MatrixXd rights;   // sensors x d: each sensor's right-hand side
-    Eigen::MatrixXd scaledLow, scaledHigh, gramLow, gramHigh;
-    Eigen::VectorXd local;
-    std::vector<double> upper;  // the Gram values of one group, [(a * order + b) * E + e]
-    // A knot cell whose sensors form a full grid of gridU x gridV (u, v) parameters of a
-    // tensor-product map: gridRow[iu * gridV + iv] is the row in `weights` of the sensor at
-    // (u_iu, v_iv), valuesU / valuesV the u and v basis values of the grid's lines.
-    bool isGrid = false;
-    int gridU = 0, gridV = 0;
-    std::vector<int> gridRow, keysU, keysV, rowKeyU, rowKeyV;
-    Eigen::MatrixXd valuesU, valuesV, pairsU, pairsV, partial, tensorGram;
-    const auto detectGrid = [&](const SensorMap& basis, int first, int last) {
-      isGrid = false;
-      const int orderU = basis.orderU();
-      if (orderU <= 0) return;
-      const int orderV = basis.order() / orderU;
-      const int count = last - first;
-      rowKeyU.resize(static_cast<std::size_t>(count));
-      rowKeyV.resize(static_cast<std::size_t>(count));
-      for (int row = 0; row < count; ++row) {
-        const int k = basis.spanOrder()[static_cast<std::size_t>(first + row)];
-        rowKeyU[static_cast<std::size_t>(row)] = basis.uKey(k);
-        rowKeyV[static_cast<std::size_t>(row)] = basis.vKey(k);
-      }
-      const auto distinct = [](std::vector<int> keys) {
-        std::sort(keys.begin(), keys.end());
-        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-        return keys;
-      };
-      keysU = distinct(rowKeyU);
-      keysV = distinct(rowKeyV);
-      gridU = static_cast<int>(keysU.size());
-      gridV = static_cast<int>(keysV.size());
-      if (static_cast<long long>(gridU) * gridV != count) return;
-      gridRow.assign(static_cast<std::size_t>(count), -1);
-      valuesU.resize(gridU, orderU);
-      valuesV.resize(gridV, orderV);
-      for (int row = 0; row < count; ++row) {
-        const int iu = static_cast<int>(
-            std::lower_bound(keysU.begin(), keysU.end(), rowKeyU[static_cast<std::size_t>(row)]) -
-            keysU.begin());
-        const int iv = static_cast<int>(
-            std::lower_bound(keysV.begin(), keysV.end(), rowKeyV[static_cast<std::size_t>(row)]) -
-            keysV.begin());
-        int& slot = gridRow[static_cast<std::size_t>(iu * gridV + iv)];
-        if (slot >= 0) return;  // two sensors at one grid point: not a grid
-        slot = row;
-        const int k = basis.spanOrder()[static_cast<std::size_t>(first + row)];
-        for (int a = 0; a < orderU; ++a) valuesU(iu, a) = basis.uWeight(k, a);
-        for (int b = 0; b < orderV; ++b) valuesV(iv, b) = basis.vWeight(k, b);
-      }
-      isGrid = true;
-    };
-    // Index of the pair (a, b), a <= b, among the pairs of n functions.
-    const auto pairIndex = [](int n, int a, int b) { return a * n - a * (a - 1) / 2 + (b - a); };
-    // The upper triangles of the weighted Gram matrices G_rc = W^T diag(S_rc) W of the group,
-    // one per entry S(r, c), r <= c, of the rows of `entries`, into `upper`.
-    //  - A grid of a tensor-product map: w = N (x) M, so G_rc((a, b), (a', b')) =
-    //    sum_iu N_a N_a'(u_iu) sum_iv M_b M_b'(v_iv) S_rc(iu, iv), summed direction by direction
-    //    over the pairs a <= a' and b <= b' (for bicubic patches and 10 x 10 sensors about a
-    //    fifth of the products of the general sum).
-    //  - Otherwise two dense products give the triangles of all entries at once: the columns
-    //    b < h = order / 2 need only the rows a < h, the others all rows.
-    const auto gramSums = [&](int order) {
-      const int entryCount = d * (d + 1) / 2;
-      // Only the pairs a <= b are written and read.
-      upper.resize(static_cast<std::size_t>(entryCount * order * order));
-      if (isGrid) {
-        const int orderU = static_cast<int>(valuesU.cols());
-        const int orderV = static_cast<int>(valuesV.cols());
-        const int pairCountV = orderV * (orderV + 1) / 2;
-        const auto products = [&](const Eigen::MatrixXd& values, Eigen::MatrixXd& pairs) {
-          const int n = static_cast<int>(values.cols());
-          pairs.resize(values.rows(), n * (n + 1) / 2);
-          for (int a = 0; a < n; ++a) {
-            for (int b = a; b < n; ++b) {
-              pairs.col(pairIndex(n, a, b)) = values.col(a).cwiseProduct(values.col(b));
-            }
-          }
-        };
-        products(valuesU, pairsU);
-        products(valuesV, pairsV);
-        for (int e = 0; e < entryCount; ++e) {
-          partial.setZero(pairCountV, gridU);
-          for (int iu = 0; iu < gridU; ++iu) {
-            for (int iv = 0; iv < gridV; ++iv) {
-              const double value = entries(gridRow[static_cast<std::size_t>(iu * gridV + iv)], e);
-              partial.col(iu) += value * pairsV.row(iv).transpose();
-            }
-          }
-          tensorGram.noalias() = partial * pairsU;  // pairCountV x pairCountU
-          for (int a = 0; a < order; ++a) {
-            const int au = a / orderV, av = a % orderV;
-            for (int b = a; b < order; ++b) {
-              const int bu = b / orderV, bv = b % orderV;
-              upper[static_cast<std::size_t>((a * order + b) * entryCount + e)] =
-                  tensorGram(pairIndex(orderV, std::min(av, bv), std::max(av, bv)),
-                             pairIndex(orderU, std::min(au, bu), std::max(au, bu)));
-            }
-          }
-        }
-        return;
-      }
-      const int low = order / 2, high = order - low;
-      const int count = static_cast<int>(weights.rows());
-      scaledLow.resize(count, entryCount * low);
-      scaledHigh.resize(count, entryCount * high);
-      for (int e = 0; e < entryCount; ++e) {
-        for (int b = 0; b < order; ++b) {
-          auto column = b < low ? scaledLow.col(e * low + b) : scaledHigh.col(e * high + b - low);
-          column = weights.col(b).cwiseProduct(entries.col(e));
-        }
-      }
-      gramLow.noalias() = weights.leftCols(low).transpose() * scaledLow;
-      gramHigh.noalias() = weights.transpose() * scaledHigh;
-      for (int e = 0; e < entryCount; ++e) {
-        for (int b = 0; b < order; ++b) {
-          for (int a = 0; a <= b; ++a) {
-            upper[static_cast<std::size_t>((a * order + b) * entryCount + e)] =
-                b < low ? gramLow(a, e * low + b) : gramHigh(a, e * high + b - low);
-          }
-        }
-      }
-    };
-    // block = sum over the group's sensors of (w w^T) (x) S, right = sum of w (x) r, with S and
-    // r the rows of `entries` (S(r, c), r <= c) and `rights`; the block mirrored from the
-    // upper triangles of the Gram sums, so that it is exactly symmetric.
-    const auto kroneckerSums = [&](int order, Eigen::MatrixXd& block, Eigen::VectorXd& right) {
-      gramSums(order);
-      // Entry S(r, c) of the symmetric d x d matrices, r <= c, is entry number entryOf[r][c].
-      int entryOf[3][3] = {};
-      for (int r = 0, entry = 0; r < d; ++r) {
-        for (int c = r; c < d; ++c, ++entry) entryOf[r][c] = entryOf[c][r] = entry;
-      }
-      const int entryCount = d * (d + 1) / 2;
-      block.resize(order * d, order * d);
-      for (int b = 0; b < order; ++b) {
-        for (int c = 0; c < d; ++c) {
-          double* column = block.col(b * d + c).data();
-          for (int a = 0; a < order; ++a) {
-            const double* pair =
-                upper.data() + (std::min(a, b) * order + std::max(a, b)) * entryCount;
-            for (int r = 0; r < d; ++r) column[a * d + r] = pair[entryOf[r][c]];
-          }
-        }
-      }
-      const Eigen::MatrixXd sums = weights.transpose() * rights;  // order x d
-      right.resize(order * d);
-      for (int b = 0; b < order; ++b) {
-        for (int r = 0; r < d; ++r) right[b * d + r] = sums(b, r);
-      }
-    };
-    for (int i = range.begin(); i != range.end(); ++i) {
-      if (!findRanks(i)) outsidePattern = true;
-      const SensorTerms& set = setOf(i);
-      const SensorMap& basis = *set.basis;
-      const int g = groupList[static_cast<std::size_t>(i)].second;
-      const int order = basis.order();
-      const int blockSize = order * d;
-      GroupSums& sum = sums[static_cast<std::size_t>(i)];
-      const int first = basis.spanBegin()[static_cast<std::size_t>(g)];
-      const int last = basis.spanBegin()[static_cast<std::size_t>(g) + 1];
-      const int count = last - first;
-      weights.resize(count, order);
-      entries.resize(count, d * (d + 1) / 2);
-      rights.resize(count, d);
-      for (int j = first; j < last; ++j) {
-        const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-        const QuadraticForm& form = (*set.forms)[static_cast<std::size_t>(k)];
-        const int row = j - first;
-        for (int a = 0; a < order; ++a) weights(row, a) = basis.weight(k, a);
-        int entry = 0;
-        for (int r = 0; r < d; ++r) {
-          rights(row, r) = form.b[r];
-          for (int c = r; c < d; ++c) entries(row, entry++) = form.A(r, c);
-        }
-      }
-      detectGrid(basis, first, last);
-      kroneckerSums(order, sum.block, sum.right);
-      sum.block *= set.weight;
-      sum.right *= set.weight;
-      if (set.rankOne == nullptr || set.rankOne->empty()) continue;
-      // A term alpha (u . (x - x_now))^2 over the group's control points x: A += alpha u u^T,
-      // b += alpha u (u . x_now).
-      const RankOneTerms& rankOne = *set.rankOne;
-      const int k0 = basis.spanOrder()[static_cast<std::size_t>(first)];
-      if (rankOne.separable) {
-        // u = w (x) t: per sensor S = sum alpha t t^T and r = S x_k (x_k = sum_j w_j x_now_j,
-        // the sensor's point), summed like the forms.
-        for (int j = first; j < last; ++j) {
-          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-          const int row = j - first;
-          Eigen::Vector3d point = Eigen::Vector3d::Zero();
-          for (int a = 0; a < order; ++a) {
-            point.head(d) += weights(row, a) *
-                             controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
-          }
-          Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-          for (int t = rankOne.start[static_cast<std::size_t>(k)];
-               t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t) {
-            Eigen::Vector3d direction = Eigen::Vector3d::Zero();
-            for (int a = 0; a < d; ++a) {
-              direction[a] = rankOne.vectors[static_cast<std::size_t>(t) * d + a];
-            }
-            S += rankOne.coefficients[static_cast<std::size_t>(t)] * direction *
-                 direction.transpose();
-          }
-          const Eigen::Vector3d right = S * point;
-          int entry = 0;
-          for (int r = 0; r < d; ++r) {
-            rights(row, r) = right[r];
-            for (int c = r; c < d; ++c) entries(row, entry++) = S(r, c);
-          }
-        }
-        kroneckerSums(order, sum.rankOneBlock, sum.rankOneRight);
-      } else {
-        int termCount = 0;
-        for (int j = first; j < last; ++j) {
-          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-          termCount += rankOne.start[static_cast<std::size_t>(k) + 1] -
-                       rankOne.start[static_cast<std::size_t>(k)];
-        }
-        local.resize(blockSize);
-        for (int a = 0; a < order; ++a) {
-          local.segment(a * d, d) =
-              controlPoints[static_cast<std::size_t>(basis.index(k0, a))].head(d);
-        }
-        // The group's vectors u (columns of U) and alpha u (columns of W), in sensor order:
-        // sum alpha u u^T = U W^T and sum alpha u (u . x) = W U^T x.
-        Eigen::MatrixXd U(blockSize, termCount);
-        Eigen::MatrixXd W(blockSize, termCount);
-        int column = 0;
-        for (int j = first; j < last; ++j) {
-          const int k = basis.spanOrder()[static_cast<std::size_t>(j)];
-          for (int t = rankOne.start[static_cast<std::size_t>(k)];
-               t < rankOne.start[static_cast<std::size_t>(k) + 1]; ++t, ++column) {
-            U.col(column) = Eigen::Map<const Eigen::VectorXd>(
-                rankOne.vectors.data() + static_cast<std::size_t>(t) * blockSize, blockSize);
-            W.col(column) = rankOne.coefficients[static_cast<std::size_t>(t)] * U.col(column);
-          }
-        }
-        sum.rankOneBlock.noalias() = U * W.transpose();
-        sum.rankOneRight.noalias() = W * (U.transpose() * local);
-      }
-      sum.rankOneBlock *= set.weight;
-      sum.rankOneRight *= set.weight;
-    }
-  });
-  if (outsidePattern || patternStart_.empty()) {  // new sensor spans (or none yet): rebuild
-    std::vector<std::pair<int, int>> pairs;
-    pairs.reserve(ranks.size());
-    for (int i = 0; i < groups; ++i) {
-      const SensorMap& basis = *setOf(i).basis;
-      const int k = firstSensor(i);
-      for (int a = 0; a < basis.order(); ++a) {
-        for (int b = 0; b < basis.order(); ++b) {
-          pairs.emplace_back(basis.index(k, a), basis.index(k, b));
-        }
-      }
-    }
-    rebuildPattern(pairs);
-    for (int i = 0; i < groups; ++i) findRanks(i);
-  }
-
-  // Scatter: each control point's column of the system and its rows of the right-hand side
-  // gather their contributions in group order (a group adds once to each entry of a valid net),
-  // so every entry sums the same way for any thread count. The columns are disjoint parts of
-  // the value array, so they fill in parallel.
-  const std::size_t nonZeros = static_cast<std::size_t>(system_.nonZeros());
-  const int unknowns = controlPointCount_ * d;
-  formValues_.assign(nonZeros, 0.0);
-  rankOneValues_.assign(nonZeros, 0.0);
-  formRight_ = Eigen::VectorXd::Zero(unknowns);
-  rankOneRight_ = Eigen::VectorXd::Zero(unknowns);
-  // (group, local index) of every appearance of each control point, in group order.
-  std::vector<int> appearanceStart(static_cast<std::size_t>(controlPointCount_) + 1, 0);
-  for (int i = 0; i < groups; ++i) {
-    const SensorMap& basis = *setOf(i).basis;
-    const int k = firstSensor(i);
-    for (int a = 0; a < basis.order(); ++a) ++appearanceStart[basis.index(k, a) + 1];
-  }
-  for (int j = 0; j < controlPointCount_; ++j) {
-    appearanceStart[static_cast<std::size_t>(j) + 1] +=
-        appearanceStart[static_cast<std::size_t>(j)];
-  }
-  std::vector<std::pair<int, int>> appearances(static_cast<std::size_t>(appearanceStart.back()));
-  {
-    std::vector<int> next(appearanceStart.begin(), appearanceStart.end() - 1);
-    for (int i = 0; i < groups; ++i) {
-      const SensorMap& basis = *setOf(i).basis;
-      const int k = firstSensor(i);
-      for (int a = 0; a < basis.order(); ++a) {
-        appearances[static_cast<std::size_t>(next[static_cast<std::size_t>(basis.index(k, a))]++)] =
-            {i, a};
-      }
-    }
-  }
-  const auto scatterColumn = [&](int column) {
-    const int row = column * d;
-    for (int e = appearanceStart[static_cast<std::size_t>(column)];
-         e < appearanceStart[static_cast<std::size_t>(column) + 1]; ++e) {
-      const auto [i, b] = appearances[static_cast<std::size_t>(e)];
-      const int order = setOf(i).basis->order();
-      const GroupSums& sum = sums[static_cast<std::size_t>(i)];
-      const bool withRankOne = sum.rankOneBlock.size() > 0;
-      formRight_.segment(row, d) += sum.right.segment(b * d, d);
-      if (withRankOne) rankOneRight_.segment(row, d) += sum.rankOneRight.segment(b * d, d);
-      for (int a = 0; a < order; ++a) {
-        const int rank =
-            ranks[static_cast<std::size_t>(rankStart[static_cast<std::size_t>(i)] + a * order + b)];
-        for (int c = 0; c < d; ++c) {
-          for (int r = 0; r < d; ++r) {
-            const std::size_t index = static_cast<std::size_t>(valueIndex(rank, column, r, c));
-            formValues_[index] += sum.block(a * d + r, b * d + c);
-            if (withRankOne) rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
-          }
-        }
-      }
-    }
-  };
-  tbb::parallel_for(tbb::blocked_range<int>(0, controlPointCount_, 16),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int column = range.begin(); column != range.end(); ++column) {
-                        scatterColumn(column);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, assembly.groups.size(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      GroupAssembler assembler(dimension_, controlPoints);
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        if (!findRanks(assembly, i)) outsidePattern = true;
+                        assembler.sum(assembly.groups[i], assembly.sums[i]);
                       }
                     });
+  if (outsidePattern || patternStart_.empty()) {  // new sensor spans (or none yet): rebuild
+    rebuildPattern(assembly.controlPointPairs());
+    for (std::size_t i = 0; i < assembly.groups.size(); ++i) findRanks(assembly, i);
+  }
+  scatter(assembly);
   expansionPoint_ = stacked(controlPoints);
   assembled_ = true;
   for (Factorization& f : factorizations_) f.reset(false);  // a new system: none is reused
+}
+
+bool QuadraticModel::findRanks(Assembly& assembly, std::size_t group) const {
+  const SpanGroup& span = assembly.groups[group];
+  const SensorMap& basis = *span.set->basis;
+  const int order = basis.order();
+  int* const ranks = assembly.ranks.data() + assembly.rankStart[group];
+  bool found = true;
+  for (int a = 0; a < order; ++a) {
+    for (int b = 0; b < order; ++b) {
+      const int rank = patternRank(basis.index(span.sensor, a), basis.index(span.sensor, b));
+      found = found && rank >= 0;
+      ranks[a * order + b] = rank;
+    }
+  }
+  return found;
+}
+
+void QuadraticModel::scatter(const Assembly& assembly) {
+  // Each control point's column of the system and its rows of the right-hand side gather their
+  // contributions in group order (a group adds once to each entry of a valid net), so every entry
+  // sums the same way for any thread count. The columns are disjoint parts of the value array, so
+  // they fill in parallel.
+  const int unknowns = controlPointCount_ * dimension_;
+  formValues_.assign(system_.nonZeros(), 0.0);
+  rankOneValues_.assign(system_.nonZeros(), 0.0);
+  formRight_ = Eigen::VectorXd::Zero(unknowns);
+  rankOneRight_ = Eigen::VectorXd::Zero(unknowns);
+  const ControlPointAppearances appearances(assembly.groups, controlPointCount_);
+  tbb::parallel_for(tbb::blocked_range<int>(0, controlPointCount_, 16),
+                    [&](const tbb::blocked_range<int>& range) {
+                      for (int column = range.begin(); column != range.end(); ++column) {
+                        for (const auto* at = appearances.begin(column);
+                             at != appearances.end(column); ++at) {
+                          scatterBlockColumn(assembly, at->first, at->second, column);
+                        }
+                      }
+                    });
+}
+
+void QuadraticModel::scatterBlockColumn(const Assembly& assembly, std::size_t group, int b,
+                                        int column) {
+  const int d = dimension_;
+  const int order = assembly.groups[group].set->basis->order();
+  const GroupSums& sum = assembly.sums[group];
+  const int* const ranks = assembly.ranks.data() + assembly.rankStart[group];
+  const bool withRankOne = sum.rankOneBlock.size() > 0;
+  const int row = column * d;
+  formRight_.segment(row, d) += sum.right.segment(b * d, d);
+  if (withRankOne) rankOneRight_.segment(row, d) += sum.rankOneRight.segment(b * d, d);
+  for (int a = 0; a < order; ++a) {
+    const int rank = ranks[a * order + b];
+    for (int c = 0; c < d; ++c) {
+      for (int r = 0; r < d; ++r) {
+        const int index = valueIndex(rank, column, r, c);
+        formValues_[index] += sum.block(a * d + r, b * d + c);
+        if (withRankOne) rankOneValues_[index] += sum.rankOneBlock(a * d + r, b * d + c);
+      }
+    }
+  }
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::solveAssembled(double rankOneScale, double damping) {
@@ -491,8 +573,8 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
                                                                         bool indefiniteToo) {
   if (!assembled_) throw RuntimeFailure("the fitting model was solved before it was assembled");
   const SolveKey key{rankOneScale, damping, smoothingScale_, regularizerWeight_};
-  for (int slot = 0; slot < 2; ++slot) {
-    const Factorization& kept = factorizations_[static_cast<std::size_t>(slot)];
+  for (std::size_t slot = 0; slot < factorizations_.size(); ++slot) {
+    const Factorization& kept = factorizations_[slot];
     if (kept.valid && kept.key == key) {  // a system already factorised: reuse it
       current_ = slot;
       rankOneScale_ = rankOneScale;
@@ -501,90 +583,10 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
     }
   }
   // A new factorisation goes to the slot that does not hold the last solve's.
-  if (factorizations_[static_cast<std::size_t>(current_)].valid) current_ = 1 - current_;
-  Factorization& f = factorizations_[static_cast<std::size_t>(current_)];
-  const std::size_t nonZeros = formValues_.size();
-  double* const values = system_.valuePtr();
-  for (std::size_t e = 0; e < nonZeros; ++e) {
-    values[e] = formValues_[e] + rankOneScale * rankOneValues_[e];
-  }
-  addScaled(smoothing_, smoothingIndices_, 1.0, values);
-  addScaled(scaledSmoothing_, scaledSmoothingIndices_, smoothingScale_, values);
-  rankOneScale_ = rankOneScale;
-  // Gradient condition of m at c: (H + mu m0 I + R) c = r - H P.
-  const Eigen::VectorXd right = formRight_ + rankOneScale * rankOneRight_;
-  const Eigen::VectorXd residual = right - system_ * expansionPoint_;
-  const int unknowns = controlPointCount_ * dimension_;
-  double diagonalSum = 0.0;
-  for (const int index : diagonalIndices_) diagonalSum += values[index];
-  const double meanDiagonal = unknowns > 0 ? diagonalSum / unknowns : 0.0;
-  const double ridge = (1e-12 + std::max(damping, 0.0)) * (meanDiagonal > 0.0 ? meanDiagonal : 1.0);
-  for (const int index : diagonalIndices_) values[index] += ridge;
-  if (regularizerWeight_ > 0.0 && regularizer_.nonZeros() > 0) {
-    const double g0 = regularizer_.diagonal().mean();
-    if (g0 > 0.0) {
-      addScaled(regularizer_, regularizerIndices_,
-                regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0, values);
-    }
-  }
-  f.valid = false;
-  f.solverUsed = Solver::none;
-  // Small systems whose pattern is dense anyway (closed surfaces with few control points, short
-  // curves) are factorised densely: the simplicial factorisation's fill would make them slow.
-  const bool dense = unknowns <= kDenseUnknowns &&
-                     20.0 * static_cast<double>(system_.nonZeros()) >=
-                         static_cast<double>(unknowns) * static_cast<double>(unknowns);
-  if (dense) {
-    // A blocked Cholesky factorisation when the system is positive definite (the common case),
-    // else the pivoted LDLT, whose D tells the inertia.
-    const Eigen::MatrixXd matrix(system_);
-    f.denseCholesky.compute(matrix);
-    if (f.denseCholesky.info() == Eigen::Success &&
-        f.denseCholesky.matrixLLT().diagonal().allFinite() &&
-        f.denseCholesky.matrixLLT().diagonal().minCoeff() > 0.0) {
-      f.solverUsed = Solver::denseCholesky;
-    } else {
-      f.denseLdlt.compute(matrix);
-      if (f.denseLdlt.info() == Eigen::Success && f.denseLdlt.vectorD().allFinite()) {
-        f.solverUsed = Solver::denseLdlt;
-      }
-    }
-  } else {
-    if (unknowns > kSimplicialUnknowns) {
-      if (!f.cholesky) f.cholesky = std::make_unique<SupernodalCholesky>();
-      if (!f.analyzed) {
-        f.cholesky->analyzePattern(system_);
-        f.analyzed = true;
-      }
-      if (f.cholesky->factorize(system_)) f.solverUsed = Solver::supernodalCholesky;
-    }
-    // Small, or indefinite: the LDLT, which tells the inertia (not needed to learn only that a
-    // large system is indefinite).
-    if (f.solverUsed == Solver::none && (unknowns <= kSimplicialUnknowns || indefiniteToo)) {
-      if (!f.ldltAnalyzed) {
-        f.ldlt.analyzePattern(system_);
-        f.ldltAnalyzed = true;
-      }
-      f.ldlt.factorize(system_);
-      if (f.ldlt.info() == Eigen::Success) f.solverUsed = Solver::sparseLdlt;
-    }
-  }
-  switch (f.solverUsed) {
-    case Solver::none:
-      f.positiveDefinite = false;
-      break;
-    case Solver::denseCholesky:
-    case Solver::supernodalCholesky:
-      f.positiveDefinite = true;
-      break;
-    case Solver::denseLdlt:
-      f.positiveDefinite =
-          f.denseLdlt.vectorD().size() == 0 || f.denseLdlt.vectorD().minCoeff() > 0.0;
-      break;
-    case Solver::sparseLdlt:
-      f.positiveDefinite = f.ldlt.vectorD().size() == 0 || f.ldlt.vectorD().minCoeff() > 0.0;
-      break;
-  }
+  if (factorizations_[current_].valid) current_ = 1 - current_;
+  Factorization& f = factorizations_[current_];
+  const Eigen::VectorXd residual = loadSystem(rankOneScale, damping);
+  f.factorize(system_, controlPointCount_ * dimension_, indefiniteToo);
   if (!indefiniteToo && !f.positiveDefinite) return std::nullopt;
   if (f.solverUsed == Solver::none) {
     throw RuntimeFailure(
@@ -602,15 +604,111 @@ std::optional<std::vector<Eigen::Vector3d>> QuadraticModel::solveSystem(double r
   return unstacked(step);
 }
 
+void QuadraticModel::hessianValues(double rankOneScale, double* values) const {
+  for (std::size_t e = 0; e < formValues_.size(); ++e) {
+    values[e] = formValues_[e] + rankOneScale * rankOneValues_[e];
+  }
+  addScaled(smoothing_, smoothingIndices_, 1.0, values);
+  addScaled(scaledSmoothing_, scaledSmoothingIndices_, smoothingScale_, values);
+}
+
+Eigen::VectorXd QuadraticModel::loadSystem(double rankOneScale, double damping) {
+  double* const values = system_.valuePtr();
+  hessianValues(rankOneScale, values);
+  rankOneScale_ = rankOneScale;
+  // Gradient condition of m at c: (H + mu m0 I + R) c = r - H P.
+  const Eigen::VectorXd right = formRight_ + rankOneScale * rankOneRight_;
+  const Eigen::VectorXd residual = right - system_ * expansionPoint_;
+  const int unknowns = controlPointCount_ * dimension_;
+  double diagonalSum = 0.0;
+  for (const int index : diagonalIndices_) diagonalSum += values[index];
+  const double meanDiagonal = unknowns > 0 ? diagonalSum / unknowns : 0.0;
+  const double ridge = (1e-12 + std::max(damping, 0.0)) * (meanDiagonal > 0.0 ? meanDiagonal : 1.0);
+  for (const int index : diagonalIndices_) values[index] += ridge;
+  if (regularizerWeight_ > 0.0 && regularizer_.nonZeros() > 0) {
+    const double g0 = regularizer_.diagonal().mean();
+    if (g0 > 0.0) {
+      addScaled(regularizer_, regularizerIndices_,
+                regularizerWeight_ * (meanDiagonal > 0.0 ? meanDiagonal : 1.0) / g0, values);
+    }
+  }
+  return residual;
+}
+
+void QuadraticModel::Factorization::factorize(const Eigen::SparseMatrix<double>& system,
+                                              int unknowns, bool indefiniteToo) {
+  valid = false;
+  solverUsed = Solver::none;
+  // Small systems whose pattern is dense anyway (closed surfaces with few control points, short
+  // curves) are factorised densely: the simplicial factorisation's fill would make them slow.
+  const bool dense = unknowns <= kDenseUnknowns &&
+                     20.0 * static_cast<double>(system.nonZeros()) >=
+                         static_cast<double>(unknowns) * static_cast<double>(unknowns);
+  if (dense) {
+    factorizeDense(system);
+  } else {
+    factorizeSparse(system, unknowns, indefiniteToo);
+  }
+  switch (solverUsed) {
+    case Solver::none:
+      positiveDefinite = false;
+      break;
+    case Solver::denseCholesky:
+    case Solver::supernodalCholesky:
+      positiveDefinite = true;
+      break;
+    case Solver::denseLdlt:
+      positiveDefinite = denseLdlt.vectorD().size() == 0 || denseLdlt.vectorD().minCoeff() > 0.0;
+      break;
+    case Solver::sparseLdlt:
+      positiveDefinite = ldlt.vectorD().size() == 0 || ldlt.vectorD().minCoeff() > 0.0;
+      break;
+  }
+}
+
+void QuadraticModel::Factorization::factorizeDense(const Eigen::SparseMatrix<double>& system) {
+  // A blocked Cholesky factorisation when the system is positive definite (the common case),
+  // else the pivoted LDLT, whose D tells the inertia.
+  const Eigen::MatrixXd matrix(system);
+  denseCholesky.compute(matrix);
+  if (denseCholesky.info() == Eigen::Success && denseCholesky.matrixLLT().diagonal().allFinite() &&
+      denseCholesky.matrixLLT().diagonal().minCoeff() > 0.0) {
+    solverUsed = Solver::denseCholesky;
+    return;
+  }
+  denseLdlt.compute(matrix);
+  if (denseLdlt.info() == Eigen::Success && denseLdlt.vectorD().allFinite()) {
+    solverUsed = Solver::denseLdlt;
+  }
+}
+
+void QuadraticModel::Factorization::factorizeSparse(const Eigen::SparseMatrix<double>& system,
+                                                    int unknowns, bool indefiniteToo) {
+  if (unknowns > kSimplicialUnknowns) {
+    if (!cholesky) cholesky = std::make_unique<SupernodalCholesky>();
+    if (!analyzed) {
+      cholesky->analyzePattern(system);
+      analyzed = true;
+    }
+    if (cholesky->factorize(system)) solverUsed = Solver::supernodalCholesky;
+  }
+  // Small, or indefinite: the LDLT, which tells the inertia (not needed to learn only that a
+  // large system is indefinite).
+  if (solverUsed == Solver::none && (unknowns <= kSimplicialUnknowns || indefiniteToo)) {
+    if (!ldltAnalyzed) {
+      ldlt.analyzePattern(system);
+      ldltAnalyzed = true;
+    }
+    ldlt.factorize(system);
+    if (ldlt.info() == Eigen::Success) solverUsed = Solver::sparseLdlt;
+  }
+}
+
 double QuadraticModel::predictedDecrease(const std::vector<Eigen::Vector3d>& step) const {
   if (!assembled_) return 0.0;
   // The Hessian of the last solve without ridge, damping and regulariser.
   std::vector<double> hessian(formValues_.size());
-  for (std::size_t e = 0; e < hessian.size(); ++e) {
-    hessian[e] = formValues_[e] + rankOneScale_ * rankOneValues_[e];
-  }
-  addScaled(smoothing_, smoothingIndices_, 1.0, hessian.data());
-  addScaled(scaledSmoothing_, scaledSmoothingIndices_, smoothingScale_, hessian.data());
+  hessianValues(rankOneScale_, hessian.data());
   const Eigen::Map<const Eigen::SparseMatrix<double>> H(system_.rows(), system_.cols(),
                                                         system_.nonZeros(), system_.outerIndexPtr(),
                                                         system_.innerIndexPtr(), hessian.data());
@@ -621,10 +719,9 @@ double QuadraticModel::predictedDecrease(const std::vector<Eigen::Vector3d>& ste
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::scaledSmoothingShift() const {
-  const Factorization& f = factorizations_[static_cast<std::size_t>(current_)];
+  const Factorization& f = factorizations_[current_];
   if (!f.valid || scaledSmoothing_.nonZeros() == 0 || !assembled_) {
-    return std::vector<Eigen::Vector3d>(static_cast<std::size_t>(controlPointCount_),
-                                        Eigen::Vector3d::Zero());
+    return std::vector<Eigen::Vector3d>(controlPointCount_, Eigen::Vector3d::Zero());
   }
   const int d = dimension_;
   Eigen::VectorXd right(controlPointCount_ * d);
@@ -666,25 +763,24 @@ Eigen::VectorXd QuadraticModel::stacked(const std::vector<Eigen::Vector3d>& cont
   const int d = dimension_;
   Eigen::VectorXd vector(controlPointCount_ * d);
   for (int i = 0; i < controlPointCount_; ++i) {
-    vector.segment(i * d, d) = controlPoints[static_cast<std::size_t>(i)].head(d);
+    vector.segment(i * d, d) = controlPoints[i].head(d);
   }
   return vector;
 }
 
 std::vector<Eigen::Vector3d> QuadraticModel::unstacked(const Eigen::VectorXd& vector) const {
   const int d = dimension_;
-  std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(controlPointCount_),
-                                      Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> points(controlPointCount_, Eigen::Vector3d::Zero());
   for (int i = 0; i < controlPointCount_; ++i) {
-    points[static_cast<std::size_t>(i)].head(d) = vector.segment(i * d, d);
+    points[i].head(d) = vector.segment(i * d, d);
   }
   return points;
 }
 
 int QuadraticModel::patternRank(int row, int column) const {
   if (patternStart_.empty()) return -1;
-  const auto begin = patternRows_.begin() + patternStart_[static_cast<std::size_t>(column)];
-  const auto end = patternRows_.begin() + patternStart_[static_cast<std::size_t>(column) + 1];
+  const auto begin = patternRows_.begin() + patternStart_[column];
+  const auto end = patternRows_.begin() + patternStart_[column + 1];
   const auto found = std::lower_bound(begin, end, row);
   return found != end && *found == row ? static_cast<int>(found - begin) : -1;
 }
@@ -692,21 +788,21 @@ int QuadraticModel::patternRank(int row, int column) const {
 void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pairs) {
   const int n = controlPointCount_;
   const int d = dimension_;
-  std::vector<std::vector<int>> columns(static_cast<std::size_t>(n));
+  std::vector<std::vector<int>> columns(n);
   for (int j = 0; j < n; ++j) {
-    std::vector<int>& rows = columns[static_cast<std::size_t>(j)];
+    std::vector<int>& rows = columns[j];
     rows.push_back(j);  // the ridge
     if (!patternStart_.empty()) {
-      rows.insert(rows.end(), patternRows_.begin() + patternStart_[static_cast<std::size_t>(j)],
-                  patternRows_.begin() + patternStart_[static_cast<std::size_t>(j) + 1]);
+      rows.insert(rows.end(), patternRows_.begin() + patternStart_[j],
+                  patternRows_.begin() + patternStart_[j + 1]);
     }
   }
-  for (const auto& [row, column] : pairs) columns[static_cast<std::size_t>(column)].push_back(row);
+  for (const auto& [row, column] : pairs) columns[column].push_back(row);
   for (const Eigen::SparseMatrix<double>* matrix :
        {&smoothing_, &scaledSmoothing_, &regularizer_}) {
     for (int outer = 0; outer < matrix->outerSize(); ++outer) {
       for (Eigen::SparseMatrix<double>::InnerIterator it(*matrix, outer); it; ++it) {
-        columns[static_cast<std::size_t>(it.col())].push_back(static_cast<int>(it.row()));
+        columns[it.col()].push_back(static_cast<int>(it.row()));
       }
     }
   }
@@ -714,7 +810,7 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
   patternRows_.clear();
   std::vector<Eigen::Triplet<double>> entries;
   for (int j = 0; j < n; ++j) {
-    std::vector<int>& rows = columns[static_cast<std::size_t>(j)];
+    std::vector<int>& rows = columns[j];
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     patternRows_.insert(patternRows_.end(), rows.begin(), rows.end());
@@ -742,7 +838,7 @@ void QuadraticModel::rebuildPattern(const std::vector<std::pair<int, int>>& pair
 
 std::vector<int> QuadraticModel::valueIndicesOf(const Eigen::SparseMatrix<double>& matrix) const {
   std::vector<int> indices;
-  indices.reserve(static_cast<std::size_t>(matrix.nonZeros() * dimension_));
+  indices.reserve(matrix.nonZeros() * dimension_);
   for (int outer = 0; outer < matrix.outerSize(); ++outer) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, outer); it; ++it) {
       const int rank = patternRank(static_cast<int>(it.row()), static_cast<int>(it.col()));
@@ -762,8 +858,7 @@ void QuadraticModel::addScaled(const Eigen::SparseMatrix<double>& matrix,
   for (int outer = 0; outer < matrix.outerSize(); ++outer) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(matrix, outer); it; ++it, ++e) {
       for (int a = 0; a < dimension_; ++a) {
-        values[indices[e * static_cast<std::size_t>(dimension_) + static_cast<std::size_t>(a)]] +=
-            scale * it.value();
+        values[indices[e * dimension_ + a]] += scale * it.value();
       }
     }
   }
@@ -774,7 +869,7 @@ double QuadraticModel::smoothingEnergy(const std::vector<Eigen::Vector3d>& contr
   Eigen::VectorXd coordinate(controlPointCount_);
   for (int a = 0; a < dimension_; ++a) {
     for (int i = 0; i < controlPointCount_; ++i) {
-      coordinate[i] = controlPoints[static_cast<std::size_t>(i)][a];
+      coordinate[i] = controlPoints[i][a];
     }
     energy += coordinate.dot(smoothing_ * coordinate);
     if (smoothingScale_ != 0.0 && scaledSmoothing_.nonZeros() > 0) {
