@@ -13,6 +13,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/SurfaceTarget.h"
+#include "d2vdb/fit/detail/SplineFit.h"
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
 #include "d2vdb/fit/detail/SurfaceReparametrization.h"
 #include "d2vdb/fit/detail/SurfaceSensorBasis.h"
@@ -464,14 +465,7 @@ Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double
 SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
                                     const std::vector<Eigen::Vector3d>& points,
                                     const SurfaceFitOptions& options) {
-  if (points.empty()) {
-    throw InputError("the point cloud is empty: there is nothing to fit a surface to");
-  }
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (!points[k].allFinite()) {
-      throw InputError("data point " + std::to_string(k) + " has a non-finite coordinate");
-    }
-  }
+  detail::requireDataPoints(points, "a surface");
   const std::size_t unknowns = 3 * initial.controlPoints().size();
   if (points.size() < unknowns) {
     throw InputError("the point cloud has " + std::to_string(points.size()) +
