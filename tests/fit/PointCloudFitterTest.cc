@@ -9,8 +9,8 @@
 #include "FitTestSupport.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/InitialCurve.h"
-#include "d2vdb/fit/QuadraticModel.h"
 #include "d2vdb/fit/detail/PointCloudProblem.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
 
 #include <utility>
 
@@ -176,7 +176,7 @@ TEST(PointCloudFitter, SecondOrderTermsGiveTheObjectivesCurvature) {
   detail::FitLinearization linearization;
   problem.linearize(points, linearization);
   ASSERT_FALSE(linearization.secondOrder.empty());
-  QuadraticModel model(n, 2, Eigen::SparseMatrix<double>());
+  detail::QuadraticModel model(n, 2, Eigen::SparseMatrix<double>());
   model.assemble(
       {{linearization.basis, &linearization.forms,
         1.0 / static_cast<double>(linearization.forms.size()), &linearization.secondOrder}},

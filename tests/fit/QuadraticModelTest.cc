@@ -1,6 +1,6 @@
 // The fitting iteration's sparse model against a dense brute-force assembly of the same normal
 // equations, including a model reused after the sensors moved into knot spans it had not seen.
-#include "d2vdb/fit/QuadraticModel.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +11,10 @@
 
 #include "FitTestSupport.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/fit/SensorBasis.h"
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 BSplineCurve closedCurve(int controlPoints = 14) {
@@ -325,4 +325,4 @@ INSTANTIATE_TEST_SUITE_P(DenseSimplicialAndSupernodal, QuadraticModelSolvers,
                          ::testing::Values(14, 200, 410));
 
 }  // namespace
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,14 +1,14 @@
 // The smoothing Gram matrices and the sensor basis against direct evaluation of the curve.
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "FitTestSupport.h"
-#include "d2vdb/fit/SensorBasis.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 BSplineCurve wavyCurve(bool closed) {
@@ -82,4 +82,4 @@ TEST(SmoothingMatrix, GaussLegendreIsExactForPolynomials) {
 }
 
 }  // namespace
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,7 +1,7 @@
 // Surface sensors and the quadratic model over a surface: sensor positions against direct surface
 // evaluation, the cell grouping, and one model solve against a dense solve whose Jacobian comes
 // from evaluating the surface with unit control points (independent of the basis tables).
-#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +11,10 @@
 
 #include "FitTestSupport.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/fit/QuadraticModel.h"
-#include "d2vdb/fit/ThinPlateMatrix.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
+#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 BSplineSurface randomSurface(unsigned seed, int p, int q, int nu, int nv, bool closedU,
@@ -251,4 +251,4 @@ TEST(SurfaceSensorBasis, SameSensorsWithOneAndTwoThreads) {
 }
 
 }  // namespace
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,17 +1,17 @@
 // Thin-plate and membrane matrices of B-spline surfaces against closed-form energies of a
 // quadratic graph (reproduced exactly by a clamped bicubic) and against brute-force quadrature on
 // closed (periodic) surfaces.
-#include "d2vdb/fit/ThinPlateMatrix.h"
+#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <random>
 
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 /// sum_a P_a^T M P_a.
@@ -136,4 +136,4 @@ TEST(ThinPlateMatrix, ClosedSurfacesMatchBruteForceQuadrature) {
 }
 
 }  // namespace
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

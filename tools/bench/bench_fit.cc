@@ -77,7 +77,7 @@
 #include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/PointCloudFitter.h"
 #include "d2vdb/fit/SurfaceFitter.h"
-#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 #include "fit/FitTestSupport.h"
 
 namespace {
@@ -743,7 +743,7 @@ bool surfaceIterationCost(SurfaceIterationProblem& problem, SurfaceIterationCost
   cost.seconds = (more - once).count() / kTimedIterations;
   cost.queries = static_cast<double>(longerQueries - firstQueries) / kTimedIterations;
   const std::vector<Eigen::Vector2d> parameters =
-      d2vdb::uniformSurfaceSensorParameters(longer.surface, options.sensorsPerSpan);
+      d2vdb::detail::uniformSurfaceSensorParameters(longer.surface, options.sensorsPerSpan);
   cost.sensors.clear();
   for (const Eigen::Vector2d& uv : parameters) {
     cost.sensors.push_back(longer.surface.evaluate(uv.x(), uv.y()));

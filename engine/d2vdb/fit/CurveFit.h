@@ -10,11 +10,10 @@
 namespace d2vdb {
 
 /// How a curve fit is run (FitOptions): the bending energy is int |x''(u)|^2 du and the
-/// stretching energy int |x'(u)|^2 du, with u the curve parameter normalised to [0, 1]
-/// (SmoothingMatrix.h), and F_k the true squared distance of sensor k (CurveFitter) or of data
-/// point k (PointCloudFitter). For a circle of radius R the bending term is
-/// 16 pi^4 R^2 smoothness, i.e. it shrinks the fit by about 1560 * smoothness * R (the energy
-/// grows with the fourth power of the waviness).
+/// stretching energy int |x'(u)|^2 du, with u the curve parameter normalised to [0, 1], and F_k
+/// the true squared distance of sensor k (CurveFitter) or of data point k (PointCloudFitter). For
+/// a circle of radius R the bending term is 16 pi^4 R^2 smoothness, i.e. it shrinks the fit by
+/// about 1560 * smoothness * R (the energy grows with the fourth power of the waviness).
 struct CurveFitOptions : FitOptions {
   /// Sensors per knot span (CurveFitter only; PointCloudFitter uses one per data point).
   int sensorsPerSpan = 8;

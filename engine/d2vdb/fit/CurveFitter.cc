@@ -2,8 +2,8 @@
 
 #include <memory>
 
-#include "d2vdb/fit/SensorBasis.h"
 #include "d2vdb/fit/detail/CurveFitLoop.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
 #include "d2vdb/fit/detail/TargetProblem.h"
 
 namespace d2vdb {
@@ -14,10 +14,11 @@ class CurveTargetProblem final : public detail::TargetProblem {
  public:
   CurveTargetProblem(const BSplineCurve& initial, const SquaredDistanceTarget& target,
                      const CurveFitOptions& options)
-      : TargetProblem(target,
-                      std::make_unique<SensorBasis>(
-                          initial, uniformSensorParameters(initial, options.sensorsPerSpan)),
-                      options.method, options.pdmWeight) {}
+      : TargetProblem(
+            target,
+            std::make_unique<detail::SensorBasis>(
+                initial, detail::uniformSensorParameters(initial, options.sensorsPerSpan)),
+            options.method, options.pdmWeight) {}
 
   void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
                  detail::FitLinearization& linearization) override {

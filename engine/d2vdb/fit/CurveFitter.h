@@ -13,11 +13,11 @@ namespace d2vdb {
 ///
 /// Each iteration places options.sensorsPerSpan sensors per knot span (fixed parameters), asks the
 /// target for the approximant at every sensor (target.approximantsAt, parallel), forms each
-/// sensor's quadratic by options.method (fitForm), solves the quadratic model of QuadraticModel
-/// (mean over sensors + smoothing), and controls the step: a line search (step halving) on the
-/// true objective mean_k target.squaredDistanceAt(x_k) + smoothing for PDM, SDM and TDM+PDM, a
-/// Levenberg-Marquardt damping schedule for TDM. Errors are measured orthogonal to the target.
-/// A 2D curve (dimension 2) uses only the xy blocks of the forms and stays in z = 0.
+/// sensor's quadratic by options.method (fitForm), solves the quadratic model (mean over sensors +
+/// smoothing), and controls the step: a line search (step halving) on the true objective mean_k
+/// target.squaredDistanceAt(x_k) + smoothing for PDM, SDM and TDM+PDM, a Levenberg-Marquardt
+/// damping schedule for TDM. Errors are measured orthogonal to the target. A 2D curve (dimension 2)
+/// uses only the xy blocks of the forms and stays in z = 0.
 ///
 /// Automatic smoothness (options.smoothness < 0) is as CurveFitOptions says for closed curves and
 /// none for open ones: the one-sided distance (sensors to target) does not hold an open curve's

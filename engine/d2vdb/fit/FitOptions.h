@@ -34,11 +34,12 @@ struct FitOptions {
   double automaticSmoothingBias = 0.25;
   /// Weight of the stretching energy (0 = off).
   double stretch = 0.0;
-  /// Step regularisation: rho of QuadraticModel::setStepRegularizer with the bending matrix of
-  /// the displacement (curves: the Gram matrix of order min(degree, 2); surfaces: the thin-plate
-  /// matrix, the membrane matrix for degree (1, 1)), relative to the mean diagonal of the data
-  /// term. Damps rough and tangential (reparametrising) moves without biasing the fit, at the
-  /// price of slower convergence; 0 (default) = off.
+  /// Step regularisation: the weight rho of the term rho m0 / g0 sum_a c_a^T R c_a that each
+  /// iteration's quadratic model adds for the displacement c, with R the bending matrix (curves:
+  /// the Gram matrix of order min(degree, 2); surfaces: the thin-plate matrix, the membrane matrix
+  /// for degree (1, 1)), g0 its mean diagonal and m0 that of the data term. Damps rough and
+  /// tangential (reparametrising) moves without biasing the fit, at the price of slower
+  /// convergence; 0 (default) = off.
   double stepSmoothness = 0.0;
   /// SDM: add exact second-order terms of the squared distance that the SDM error terms leave
   /// out, blended in by a trust-region rule, so that the spline's sliding along itself converges

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/fit/QuadraticModel.h"
-#include "d2vdb/fit/SensorBasis.h"
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 #include "d2vdb/spline/KnotVector.h"
 
 namespace d2vdb {
@@ -76,7 +76,7 @@ BSplineCurve fitPolylineLeastSquares(const std::vector<Eigen::Vector3d>& input, 
   }
   BSplineCurve curve = closed ? BSplineCurve::closed(degree, start, dimension)
                               : BSplineCurve::clamped(degree, start, dimension);
-  const SensorBasis basis(curve, parameters);
+  const detail::SensorBasis basis(curve, parameters);
   std::vector<QuadraticForm> forms(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     forms[i].A = Eigen::Matrix3d::Identity();
@@ -84,8 +84,8 @@ BSplineCurve fitPolylineLeastSquares(const std::vector<Eigen::Vector3d>& input, 
     forms[i].c = points[i].squaredNorm();
   }
   Eigen::SparseMatrix<double> smoothing(controlPoints, controlPoints);
-  if (degree >= 2) smoothing = 1e-9 * derivativeGramMatrix(curve, 2);
-  QuadraticModel model(controlPoints, dimension, std::move(smoothing));
+  if (degree >= 2) smoothing = 1e-9 * detail::derivativeGramMatrix(curve, 2);
+  detail::QuadraticModel model(controlPoints, dimension, std::move(smoothing));
   const std::vector<Eigen::Vector3d> step = model.solve(basis, forms, start, 0.0);
   std::vector<Eigen::Vector3d> fitted(start.size());
   for (std::size_t i = 0; i < start.size(); ++i) fitted[i] = start[i] + step[i];

@@ -170,18 +170,17 @@ BSplineSurface torusSurface(const Eigen::Vector3d& centre, const Eigen::Vector3d
                         directionKnots(layout.degreeV, layout.countV, true), points, true, true);
 }
 
-BSplineSurface initialSurfaceAround(const std::vector<Eigen::Vector3d>& points,
-                                    const InitialSurfaceOptions& options) {
-  if (points.empty()) throw InputError("no points to place an initial surface around");
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (!points[k].allFinite()) {
-      throw InputError("point " + std::to_string(k) + " has a non-finite coordinate");
-    }
-  }
-  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
-    throw InputError("the initial surface's scale must be positive");
-  }
-  options.layout.validate();
+namespace {
+
+/// The points' centroid and the eigen-decomposition of their covariance (eigenvalues ascending).
+struct PrincipalAxes {
+  Eigen::Vector3d centre;
+  Eigen::Vector3d values;
+  Eigen::Matrix3d vectors;
+};
+
+/// InputError unless `points` are finite and span a plane (not all equal or on a line).
+PrincipalAxes principalAxes(const std::vector<Eigen::Vector3d>& points) {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : points) centre += p;
   centre /= static_cast<double>(points.size());
@@ -195,88 +194,125 @@ BSplineSurface initialSurfaceAround(const std::vector<Eigen::Vector3d>& points,
         "the target's points are all equal or on a line: no surface can be placed "
         "around them");
   }
-  const Eigen::Matrix3d vectors = eigen.eigenvectors();
+  return {centre, values, eigen.eigenvectors()};
+}
 
-  if (options.shape == InitialSurfaceShape::Plane) {
-    const Eigen::Vector3d normal = vectors.col(0);
-    const Eigen::Vector3d a = vectors.col(2);
-    const Eigen::Vector3d b = normal.cross(a);
-    // The smallest-area bounding rectangle over rotations in [0, 90) degrees: 1 degree steps, then
-    // 0.01 degree steps around the best.
-    const auto rectangle = [&](double angle, Eigen::Vector2d& low, Eigen::Vector2d& high) {
-      const Eigen::Vector3d u = std::cos(angle) * a + std::sin(angle) * b;
-      const Eigen::Vector3d v = normal.cross(u);
-      low.setConstant(std::numeric_limits<double>::infinity());
-      high.setConstant(-std::numeric_limits<double>::infinity());
-      for (const Eigen::Vector3d& p : points) {
-        const Eigen::Vector2d q((p - centre).dot(u), (p - centre).dot(v));
-        low = low.cwiseMin(q);
-        high = high.cwiseMax(q);
-      }
-      return (high - low).prod();
-    };
+/// The plane through the points' centre across their smallest principal axis, with the in-plane
+/// directions a (largest axis) and b = normal x a.
+struct PlaneFrame {
+  Eigen::Vector3d centre, normal, a, b;
+
+  /// The in-plane direction at `angle` from a towards b.
+  Eigen::Vector3d direction(double angle) const {
+    return std::cos(angle) * a + std::sin(angle) * b;
+  }
+
+  /// The bounding rectangle [low, high] of the points in the coordinates (u, v) =
+  /// (direction(angle), normal x u), and its area.
+  double rectangle(const std::vector<Eigen::Vector3d>& points, double angle, Eigen::Vector2d& low,
+                   Eigen::Vector2d& high) const {
+    const Eigen::Vector3d u = direction(angle);
+    const Eigen::Vector3d v = normal.cross(u);
+    low.setConstant(std::numeric_limits<double>::infinity());
+    high.setConstant(-std::numeric_limits<double>::infinity());
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector2d q((p - centre).dot(u), (p - centre).dot(v));
+      low = low.cwiseMin(q);
+      high = high.cwiseMax(q);
+    }
+    return (high - low).prod();
+  }
+
+  /// The angle in [0, 90) degrees of the smallest-area bounding rectangle: 1 degree steps, then
+  /// 0.01 degree steps around the best.
+  double smallestRectangleAngle(const std::vector<Eigen::Vector3d>& points) const {
     Eigen::Vector2d low, high;
     const double degree = kTwoPi / 360.0;
     double bestAngle = 0.0;
     double bestArea = std::numeric_limits<double>::infinity();
     for (int step = 0; step < 90; ++step) {
-      const double area = rectangle(step * degree, low, high);
+      const double area = rectangle(points, step * degree, low, high);
       if (area < bestArea) bestArea = area, bestAngle = step * degree;
     }
     const double coarse = bestAngle;
     for (int step = -100; step <= 100; ++step) {
       const double angle = coarse + 0.01 * step * degree;
-      const double area = rectangle(angle, low, high);
+      const double area = rectangle(points, angle, low, high);
       if (area < bestArea) bestArea = area, bestAngle = angle;
     }
-    rectangle(bestAngle, low, high);
-    Eigen::Vector3d u = std::cos(bestAngle) * a + std::sin(bestAngle) * b;
-    Eigen::Vector3d v = normal.cross(u);
-    Eigen::Vector2d size = high - low;
-    const Eigen::Vector2d middle = 0.5 * (low + high);
-    if (size.y() > size.x()) {  // u along the longer side, keeping u x v = normal
-      const Eigen::Vector3d swap = u;
-      u = v;
-      v = -swap;
-      size = Eigen::Vector2d(size.y(), size.x());
-    }
-    const Eigen::Vector3d middlePoint =
-        centre + middle.x() * (std::cos(bestAngle) * a + std::sin(bestAngle) * b) +
-        middle.y() * normal.cross(std::cos(bestAngle) * a + std::sin(bestAngle) * b);
-    const Eigen::Vector3d edgeU = options.scale * size.x() * u;
-    const Eigen::Vector3d edgeV = options.scale * size.y() * v;
-    return planeSheet(middlePoint - 0.5 * edgeU - 0.5 * edgeV, edgeU, edgeV, options.layout);
+    return bestAngle;
   }
+};
 
-  // Cylinder and torus: the symmetry axis.
-  Eigen::Vector3d axis;
+/// A plane sheet over the points' smallest bounding rectangle in their best-fitting plane, u
+/// along its longer side, scaled by options.scale about its middle.
+BSplineSurface planeAround(const std::vector<Eigen::Vector3d>& points, const PrincipalAxes& axes,
+                           const InitialSurfaceOptions& options) {
+  const Eigen::Vector3d normal = axes.vectors.col(0);
+  const Eigen::Vector3d a = axes.vectors.col(2);
+  const PlaneFrame frame{axes.centre, normal, a, normal.cross(a)};
+  const double bestAngle = frame.smallestRectangleAngle(points);
+  Eigen::Vector2d low, high;
+  frame.rectangle(points, bestAngle, low, high);
+  Eigen::Vector3d u = frame.direction(bestAngle);
+  Eigen::Vector3d v = normal.cross(u);
+  Eigen::Vector2d size = high - low;
+  const Eigen::Vector2d middle = 0.5 * (low + high);
+  if (size.y() > size.x()) {  // u along the longer side, keeping u x v = normal
+    const Eigen::Vector3d swap = u;
+    u = v;
+    v = -swap;
+    size = Eigen::Vector2d(size.y(), size.x());
+  }
+  const Eigen::Vector3d middlePoint = axes.centre + middle.x() * frame.direction(bestAngle) +
+                                      middle.y() * normal.cross(frame.direction(bestAngle));
+  const Eigen::Vector3d edgeU = options.scale * size.x() * u;
+  const Eigen::Vector3d edgeV = options.scale * size.y() * v;
+  return planeSheet(middlePoint - 0.5 * edgeU - 0.5 * edgeV, edgeU, edgeV, options.layout);
+}
+
+/// The symmetry axis of a cylinder or torus (unit): options.axis, else the principal axis whose
+/// eigenvalue stands apart from the other two.
+Eigen::Vector3d symmetryAxis(const PrincipalAxes& axes, const InitialSurfaceOptions& options) {
   if (options.axis) {
     if (!options.axis->allFinite() || !(options.axis->norm() > 0.0)) {
       throw InputError("the initial surface's axis must be a finite, non-zero vector");
     }
-    axis = options.axis->normalized();
-  } else {
-    axis = values[1] - values[0] > values[2] - values[1] ? vectors.col(0) : vectors.col(2);
+    return options.axis->normalized();
   }
-  if (options.shape == InitialSurfaceShape::Cylinder) {
-    double radius = 0.0;
-    double low = std::numeric_limits<double>::infinity();
-    double high = -std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector3d& p : points) {
-      const double along = (p - centre).dot(axis);
-      radius += (p - centre - along * axis).norm();
-      low = std::min(low, along);
-      high = std::max(high, along);
-    }
-    radius /= static_cast<double>(points.size());
-    if (!(high > low) || !(radius > 0.0)) {
-      throw InputError(
-          "the target's points give no cylinder: they have no extent along the axis "
-          "or lie on it");
-    }
-    return cylinderSurface(centre + low * axis, (high - low) * axis, options.scale * radius,
-                           options.layout);
+  const Eigen::Vector3d& values = axes.values;
+  return values[1] - values[0] > values[2] - values[1] ? axes.vectors.col(0) : axes.vectors.col(2);
+}
+
+/// The cylinder around `axis` through `centre` over the points' extent along it, of their mean
+/// distance from it times options.scale.
+BSplineSurface cylinderAround(const std::vector<Eigen::Vector3d>& points,
+                              const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                              const InitialSurfaceOptions& options) {
+  double radius = 0.0;
+  double low = std::numeric_limits<double>::infinity();
+  double high = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& p : points) {
+    const double along = (p - centre).dot(axis);
+    radius += (p - centre - along * axis).norm();
+    low = std::min(low, along);
+    high = std::max(high, along);
   }
+  radius /= static_cast<double>(points.size());
+  if (!(high > low) || !(radius > 0.0)) {
+    throw InputError(
+        "the target's points give no cylinder: they have no extent along the axis "
+        "or lie on it");
+  }
+  return cylinderSurface(centre + low * axis, (high - low) * axis, options.scale * radius,
+                         options.layout);
+}
+
+/// The torus around `axis` through `centre`: major radius the points' mean distance from the
+/// axis, minor radius their RMS distance from that circle times options.scale.
+BSplineSurface torusAround(const std::vector<Eigen::Vector3d>& points,
+                           const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                           const InitialSurfaceOptions& options) {
   double major = 0.0;
   for (const Eigen::Vector3d& p : points) {
     const Eigen::Vector3d offset = p - centre;
@@ -296,6 +332,29 @@ BSplineSurface initialSurfaceAround(const std::vector<Eigen::Vector3d>& points,
                      std::to_string(minor) + ", major " + std::to_string(major) + ")");
   }
   return torusSurface(centre, axis, major, minor, options.layout);
+}
+
+}  // namespace
+
+BSplineSurface initialSurfaceAround(const std::vector<Eigen::Vector3d>& points,
+                                    const InitialSurfaceOptions& options) {
+  if (points.empty()) throw InputError("no points to place an initial surface around");
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (!points[k].allFinite()) {
+      throw InputError("point " + std::to_string(k) + " has a non-finite coordinate");
+    }
+  }
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+    throw InputError("the initial surface's scale must be positive");
+  }
+  options.layout.validate();
+  const PrincipalAxes axes = principalAxes(points);
+  if (options.shape == InitialSurfaceShape::Plane) return planeAround(points, axes, options);
+  const Eigen::Vector3d axis = symmetryAxis(axes, options);
+  if (options.shape == InitialSurfaceShape::Cylinder) {
+    return cylinderAround(points, axes.centre, axis, options);
+  }
+  return torusAround(points, axes.centre, axis, options);
 }
 
 }  // namespace d2vdb

@@ -7,6 +7,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/detail/CurveFitLoop.h"
 #include "d2vdb/fit/detail/PointCloudProblem.h"
+#include "d2vdb/fit/detail/SplineFit.h"
 
 namespace d2vdb {
 
@@ -20,18 +21,7 @@ Approximant curveApproximantAt(const BSplineCurve& curve, double t,
 CurveFitResult fitCurveToPoints(const BSplineCurve& initial,
                                 const std::vector<Eigen::Vector3d>& points,
                                 const CurveFitOptions& options) {
-  if (points.empty()) {
-    throw InputError("the point cloud is empty: there is nothing to fit a curve to");
-  }
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (!points[k].allFinite()) {
-      throw InputError("data point " + std::to_string(k) + " has a non-finite coordinate");
-    }
-    if (initial.dimension() == 2 && points[k].z() != 0.0) {
-      throw InputError("data point " + std::to_string(k) +
-                       " has z != 0 but the curve is 2D; fit a 3D curve or project the data");
-    }
-  }
+  detail::requireDataPoints(points, "a curve", initial.dimension() == 2);
   if (static_cast<std::size_t>(initial.controlPointCount()) > points.size()) {
     // Each data point gives one equation (its distance to the curve): fewer cannot determine the
     // control points, and the work would be spent on nothing the data says.

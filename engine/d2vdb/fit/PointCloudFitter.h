@@ -33,9 +33,9 @@ Approximant curveApproximantAt(const BSplineCurve& curve, double t,
 /// following the control points, the Hessian over the footpoint's control points is
 /// I (x) B B^T - u u^T / D, u = B (x) C' + B' (x) r, D = |C'|^2 + r . C'' (B the basis values,
 /// B' their derivatives at t); the SDM term is its translation part with the curvature weight
-/// clamped. The loop blends the rest in by a trust-region rule (detail/FitLoop.h), so that the
-/// curve's sliding along itself, which the SDM term over-damps, converges like Newton's method.
-/// The line search (or TDM's damping) uses the true objective mean_k min_t |C(t) - X_k|^2 +
+/// clamped. The loop blends the rest in by a trust-region rule (FitOptions::exactSecondOrder), so
+/// that the curve's sliding along itself, which the SDM term over-damps, converges like Newton's
+/// method. The line search (or TDM's damping) uses the true objective mean_k min_t |C(t) - X_k|^2 +
 /// smoothing. The two ends of an open curve are also pulled (PDM) toward their nearest data
 /// points, one term each, so that the curve does not run on past the data where nothing would
 /// hold it. A 2D curve keeps z = 0 and uses the xy coordinates of the data (z must then be 0).

@@ -11,9 +11,9 @@ namespace d2vdb {
 
 /// How a surface fit is run (FitOptions): the bending energy is the thin-plate energy
 /// T = int int (|x_ss|^2 + 2 |x_st|^2 + |x_tt|^2) ds dt and the stretching energy the membrane
-/// energy M = int int (|x_s|^2 + |x_t|^2) ds dt over the parameters normalised to [0, 1]^2
-/// (ThinPlateMatrix.h); F_k is the true squared distance of sensor k (SDM I, fitSurface) or of
-/// data point k (SDM II, fitSurfaceToPoints). A surface of degree (1, 1) has no thin-plate energy
+/// energy M = int int (|x_s|^2 + |x_t|^2) ds dt over the parameters normalised to [0, 1]^2;
+/// F_k is the true squared distance of sensor k (SDM I, fitSurface) or of data point k (SDM II,
+/// fitSurfaceToPoints). A surface of degree (1, 1) has no thin-plate energy
 /// of its own (only its twist): it gets no bending term.
 struct SurfaceFitOptions : FitOptions {
   /// Sensors per knot span in each direction (SDM I): perSpan^2 per knot cell, plus the boundary

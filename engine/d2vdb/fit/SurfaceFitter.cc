@@ -13,9 +13,10 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/SurfaceTarget.h"
-#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/detail/SplineFit.h"
 #include "d2vdb/fit/detail/SurfaceFitLoop.h"
 #include "d2vdb/fit/detail/SurfaceReparametrization.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 #include "d2vdb/fit/detail/TargetProblem.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/BasisFunctions.h"
@@ -24,11 +25,20 @@
 namespace d2vdb {
 namespace {
 
+/// Whether u is an end of the surface's domain in u and that direction is open.
+bool onOpenBoundaryU(const BSplineSurface& surface, double u) {
+  const ParameterInterval domain = surface.domainU();
+  return !surface.isClosedU() && (u <= domain.start || u >= domain.end);
+}
+
+/// Whether v is an end of the surface's domain in v and that direction is open.
+bool onOpenBoundaryV(const BSplineSurface& surface, double v) {
+  const ParameterInterval domain = surface.domainV();
+  return !surface.isClosedV() && (v <= domain.start || v >= domain.end);
+}
+
 bool onOpenBoundary(const BSplineSurface& surface, double u, double v) {
-  const ParameterInterval domainU = surface.domainU();
-  const ParameterInterval domainV = surface.domainV();
-  return (!surface.isClosedU() && (u <= domainU.start || u >= domainU.end)) ||
-         (!surface.isClosedV() && (v <= domainV.start || v >= domainV.end));
+  return onOpenBoundaryU(surface, u) || onOpenBoundaryV(surface, v);
 }
 
 /// Where 1 + d k is below this, the exact curvature terms of SDM I are left out (too near a centre
@@ -45,10 +55,11 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
  public:
   SurfaceTargetProblem(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                        const SurfaceFitOptions& options)
-      : TargetProblem(target,
-                      std::make_unique<SurfaceSensorBasis>(
-                          initial, uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
-                      options.method, options.pdmWeight),
+      : TargetProblem(
+            target,
+            std::make_unique<detail::SurfaceSensorBasis>(
+                initial, detail::uniformSurfaceSensorParameters(initial, options.sensorsPerSpan)),
+            options.method, options.pdmWeight),
         exactSecondOrder_(options.exactSecondOrder && options.method == FitMethod::SDM) {}
 
   void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
@@ -56,7 +67,7 @@ class SurfaceTargetProblem final : public detail::TargetProblem {
     const std::vector<Approximant>& approximants = approximantsAt(controlPoints);
     setForms(approximants, linearization);
     const std::size_t count = approximants.size();
-    RankOneTerms& secondOrder = linearization.secondOrder;
+    detail::RankOneTerms& secondOrder = linearization.secondOrder;
     secondOrder.reset(static_cast<int>(count), exactSecondOrder_ ? 3 : 0, true);
     if (!exactSecondOrder_) return;
     std::vector<double> weights(2 * count, 0.0);
@@ -107,6 +118,20 @@ constexpr double kMinimumFocalFactor = 0.1;
 /// tangential weights the SDM form leaves out.
 constexpr int kTermsPerPoint = 4;
 
+/// The surface at a footpoint: its position and derivatives to second order and, for each
+/// control point j of the footpoint's knot cell, the basis values B_j, dB_j/du and dB_j/dv.
+struct FootpointExpansion {
+  SurfaceDerivatives derivatives;
+  std::vector<double> value, valueU, valueV;
+};
+
+/// A data point's second-order terms (PointProblem::linearize): `length` entries per vector.
+struct PointTerms {
+  double* vectors;
+  double* coefficients;
+  std::size_t length;
+};
+
 // SDM II: sensors at the data points' footpoints on the active surface, refreshed every
 // iteration; for SDM the exact second-order terms of the squared distance to the moving surface.
 class PointProblem final : public detail::FitProblem {
@@ -131,155 +156,22 @@ class PointProblem final : public detail::FitProblem {
   void linearize(const std::vector<Eigen::Vector3d>& controlPoints,
                  detail::FitLinearization& linearization) override {
     surface_.setControlPoints(controlPoints);
-    const BSplineSurface& surface = surface_;
     const std::size_t count = points_.size();
     std::vector<Eigen::Vector2d> parameters(count);
     for (std::size_t k = 0; k < count; ++k) {
       parameters[k] = Eigen::Vector2d(current_[k].u, current_[k].v);
     }
-    basis_.emplace(surface, std::move(parameters));
+    basis_.emplace(surface_, std::move(parameters));
     linearization.basis = &*basis_;
-    std::vector<QuadraticForm>& forms = linearization.forms;
-    forms.resize(count);
-    const int p = surface.degreeU();
-    const int q = surface.degreeV();
-    const int order = (p + 1) * (q + 1);
-    const int length = 3 * order;
-    RankOneTerms& secondOrder = linearization.secondOrder;
-    secondOrder.reset(static_cast<int>(count), length);
-    if (exactSecondOrder_) {
-      for (std::size_t k = 0; k < count; ++k) {
-        secondOrder.start[k + 1] = static_cast<int>(kTermsPerPoint * (k + 1));
-      }
-      secondOrder.coefficients.assign(kTermsPerPoint * count, 0.0);
-      secondOrder.vectors.assign(kTermsPerPoint * count * static_cast<std::size_t>(length), 0.0);
-    }
-    const KnotVector& knotsU = surface.knotsU();
-    const KnotVector& knotsV = surface.knotsV();
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, count, 256),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          std::vector<double> value(static_cast<std::size_t>(order));
-          std::vector<double> valueU(static_cast<std::size_t>(order));
-          std::vector<double> valueV(static_cast<std::size_t>(order));
-          for (std::size_t k = range.begin(); k != range.end(); ++k) {
-            const int sensor = static_cast<int>(k);
-            const Eigen::Vector2d& uv = basis_->parameter(sensor);  // wrapped when closed
-            const BasisDerivatives bu =
-                basisDerivatives(knotsU, knotsU.findSpan(uv.x()), uv.x(), 2);
-            const BasisDerivatives bv =
-                basisDerivatives(knotsV, knotsV.findSpan(uv.y()), uv.y(), 2);
-            SurfaceDerivatives derivatives{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
-                                           Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-            int slot = 0;
-            for (int a = 0; a <= p; ++a) {
-              for (int b = 0; b <= q; ++b, ++slot) {
-                const Eigen::Vector3d& control =
-                    controlPoints[static_cast<std::size_t>(basis_->index(sensor, slot))];
-                derivatives.point += bu(0, a) * bv(0, b) * control;
-                derivatives.du += bu(1, a) * bv(0, b) * control;
-                derivatives.dv += bu(0, a) * bv(1, b) * control;
-                derivatives.duu += bu(2, a) * bv(0, b) * control;
-                derivatives.duv += bu(1, a) * bv(1, b) * control;
-                derivatives.dvv += bu(0, a) * bv(2, b) * control;
-                value[static_cast<std::size_t>(slot)] = bu(0, a) * bv(0, b);
-                valueU[static_cast<std::size_t>(slot)] = bu(1, a) * bv(0, b);
-                valueV[static_cast<std::size_t>(slot)] = bu(0, a) * bv(1, b);
-              }
-            }
-            const SurfaceFrame frame = surfaceFrame(derivatives);
-            const ParameterInterval domainU = surface.domainU();
-            const ParameterInterval domainV = surface.domainV();
-            const bool boundaryU =
-                !surface.isClosedU() && (uv.x() <= domainU.start || uv.x() >= domainU.end);
-            const bool boundaryV =
-                !surface.isClosedV() && (uv.y() <= domainV.start || uv.y() >= domainV.end);
-            const Approximant approximant =
-                surfaceApproximantFromFrame(frame, boundaryU || boundaryV, points_[k]);
-            // The form measures the surface point against the data point: same matrix, centred
-            // at the data point.
-            QuadraticForm form = fitForm(approximant, method_, pdmWeight_);
-            // A footpoint on one boundary line (not a corner) slides along that line: SDM
-            // measures the distance to the line there, orthogonal to it (the tangential weight
-            // 0, as TDM; the exact second-order terms below restore the rest).
-            const Eigen::Vector3d& lineTangent = boundaryU ? derivatives.dv : derivatives.du;
-            const bool onLine = boundaryU != boundaryV && method_ == FitMethod::SDM &&
-                                lineTangent.squaredNorm() > 0.0;
-            if (onLine) {
-              const Eigen::Vector3d t = lineTangent.normalized();
-              form.A = Eigen::Matrix3d::Identity() - t * t.transpose();
-            }
-            form.b = form.A * points_[k];
-            form.c = points_[k].dot(form.b);
-            forms[k] = form;
-            if (!exactSecondOrder_ || (boundaryU && boundaryV) ||
-                ((boundaryU || boundaryV) && !onLine)) {
-              continue;
-            }
-            const Eigen::Vector3d r = derivatives.point - points_[k];
-            double* const terms =
-                secondOrder.vectors.data() + kTermsPerPoint * k * static_cast<std::size_t>(length);
-            double* const coefficients = secondOrder.coefficients.data() + kTermsPerPoint * k;
-            if (onLine) {
-              // One free parameter (along the line): M = |S_t|^2 + r . S_tt, g = B S_t + B_t r.
-              const Eigen::Vector3d& second = boundaryU ? derivatives.dvv : derivatives.duu;
-              const std::vector<double>& along = boundaryU ? valueV : valueU;
-              const double first = lineTangent.squaredNorm();
-              const double hessian = first + r.dot(second);
-              if (!(hessian > kMinimumFocalFactor * first)) continue;
-              const Eigen::Vector3d t = lineTangent / std::sqrt(first);
-              for (int j = 0; j < order; ++j) {
-                const std::size_t js = static_cast<std::size_t>(j);
-                const Eigen::Vector3d g = value[js] * lineTangent + along[js] * r;
-                for (int c = 0; c < 3; ++c) {
-                  terms[j * 3 + c] = g[c];
-                  terms[length + j * 3 + c] = value[js] * t[c];
-                }
-              }
-              coefficients[0] = -1.0 / hessian;
-              coefficients[1] = 1.0;
-              continue;
-            }
-            Eigen::Matrix2d first;
-            first << derivatives.du.squaredNorm(), derivatives.du.dot(derivatives.dv),
-                derivatives.du.dot(derivatives.dv), derivatives.dv.squaredNorm();
-            Eigen::Matrix2d hessian = first;
-            hessian(0, 0) += r.dot(derivatives.duu);
-            hessian(0, 1) += r.dot(derivatives.duv);
-            hessian(1, 0) += r.dot(derivatives.duv);
-            hessian(1, 1) += r.dot(derivatives.dvv);
-            const Eigen::Matrix2d guard = hessian - kMinimumFocalFactor * first;
-            if (!(guard(0, 0) > 0.0) || !(guard.determinant() > 0.0)) continue;
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> parameterHessian(hessian);
-            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> deficit(
-                Eigen::Matrix3d::Identity() - form.A);
-            for (int i = 0; i < 2; ++i) {
-              const Eigen::Vector2d m = parameterHessian.eigenvectors().col(i);
-              double* const vector = terms + i * length;
-              for (int j = 0; j < order; ++j) {
-                const std::size_t js = static_cast<std::size_t>(j);
-                const Eigen::Vector3d g = m.x() * (value[js] * derivatives.du + valueU[js] * r) +
-                                          m.y() * (value[js] * derivatives.dv + valueV[js] * r);
-                for (int c = 0; c < 3; ++c) vector[j * 3 + c] = g[c];
-              }
-              coefficients[i] = -1.0 / parameterHessian.eigenvalues()[i];
-            }
-            // The two largest eigenvalues of I - A (the third, along the normal, is 0).
-            for (int i = 0; i < 2; ++i) {
-              const double mu = deficit.eigenvalues()[i + 1];
-              if (!(mu > 0.0)) continue;
-              const Eigen::Vector3d direction = deficit.eigenvectors().col(i + 1);
-              double* const vector = terms + (2 + i) * length;
-              for (int j = 0; j < order; ++j) {
-                for (int c = 0; c < 3; ++c) {
-                  vector[j * 3 + c] = value[static_cast<std::size_t>(j)] * direction[c];
-                }
-              }
-              coefficients[2 + i] = mu;
-            }
-          }
-        });
+    linearization.forms.resize(count);
+    resetSecondOrder(linearization.secondOrder);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        FootpointExpansion footpoint;
+                        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                          linearizeAt(k, controlPoints, footpoint, linearization);
+                        }
+                      });
   }
 
   detail::DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override {
@@ -301,12 +193,166 @@ class PointProblem final : public detail::FitProblem {
   void accept() override { current_.swap(candidate_); }
 
  private:
+  /// Control points of a footpoint's knot cell.
+  int order() const { return (surface_.degreeU() + 1) * (surface_.degreeV() + 1); }
+
+  /// No second-order terms, or (exactSecondOrder_) kTermsPerPoint zero terms per data point.
+  void resetSecondOrder(detail::RankOneTerms& secondOrder) const {
+    const std::size_t count = points_.size();
+    const int length = 3 * order();
+    secondOrder.reset(static_cast<int>(count), length);
+    if (!exactSecondOrder_) return;
+    for (std::size_t k = 0; k < count; ++k) {
+      secondOrder.start[k + 1] = static_cast<int>(kTermsPerPoint * (k + 1));
+    }
+    secondOrder.coefficients.assign(kTermsPerPoint * count, 0.0);
+    secondOrder.vectors.assign(kTermsPerPoint * count * length, 0.0);
+  }
+
+  /// The surface's expansion at sensor `sensor` (at `uv`) for `controlPoints`.
+  void expand(int sensor, const Eigen::Vector2d& uv,
+              const std::vector<Eigen::Vector3d>& controlPoints,
+              FootpointExpansion& footpoint) const {
+    const KnotVector& knotsU = surface_.knotsU();
+    const KnotVector& knotsV = surface_.knotsV();
+    const BasisDerivatives bu = basisDerivatives(knotsU, knotsU.findSpan(uv.x()), uv.x(), 2);
+    const BasisDerivatives bv = basisDerivatives(knotsV, knotsV.findSpan(uv.y()), uv.y(), 2);
+    SurfaceDerivatives& derivatives = footpoint.derivatives;
+    derivatives = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                   Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    footpoint.value.resize(order());
+    footpoint.valueU.resize(order());
+    footpoint.valueV.resize(order());
+    int slot = 0;
+    for (int a = 0; a <= surface_.degreeU(); ++a) {
+      for (int b = 0; b <= surface_.degreeV(); ++b, ++slot) {
+        const Eigen::Vector3d& control = controlPoints[basis_->index(sensor, slot)];
+        derivatives.point += bu(0, a) * bv(0, b) * control;
+        derivatives.du += bu(1, a) * bv(0, b) * control;
+        derivatives.dv += bu(0, a) * bv(1, b) * control;
+        derivatives.duu += bu(2, a) * bv(0, b) * control;
+        derivatives.duv += bu(1, a) * bv(1, b) * control;
+        derivatives.dvv += bu(0, a) * bv(2, b) * control;
+        footpoint.value[slot] = bu(0, a) * bv(0, b);
+        footpoint.valueU[slot] = bu(1, a) * bv(0, b);
+        footpoint.valueV[slot] = bu(0, a) * bv(1, b);
+      }
+    }
+  }
+
+  /// Data point k's form and, with exactSecondOrder_, its second-order terms.
+  void linearizeAt(std::size_t k, const std::vector<Eigen::Vector3d>& controlPoints,
+                   FootpointExpansion& footpoint, detail::FitLinearization& linearization) const {
+    const int sensor = static_cast<int>(k);
+    const Eigen::Vector2d& uv = basis_->parameter(sensor);  // wrapped when closed
+    expand(sensor, uv, controlPoints, footpoint);
+    const SurfaceDerivatives& derivatives = footpoint.derivatives;
+    const bool boundaryU = onOpenBoundaryU(surface_, uv.x());
+    const bool boundaryV = onOpenBoundaryV(surface_, uv.y());
+    const Approximant approximant =
+        surfaceApproximantFromFrame(surfaceFrame(derivatives), boundaryU || boundaryV, points_[k]);
+    // The form measures the surface point against the data point: same matrix, centred at the
+    // data point.
+    QuadraticForm form = fitForm(approximant, method_, pdmWeight_);
+    // A footpoint on one boundary line (not a corner) slides along that line: SDM measures the
+    // distance to the line there, orthogonal to it (the tangential weight 0, as TDM; the exact
+    // second-order terms below restore the rest).
+    const Eigen::Vector3d& lineTangent = boundaryU ? derivatives.dv : derivatives.du;
+    const bool onLine =
+        boundaryU != boundaryV && method_ == FitMethod::SDM && lineTangent.squaredNorm() > 0.0;
+    if (onLine) {
+      const Eigen::Vector3d t = lineTangent.normalized();
+      form.A = Eigen::Matrix3d::Identity() - t * t.transpose();
+    }
+    form.b = form.A * points_[k];
+    form.c = points_[k].dot(form.b);
+    linearization.forms[k] = form;
+    if (!exactSecondOrder_ || (boundaryU && boundaryV) || ((boundaryU || boundaryV) && !onLine)) {
+      return;
+    }
+    detail::RankOneTerms& secondOrder = linearization.secondOrder;
+    const std::size_t length = secondOrder.length;
+    const PointTerms terms{secondOrder.vectors.data() + kTermsPerPoint * k * length,
+                           secondOrder.coefficients.data() + kTermsPerPoint * k, length};
+    const Eigen::Vector3d r = derivatives.point - points_[k];
+    if (onLine) {
+      lineTerms(footpoint, boundaryU, lineTangent, r, terms);
+    } else {
+      interiorTerms(footpoint, form.A, r, terms);
+    }
+  }
+
+  /// A footpoint on an open boundary line, with one free parameter along it: M = |S_t|^2 +
+  /// r . S_tt, g = B S_t + B_t r, and the tangential term the line's form leaves out.
+  static void lineTerms(const FootpointExpansion& footpoint, bool boundaryU,
+                        const Eigen::Vector3d& lineTangent, const Eigen::Vector3d& r,
+                        const PointTerms& terms) {
+    const SurfaceDerivatives& derivatives = footpoint.derivatives;
+    const Eigen::Vector3d& second = boundaryU ? derivatives.dvv : derivatives.duu;
+    const std::vector<double>& along = boundaryU ? footpoint.valueV : footpoint.valueU;
+    const double first = lineTangent.squaredNorm();
+    const double hessian = first + r.dot(second);
+    if (!(hessian > kMinimumFocalFactor * first)) return;
+    const Eigen::Vector3d t = lineTangent / std::sqrt(first);
+    const std::vector<double>& value = footpoint.value;
+    for (std::size_t j = 0; j < value.size(); ++j) {
+      const Eigen::Vector3d g = value[j] * lineTangent + along[j] * r;
+      for (int c = 0; c < 3; ++c) {
+        terms.vectors[j * 3 + c] = g[c];
+        terms.vectors[terms.length + j * 3 + c] = value[j] * t[c];
+      }
+    }
+    terms.coefficients[0] = -1.0 / hessian;
+    terms.coefficients[1] = 1.0;
+  }
+
+  /// A footpoint inside the surface: the two parameter terms and the two tangential terms that
+  /// the SDM form `A` leaves out.
+  static void interiorTerms(const FootpointExpansion& footpoint, const Eigen::Matrix3d& A,
+                            const Eigen::Vector3d& r, const PointTerms& terms) {
+    const SurfaceDerivatives& derivatives = footpoint.derivatives;
+    Eigen::Matrix2d first;
+    first << derivatives.du.squaredNorm(), derivatives.du.dot(derivatives.dv),
+        derivatives.du.dot(derivatives.dv), derivatives.dv.squaredNorm();
+    Eigen::Matrix2d hessian = first;
+    hessian(0, 0) += r.dot(derivatives.duu);
+    hessian(0, 1) += r.dot(derivatives.duv);
+    hessian(1, 0) += r.dot(derivatives.duv);
+    hessian(1, 1) += r.dot(derivatives.dvv);
+    const Eigen::Matrix2d guard = hessian - kMinimumFocalFactor * first;
+    if (!(guard(0, 0) > 0.0) || !(guard.determinant() > 0.0)) return;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> parameterHessian(hessian);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> deficit(Eigen::Matrix3d::Identity() - A);
+    const std::vector<double>& value = footpoint.value;
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Vector2d m = parameterHessian.eigenvectors().col(i);
+      double* const vector = terms.vectors + i * terms.length;
+      for (std::size_t j = 0; j < value.size(); ++j) {
+        const Eigen::Vector3d g = m.x() * (value[j] * derivatives.du + footpoint.valueU[j] * r) +
+                                  m.y() * (value[j] * derivatives.dv + footpoint.valueV[j] * r);
+        for (int c = 0; c < 3; ++c) vector[j * 3 + c] = g[c];
+      }
+      terms.coefficients[i] = -1.0 / parameterHessian.eigenvalues()[i];
+    }
+    // The two largest eigenvalues of I - A (the third, along the normal, is 0).
+    for (int i = 0; i < 2; ++i) {
+      const double mu = deficit.eigenvalues()[i + 1];
+      if (!(mu > 0.0)) continue;
+      const Eigen::Vector3d direction = deficit.eigenvectors().col(i + 1);
+      double* const vector = terms.vectors + (2 + i) * terms.length;
+      for (std::size_t j = 0; j < value.size(); ++j) {
+        for (int c = 0; c < 3; ++c) vector[j * 3 + c] = value[j] * direction[c];
+      }
+      terms.coefficients[2 + i] = mu;
+    }
+  }
+
   const std::vector<Eigen::Vector3d>& points_;
   BSplineSurface surface_;  // the net linearize() was last called with
   FitMethod method_;
   double pdmWeight_;
   bool exactSecondOrder_;
-  std::optional<SurfaceSensorBasis> basis_;
+  std::optional<detail::SurfaceSensorBasis> basis_;
   std::vector<SurfaceFootpoint> current_;
   std::vector<SurfaceFootpoint> candidate_;
 };
@@ -323,7 +369,7 @@ constexpr double kReparametrizationShift = 0.01;
 constexpr int kFirstRunIterations = 8;
 
 /// Whether every sensor of `sensors` on `surface` lies inside `domain`.
-bool covers(const SensorMap& sensors, const BSplineSurface& surface,
+bool covers(const detail::SensorMap& sensors, const BSplineSurface& surface,
             const Eigen::AlignedBox3d& domain) {
   for (const Eigen::Vector3d& sensor : sensors.positions(surface.controlPoints())) {
     if (!domain.contains(sensor)) return false;
@@ -419,14 +465,7 @@ Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double
 SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
                                     const std::vector<Eigen::Vector3d>& points,
                                     const SurfaceFitOptions& options) {
-  if (points.empty()) {
-    throw InputError("the point cloud is empty: there is nothing to fit a surface to");
-  }
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    if (!points[k].allFinite()) {
-      throw InputError("data point " + std::to_string(k) + " has a non-finite coordinate");
-    }
-  }
+  detail::requireDataPoints(points, "a surface");
   const std::size_t unknowns = 3 * initial.controlPoints().size();
   if (points.size() < unknowns) {
     throw InputError("the point cloud has " + std::to_string(points.size()) +

@@ -19,9 +19,10 @@ namespace d2vdb {
 /// surfaces) so that its sensors come close to `target`.
 ///
 /// Each iteration places options.sensorsPerSpan^2 sensors per knot cell at fixed parameters
-/// (uniformSurfaceSensorParameters), asks the target for the approximant at every sensor
-/// (parallel), forms each sensor's quadratic by options.method (fitForm), solves the quadratic
-/// model (QuadraticModel: mean over sensors + thin-plate/membrane smoothing) and controls the
+/// (evenly in each knot span, plus the boundary lines of open directions), asks the target for the
+/// approximant at every sensor (parallel), forms each sensor's quadratic by options.method
+/// (fitForm), solves the quadratic model (mean over sensors + thin-plate/membrane smoothing) and
+/// controls the
 /// step: a line search on the true objective mean_k target.squaredDistanceAt(x_k) + smoothing for
 /// PDM, SDM and TDM+PDM, a Levenberg-Marquardt schedule for TDM. It stops as SurfaceFitOptions
 /// says and states why. Deterministic: bitwise identical for any thread count.

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 #include "d2vdb/fit/detail/SplineFit.h"
 
 namespace d2vdb::detail {

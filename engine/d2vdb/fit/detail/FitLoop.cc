@@ -232,318 +232,414 @@ std::string number(double value) {
   return text.str();
 }
 
+/// A candidate net, points + s step, measured and, when the problem offers one, corrected
+/// (FitProblem::correction()): the problem's last measurement is the candidate's.
+struct Trial {
+  std::vector<Eigen::Vector3d> points;
+  DataError error;
+  double value = 0.0;             ///< E of the (corrected) candidate
+  double uncorrectedValue = 0.0;  ///< E of points + s step itself
+};
+
+/// What one iteration's step control found.
+struct StepResult {
+  bool accepted = false;
+  bool flat = false;           ///< the objective at the first full step equals E to rounding
+  double firstStep = -1.0;     ///< the first full step's largest sensor move (-1: none measured)
+  double scale = 1.0;          ///< the accepted multiple of the step
+  double damping = 0.0;        ///< the Levenberg-Marquardt damping of the accepted step
+  double formShare = 1.0;      ///< the plain forms' share in the accepted step's model
+  bool correctedGain = false;  ///< the accepted candidate was lowered by its correction
+  DataError error;             ///< the accepted candidate's
+  double objective = 0.0;      ///< the accepted candidate's E (the current E until one is)
+  std::vector<Eigen::Vector3d> points;
+};
+
+/// The state of runFitLoop between and within its iterations.
+class FitLoop {
+ public:
+  FitLoop(const std::vector<Eigen::Vector3d>& initial, const FitLoopSettings& settings,
+          FitProblem& problem)
+      : settings_(settings),
+        problem_(problem),
+        n_(validatedCount(settings, initial)),
+        d_(settings.dimension),
+        automatic_(settings.bendingWeight < 0.0 && settings.bending.nonZeros() > 0),
+        model_(n_, d_, settings.fixedSmoothing, settings.bending),
+        bending_(automatic_ ? kInitialAutomaticBending : std::max(0.0, settings.bendingWeight)),
+        points_(initial) {
+    model_.setSmoothingScale(bending_.weight());
+    if (settings.stepSmoothness > 0.0 && settings.stepRegularizer.nonZeros() > 0) {
+      model_.setStepRegularizer(settings.stepRegularizer, settings.stepSmoothness);
+    }
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& point : initial) box.extend(point);
+    size_ = box.sizes().maxCoeff();
+    resolvedMove_ = kResolvedFraction * problem.resolution();
+  }
+
+  FitLoopResult run() {
+    start();
+    bool stopped = false;
+    for (int iteration = 1; iteration <= settings_.maxIterations && !stopped; ++iteration) {
+      stopped = iterate(iteration);
+    }
+    if (!stopped) {
+      result_.status = FitStatus::IterationCap;
+      result_.reason = "reached the iteration cap of " + std::to_string(settings_.maxIterations) +
+                       " while the " + settings_.splineName +
+                       " was still moving (last move across the target " + number(lastMove_) +
+                       ", tolerance " + number(moveTolerance(rmsOf(error_), error_.count)) + ")";
+    }
+    result_.controlPoints = std::move(points_);
+    if (settings_.progress) settings_.progress("fit", 1.0);
+    return std::move(result_);
+  }
+
+ private:
+  static int validatedCount(const FitLoopSettings& settings,
+                            const std::vector<Eigen::Vector3d>& initial) {
+    const int n = static_cast<int>(initial.size());
+    validate(settings, n);
+    return n;
+  }
+
+  /// Measures the initial net (history row 0).
+  void start() {
+    error_ = problem_.measure(points_);
+    if (!error_.valid) {
+      throw InputError("the initial " + settings_.splineName +
+                       " is not inside the region where the target answers");
+    }
+    problem_.accept();
+    objective_ = objectiveOf(error_, model_.smoothingEnergy(points_));
+    result_.history.push_back({0, objective_, rmsOf(error_), std::sqrt(error_.maxSquared), 0.0, 0.0,
+                               0.0, 0.0, bending_.weight(), 0.0});
+    if (settings_.keepIterates) result_.iterates.push_back(points_);
+    // The correction's model (same smoothing), made when the problem offers corrections.
+    if (problem_.offersCorrection()) {
+      correctionModel_.emplace(n_, d_, settings_.fixedSmoothing, settings_.bending);
+    }
+  }
+
+  /// The geometric tolerance of a move for a fit of RMS `rms` over `count` terms.
+  double moveTolerance(double rms, int count) const {
+    return std::max({settings_.stepTolerance * size_,
+                     settings_.moveTolerance * fitResolution(rms, n_, count), resolvedMove_});
+  }
+
+  /// One iteration; true when the loop stops after it.
+  bool iterate(int iteration) {
+    if (settings_.progress) {
+      settings_.progress("fit", static_cast<double>(iteration - 1) / settings_.maxIterations);
+    }
+    linearize();
+    step_ = StepResult{};
+    step_.damping = damping_;
+    step_.formShare = formShare_;
+    step_.objective = objective_;
+    // Step control: Levenberg-Marquardt damping (TDM); a trust-region choice of the second-order
+    // share (SDM II) that falls back to the plain forms and a line search; or the line search on
+    // the true objective alone.
+    if (settings_.levenbergMarquardt) {
+      dampedStep();
+    } else if (secondOrder_) {
+      trustRegionStep();
+    } else {
+      lineSearch(model_.solveAssembled(1.0, 0.0), 30);
+    }
+    if (!step_.accepted) {
+      stopWithoutStep();
+      return true;
+    }
+    return acceptStep(iteration);
+  }
+
+  /// Linearises the problem at the current net, assembles the model and chooses the automatic
+  /// bending weight.
+  void linearize() {
+    problem_.linearize(points_, linearization_);
+    if (linearization_.basis == nullptr ||
+        static_cast<int>(linearization_.forms.size()) != linearization_.basis->sensorCount()) {
+      throw InputError("the fitting problem's linearisation does not match its sensors");
+    }
+    secondOrder_ = !linearization_.secondOrder.empty();
+    const int count = static_cast<int>(linearization_.forms.size());
+    model_.assemble(
+        {SensorTerms{linearization_.basis, &linearization_.forms, count > 0 ? 1.0 / count : 0.0,
+                     secondOrder_ ? &linearization_.secondOrder : nullptr}},
+        points_);
+    rms_ = rmsOf(error_);
+    if (automatic_) {
+      bending_.choose(model_, linearization_,
+                      settings_.automaticBias * fitResolution(rms_, n_, std::max(count, 1)), d_);
+      objective_ = objectiveOf(error_, model_.smoothingEnergy(points_));
+    }
+    tolerance_ = moveTolerance(rms_, count);
+  }
+
+  /// The candidate points + s step (Trial).
+  Trial evaluate(const std::vector<Eigen::Vector3d>& step, double s) {
+    Trial trial;
+    trial.points = moved(points_, step, s);
+    trial.error = problem_.measure(trial.points);
+    trial.value = objectiveOf(trial.error, model_.smoothingEnergy(trial.points));
+    trial.uncorrectedValue = trial.value;
+    if (correctionModel_ && trial.error.valid && formShare_ < 1.0 &&
+        problem_.correction(trial.points, correctionLinearization_)) {
+      const int terms = static_cast<int>(correctionLinearization_.forms.size());
+      correctionModel_->assemble(
+          {SensorTerms{correctionLinearization_.basis, &correctionLinearization_.forms,
+                       terms > 0 ? 1.0 / terms : 0.0, nullptr}},
+          trial.points);
+      correctionModel_->setSmoothingScale(bending_.weight());
+      std::vector<Eigen::Vector3d> correctedPoints =
+          moved(trial.points, correctionModel_->solveAssembled(1.0, 0.0), 1.0);
+      const DataError correctedError = problem_.measure(correctedPoints);
+      const double correctedValue =
+          objectiveOf(correctedError, model_.smoothingEnergy(correctedPoints));
+      if (correctedValue <= trial.value) {
+        trial.points = std::move(correctedPoints);
+        trial.error = correctedError;
+        trial.value = correctedValue;
+      } else {
+        problem_.measure(trial.points);  // rounding: keep the uncorrected candidate
+      }
+    }
+    return trial;
+  }
+
+  /// Takes `trial` as the accepted candidate of the step.
+  void take(Trial& trial) {
+    step_.error = trial.error;
+    step_.objective = trial.value;
+    step_.points = std::move(trial.points);
+  }
+
+  /// Measures the candidate points + s step for s = 1, 1/2, ... (`halvings` tries) and accepts
+  /// the first that lowers E. Returns the actual decrease of the full (corrected) step.
+  double lineSearch(const std::vector<Eigen::Vector3d>& step, int halvings) {
+    double fullDecrease = -std::numeric_limits<double>::infinity();
+    step_.scale = 1.0;
+    step_.correctedGain = false;
+    for (int h = 0; h < halvings; ++h, step_.scale *= 0.5) {
+      Trial trial = evaluate(step, step_.scale);
+      if (h == 0) {
+        fullDecrease = objective_ - trial.value;
+        if (step_.firstStep < 0.0) {
+          step_.firstStep = largestSensorMove(linearization_, step, d_);
+          step_.flat = std::abs(trial.value - objective_) <= 1e-12 * objective_;
+        }
+      }
+      if (trial.value < objective_) {
+        step_.accepted = true;
+        step_.correctedGain = trial.value < trial.uncorrectedValue;
+        take(trial);
+        return fullDecrease;
+      }
+      if (largestMove(step) * step_.scale < 1e-3 * tolerance_) break;
+    }
+    return fullDecrease;
+  }
+
+  /// After a full step whose correction gained much more than the model predicted (the step
+  /// follows a curved valley that the correction straightens): tries 2, 4, ... times the step,
+  /// each corrected, while E keeps falling, and keeps the best.
+  void extrapolate(const std::vector<Eigen::Vector3d>& step, double predicted) {
+    if (!correctionModel_ || !step_.correctedGain || step_.scale != 1.0) return;
+    const double gain = objective_ - step_.objective;
+    if (!(gain > kExtrapolationGain * std::max(predicted, 0.0))) return;
+    bool lastIsAccepted = true;
+    for (double s = 2.0; s <= kLargestExtrapolation; s *= 2.0) {
+      Trial trial = evaluate(step, s);
+      lastIsAccepted = trial.value < step_.objective;
+      if (!lastIsAccepted) break;
+      step_.scale = s;
+      take(trial);
+    }
+    if (!lastIsAccepted) problem_.measure(step_.points);  // accept() takes the last measured
+  }
+
+  /// Levenberg-Marquardt: the damping rises tenfold until a full step lowers E, and falls by a
+  /// third after one does.
+  void dampedStep() {
+    for (int attempt = 0; attempt < 12 && !step_.accepted; ++attempt) {
+      const std::vector<Eigen::Vector3d> step = model_.solveAssembled(1.0, damping_);
+      step_.damping = damping_;
+      lineSearch(step, 1);
+      if (!step_.accepted) damping_ = std::max(10.0 * damping_, 1e-6);
+    }
+    if (step_.accepted) damping_ = std::max(damping_ / 3.0, 1e-9);
+  }
+
+  /// Second-order terms: the trust-region choice of the forms' share and radius (runFitLoop).
+  void trustRegionStep() {
+    int failures = 0;
+    for (int attempt = 0; attempt < 10 && !step_.accepted; ++attempt) {
+      // With second-order terms (share < 1) only a positive definite model gives a step.
+      std::optional<std::vector<Eigen::Vector3d>> solved =
+          formShare_ < 1.0 ? model_.minimizeAssembled(1.0 - formShare_, 0.0)
+                           : model_.solveAssembled(0.0, 0.0);
+      if (!solved) {
+        formShare_ = moreForms(formShare_);
+        continue;
+      }
+      std::vector<Eigen::Vector3d> step = std::move(*solved);
+      step_.formShare = formShare_;
+      double length = largestMove(step);
+      const bool truncated = formShare_ < 1.0 && length > radius_;
+      if (truncated) {
+        for (Eigen::Vector3d& c : step) c *= radius_ / length;
+        length = radius_;
+      }
+      const double predicted = model_.predictedDecrease(step);
+      const double actual = lineSearch(step, formShare_ == 1.0 ? 30 : 1);
+      const double ratio = predicted > 0.0 ? actual / predicted : 0.0;
+      if (step_.accepted) extrapolate(step, predicted);
+
+      if (step_.accepted) {
+        if (step_.scale >= 1.0 && ratio > 0.75) radius_ = std::max(radius_, 2.0 * length);
+        if (step_.scale >= 1.0 && ratio > 0.5) {
+          formShare_ = fewerForms(formShare_);
+        } else if (ratio < 0.25) {
+          formShare_ = moreForms(formShare_);
+        }
+      } else if (formShare_ < 1.0) {
+        radius_ = 0.5 * length;
+        if (++failures >= 2) {
+          formShare_ = moreForms(formShare_);
+          failures = 0;
+        }
+      } else {
+        break;
+      }
+    }
+  }
+
+  /// No step lowered E: converged when the model's step is within the tolerance (or changes E
+  /// only by rounding), else stalled.
+  void stopWithoutStep() {
+    const double firstStep = step_.firstStep;
+    if (firstStep >= 0.0 && (firstStep <= tolerance_ || step_.flat)) {
+      result_.status = FitStatus::Converged;
+      result_.reason = firstStep <= resolvedMove_ && resolvedMove_ > 0.0
+                           ? "the model's step (" + number(firstStep) + ") is below " +
+                                 number(kResolvedFraction) + " of the target's resolution (" +
+                                 number(problem_.resolution()) +
+                                 "): the target resolves no further improvement"
+                           : "the objective no longer decreases and the model's step (" +
+                                 number(firstStep) + ") is within the geometric tolerance (" +
+                                 number(tolerance_) + ") or changes it only by rounding";
+    } else {
+      result_.status = FitStatus::Stalled;
+      result_.reason =
+          "no step along the solution of the quadratic model lowered the objective (the model's "
+          "step moves the sensors by up to " +
+          number(std::max(firstStep, 0.0)) + " across the target; geometric tolerance " +
+          number(tolerance_) + ")";
+    }
+  }
+
+  /// Makes the accepted candidate the current net and records it; true when the loop stops.
+  bool acceptStep(int iteration) {
+    problem_.accept();
+    const std::vector<Eigen::Vector3d> acceptedStep = moved(step_.points, points_, -1.0);
+    const double stepLength = largestMove(acceptedStep);
+    // The move that decides convergence: the accepted step's, or the model's full step when the
+    // line search had to cut it (a cut step says nothing about being near the solution).
+    const double sensorMove = std::max(largestSensorMove(linearization_, acceptedStep, d_),
+                                       std::max(step_.firstStep, 0.0));
+    const double relativeDecrease = (objective_ - step_.objective) / objective_;
+    points_ = std::move(step_.points);
+    objective_ = step_.objective;
+    error_ = step_.error;
+    const double newRms = rmsOf(error_);
+    result_.history.push_back({iteration, objective_, newRms, std::sqrt(error_.maxSquared),
+                               stepLength, sensorMove, step_.scale,
+                               settings_.levenbergMarquardt ? step_.damping : 0.0,
+                               bending_.weight(), secondOrder_ ? 1.0 - step_.formShare : 0.0});
+    if (settings_.keepIterates) result_.iterates.push_back(points_);
+    lastMove_ = sensorMove;
+    if (converged(sensorMove, newRms, stepLength, relativeDecrease)) return true;
+    if (settings_.interrupt && settings_.interrupt(iteration, points_)) {
+      result_.interrupted = true;
+      result_.status = FitStatus::IterationCap;
+      result_.reason = "interrupted after iteration " + std::to_string(iteration);
+      return true;
+    }
+    return false;
+  }
+
+  /// The stopping tests after an accepted step (runFitLoop); sets the status and reason when one
+  /// holds.
+  bool converged(double sensorMove, double newRms, double stepLength, double relativeDecrease) {
+    const double newTolerance = moveTolerance(newRms, error_.count);
+    const double rmsChange = std::abs(newRms - rms_);
+    // What is left to move if the iteration keeps converging at its latest rate q: the last
+    // change times q / (1 - q) (at least the last change itself).
+    const double remainingMove = sensorMove * remainingFactor(sensorMove, previousSensorMove_);
+    const double remainingRms = rmsChange * remainingFactor(rmsChange, previousRmsChange_);
+    previousSensorMove_ = sensorMove;
+    previousRmsChange_ = rmsChange;
+    if (remainingMove <= newTolerance && remainingRms <= newTolerance) {
+      result_.status = FitStatus::Converged;
+      result_.reason = "the " + settings_.splineName +
+                       " stopped moving: the sensors' last move across the target (" +
+                       number(sensorMove) + ") and RMS change (" + number(rmsChange) +
+                       "), extrapolated at their rate of convergence, are within the geometric "
+                       "tolerance " +
+                       number(newTolerance) + " (largest control-point move " + number(stepLength) +
+                       ")";
+      return true;
+    }
+    if (settings_.distanceTolerance > 0.0 && newRms <= settings_.distanceTolerance) {
+      result_.status = FitStatus::Converged;
+      result_.reason = "the RMS distance reached the distance tolerance";
+      return true;
+    }
+    if (settings_.objectiveTolerance > 0.0 && relativeDecrease < settings_.objectiveTolerance) {
+      result_.status = FitStatus::Converged;
+      result_.reason = "the objective decreased by less than the objective tolerance";
+      return true;
+    }
+    return false;
+  }
+
+  const FitLoopSettings& settings_;
+  FitProblem& problem_;
+  const int n_;           ///< control points
+  const int d_;           ///< dimension
+  const bool automatic_;  ///< automatic bending weight
+  QuadraticModel model_;
+  AutomaticBending bending_;
+  std::vector<Eigen::Vector3d> points_;  ///< the current net
+  double size_ = 0.0;                    ///< the largest side of the initial net's bounding box
+  double resolvedMove_ = 0.0;            ///< the smallest move the target resolves
+  FitLoopResult result_;
+  DataError error_;         ///< the current net's
+  double objective_ = 0.0;  ///< E of the current net
+  double damping_ = settings_.levenbergMarquardt ? settings_.initialDamping : 0.0;
+  double formShare_ = 1.0;  ///< share of the plain forms; 1 - formShare_ of the second order
+  double radius_ = std::numeric_limits<double>::infinity();  ///< trust radius (second order)
+  FitLinearization linearization_;
+  std::optional<QuadraticModel> correctionModel_;  ///< with problem_.offersCorrection()
+  FitLinearization correctionLinearization_;
+  double lastMove_ = 0.0;
+  double previousSensorMove_ = -1.0;
+  double previousRmsChange_ = -1.0;
+  // The current iteration: its linearisation has second-order terms, the RMS distance and move
+  // tolerance at its start, its step.
+  bool secondOrder_ = false;
+  double rms_ = 0.0;
+  double tolerance_ = 0.0;
+  StepResult step_;
+};
+
 }  // namespace
 
 FitLoopResult runFitLoop(const std::vector<Eigen::Vector3d>& initial,
                          const FitLoopSettings& settings, FitProblem& problem) {
-  const int n = static_cast<int>(initial.size());
-  validate(settings, n);
-  const int d = settings.dimension;
-  const bool automatic = settings.bendingWeight < 0.0 && settings.bending.nonZeros() > 0;
-  QuadraticModel model(n, d, settings.fixedSmoothing, settings.bending);
-  AutomaticBending bending(automatic ? kInitialAutomaticBending
-                                     : std::max(0.0, settings.bendingWeight));
-  model.setSmoothingScale(bending.weight());
-  if (settings.stepSmoothness > 0.0 && settings.stepRegularizer.nonZeros() > 0) {
-    model.setStepRegularizer(settings.stepRegularizer, settings.stepSmoothness);
-  }
-
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& point : initial) box.extend(point);
-  const double size = box.sizes().maxCoeff();
-  const double resolvedMove = kResolvedFraction * problem.resolution();
-
-  FitLoopResult result;
-  std::vector<Eigen::Vector3d> points = initial;
-  DataError error = problem.measure(points);
-  if (!error.valid) {
-    throw InputError("the initial " + settings.splineName +
-                     " is not inside the region where the target answers");
-  }
-  problem.accept();
-  double objective = objectiveOf(error, model.smoothingEnergy(points));
-  result.history.push_back({0, objective, rmsOf(error), std::sqrt(error.maxSquared), 0.0, 0.0, 0.0,
-                            0.0, bending.weight(), 0.0});
-  if (settings.keepIterates) result.iterates.push_back(points);
-
-  // The geometric tolerance of a move for a fit of RMS `rms` over `count` terms.
-  const auto moveTolerance = [&](double rms, int count) {
-    return std::max({settings.stepTolerance * size,
-                     settings.moveTolerance * fitResolution(rms, n, count), resolvedMove});
-  };
-
-  double damping = settings.levenbergMarquardt ? settings.initialDamping : 0.0;
-  double formShare = 1.0;  // share of the plain forms; 1 - formShare of the second-order terms
-  double radius = std::numeric_limits<double>::infinity();  // trust radius of second-order steps
-  FitLinearization linearization;
-  // The correction's model (same smoothing), made when the problem offers corrections.
-  std::optional<QuadraticModel> correctionModel;
-  FitLinearization correctionLinearization;
-  if (problem.offersCorrection()) {
-    correctionModel.emplace(n, d, settings.fixedSmoothing, settings.bending);
-  }
-  bool stopped = false;
-  double lastMove = 0.0;
-  double previousSensorMove = -1.0;
-  double previousRmsChange = -1.0;
-  for (int iteration = 1; iteration <= settings.maxIterations && !stopped; ++iteration) {
-    if (settings.progress) {
-      settings.progress("fit", static_cast<double>(iteration - 1) / settings.maxIterations);
-    }
-    problem.linearize(points, linearization);
-    if (linearization.basis == nullptr ||
-        static_cast<int>(linearization.forms.size()) != linearization.basis->sensorCount()) {
-      throw InputError("the fitting problem's linearisation does not match its sensors");
-    }
-    const bool secondOrder = !linearization.secondOrder.empty();
-    const int count = static_cast<int>(linearization.forms.size());
-    model.assemble(
-        {SensorTerms{linearization.basis, &linearization.forms, count > 0 ? 1.0 / count : 0.0,
-                     secondOrder ? &linearization.secondOrder : nullptr}},
-        points);
-    const double rms = rmsOf(error);
-    if (automatic) {
-      bending.choose(model, linearization,
-                     settings.automaticBias * fitResolution(rms, n, std::max(count, 1)), d);
-      objective = objectiveOf(error, model.smoothingEnergy(points));
-    }
-    const double tolerance = moveTolerance(rms, count);
-
-    // Step control: Levenberg-Marquardt damping (TDM); a trust-region choice of the second-order
-    // share (SDM II) that falls back to the plain forms and a line search; or the line search on
-    // the true objective alone.
-    bool accepted = false;
-    bool flat = false;  // the objective at the first full step equals E to rounding
-    double firstStep = -1.0;
-    double scale = 1.0;
-    double usedDamping = damping;
-    double usedShare = formShare;
-    DataError acceptedError;
-    double acceptedObjective = objective;
-    std::vector<Eigen::Vector3d> acceptedPoints;
-    bool correctedGain = false;  // the accepted candidate was lowered by its correction
-    // The candidate points + s step, measured, then corrected (FitProblem::correction()) when the
-    // problem offers a correction: the problem's last measurement is the returned points'.
-    struct Trial {
-      std::vector<Eigen::Vector3d> points;
-      DataError error;
-      double value = 0.0;             // E of the (corrected) candidate
-      double uncorrectedValue = 0.0;  // E of points + s step itself
-    };
-    const auto evaluate = [&](const std::vector<Eigen::Vector3d>& step, double s) {
-      Trial trial;
-      trial.points = moved(points, step, s);
-      trial.error = problem.measure(trial.points);
-      trial.value = objectiveOf(trial.error, model.smoothingEnergy(trial.points));
-      trial.uncorrectedValue = trial.value;
-      if (correctionModel && trial.error.valid && formShare < 1.0 &&
-          problem.correction(trial.points, correctionLinearization)) {
-        const int terms = static_cast<int>(correctionLinearization.forms.size());
-        correctionModel->assemble(
-            {SensorTerms{correctionLinearization.basis, &correctionLinearization.forms,
-                         terms > 0 ? 1.0 / terms : 0.0, nullptr}},
-            trial.points);
-        correctionModel->setSmoothingScale(bending.weight());
-        std::vector<Eigen::Vector3d> correctedPoints =
-            moved(trial.points, correctionModel->solveAssembled(1.0, 0.0), 1.0);
-        const DataError correctedError = problem.measure(correctedPoints);
-        const double correctedValue =
-            objectiveOf(correctedError, model.smoothingEnergy(correctedPoints));
-        if (correctedValue <= trial.value) {
-          trial.points = std::move(correctedPoints);
-          trial.error = correctedError;
-          trial.value = correctedValue;
-        } else {
-          problem.measure(trial.points);  // rounding: keep the uncorrected candidate
-        }
-      }
-      return trial;
-    };
-    // Measures the candidate points + s step for s = 1, 1/2, ... (`halvings` tries) and accepts
-    // the first that lowers E. Returns the actual decrease of the full (corrected) step.
-    const auto lineSearch = [&](const std::vector<Eigen::Vector3d>& step, int halvings) {
-      double fullDecrease = -std::numeric_limits<double>::infinity();
-      scale = 1.0;
-      correctedGain = false;
-      for (int h = 0; h < halvings; ++h, scale *= 0.5) {
-        Trial trial = evaluate(step, scale);
-        if (h == 0) {
-          fullDecrease = objective - trial.value;
-          if (firstStep < 0.0) {
-            firstStep = largestSensorMove(linearization, step, d);
-            flat = std::abs(trial.value - objective) <= 1e-12 * objective;
-          }
-        }
-        if (trial.value < objective) {
-          accepted = true;
-          correctedGain = trial.value < trial.uncorrectedValue;
-          acceptedError = trial.error;
-          acceptedObjective = trial.value;
-          acceptedPoints = std::move(trial.points);
-          return fullDecrease;
-        }
-        if (largestMove(step) * scale < 1e-3 * tolerance) break;
-      }
-      return fullDecrease;
-    };
-    // After a full step whose correction gained much more than the model predicted (the step
-    // follows a curved valley that the correction straightens): tries 2, 4, ... times the step,
-    // each corrected, while E keeps falling, and keeps the best.
-    const auto extrapolate = [&](const std::vector<Eigen::Vector3d>& step, double predicted) {
-      if (!correctionModel || !correctedGain || scale != 1.0) return;
-      const double gain = objective - acceptedObjective;
-      if (!(gain > kExtrapolationGain * std::max(predicted, 0.0))) return;
-      bool lastIsAccepted = true;
-      for (double s = 2.0; s <= kLargestExtrapolation; s *= 2.0) {
-        Trial trial = evaluate(step, s);
-        lastIsAccepted = trial.value < acceptedObjective;
-        if (!lastIsAccepted) break;
-        scale = s;
-        acceptedError = trial.error;
-        acceptedObjective = trial.value;
-        acceptedPoints = std::move(trial.points);
-      }
-      if (!lastIsAccepted) problem.measure(acceptedPoints);  // accept() takes the last measured
-    };
-
-    if (settings.levenbergMarquardt) {
-      for (int attempt = 0; attempt < 12 && !accepted; ++attempt) {
-        const std::vector<Eigen::Vector3d> step = model.solveAssembled(1.0, damping);
-        usedDamping = damping;
-        lineSearch(step, 1);
-        if (!accepted) damping = std::max(10.0 * damping, 1e-6);
-      }
-      if (accepted) damping = std::max(damping / 3.0, 1e-9);
-    } else if (secondOrder) {
-      int failures = 0;
-      for (int attempt = 0; attempt < 10 && !accepted; ++attempt) {
-        // With second-order terms (share < 1) only a positive definite model gives a step.
-        std::optional<std::vector<Eigen::Vector3d>> solved =
-            formShare < 1.0 ? model.minimizeAssembled(1.0 - formShare, 0.0)
-                            : model.solveAssembled(0.0, 0.0);
-        if (!solved) {
-          formShare = moreForms(formShare);
-          continue;
-        }
-        std::vector<Eigen::Vector3d> step = std::move(*solved);
-        usedShare = formShare;
-        double length = largestMove(step);
-        const bool truncated = formShare < 1.0 && length > radius;
-        if (truncated) {
-          for (Eigen::Vector3d& c : step) c *= radius / length;
-          length = radius;
-        }
-        const double predicted = model.predictedDecrease(step);
-        const double actual = lineSearch(step, formShare == 1.0 ? 30 : 1);
-        const double ratio = predicted > 0.0 ? actual / predicted : 0.0;
-        if (accepted) extrapolate(step, predicted);
-
-        if (accepted) {
-          if (scale >= 1.0 && ratio > 0.75) radius = std::max(radius, 2.0 * length);
-          if (scale >= 1.0 && ratio > 0.5) {
-            formShare = fewerForms(formShare);
-          } else if (ratio < 0.25) {
-            formShare = moreForms(formShare);
-          }
-        } else if (formShare < 1.0) {
-          radius = 0.5 * length;
-          if (++failures >= 2) {
-            formShare = moreForms(formShare);
-            failures = 0;
-          }
-        } else {
-          break;
-        }
-      }
-    } else {
-      lineSearch(model.solveAssembled(1.0, 0.0), 30);
-    }
-
-    if (!accepted) {
-      if (firstStep >= 0.0 && (firstStep <= tolerance || flat)) {
-        result.status = FitStatus::Converged;
-        result.reason = firstStep <= resolvedMove && resolvedMove > 0.0
-                            ? "the model's step (" + number(firstStep) + ") is below " +
-                                  number(kResolvedFraction) + " of the target's resolution (" +
-                                  number(problem.resolution()) +
-                                  "): the target resolves no further improvement"
-                            : "the objective no longer decreases and the model's step (" +
-                                  number(firstStep) + ") is within the geometric tolerance (" +
-                                  number(tolerance) + ") or changes it only by rounding";
-      } else {
-        result.status = FitStatus::Stalled;
-        result.reason =
-            "no step along the solution of the quadratic model lowered the objective (the model's "
-            "step moves the sensors by up to " +
-            number(std::max(firstStep, 0.0)) + " across the target; geometric tolerance " +
-            number(tolerance) + ")";
-      }
-      stopped = true;
-      break;
-    }
-    problem.accept();
-    const std::vector<Eigen::Vector3d> acceptedStep = moved(acceptedPoints, points, -1.0);
-    const double stepLength = largestMove(acceptedStep);
-    // The move that decides convergence: the accepted step's, or the model's full step when the
-    // line search had to cut it (a cut step says nothing about being near the solution).
-    const double sensorMove =
-        std::max(largestSensorMove(linearization, acceptedStep, d), std::max(firstStep, 0.0));
-    const double relativeDecrease = (objective - acceptedObjective) / objective;
-    points = std::move(acceptedPoints);
-    objective = acceptedObjective;
-    error = acceptedError;
-    const double newRms = rmsOf(error);
-    result.history.push_back({iteration, objective, newRms, std::sqrt(error.maxSquared), stepLength,
-                              sensorMove, scale, settings.levenbergMarquardt ? usedDamping : 0.0,
-                              bending.weight(), secondOrder ? 1.0 - usedShare : 0.0});
-    if (settings.keepIterates) result.iterates.push_back(points);
-    lastMove = sensorMove;
-
-    const double newTolerance = moveTolerance(newRms, error.count);
-    const double rmsChange = std::abs(newRms - rms);
-    // What is left to move if the iteration keeps converging at its latest rate q: the last
-    // change times q / (1 - q) (at least the last change itself).
-    const double remainingMove = sensorMove * remainingFactor(sensorMove, previousSensorMove);
-    const double remainingRms = rmsChange * remainingFactor(rmsChange, previousRmsChange);
-    previousSensorMove = sensorMove;
-    previousRmsChange = rmsChange;
-    if (remainingMove <= newTolerance && remainingRms <= newTolerance) {
-      result.status = FitStatus::Converged;
-      result.reason = "the " + settings.splineName +
-                      " stopped moving: the sensors' last move across the target (" +
-                      number(sensorMove) + ") and RMS change (" + number(rmsChange) +
-                      "), extrapolated at their rate of convergence, are within the geometric "
-                      "tolerance " +
-                      number(newTolerance) + " (largest control-point move " + number(stepLength) +
-                      ")";
-      stopped = true;
-    } else if (settings.distanceTolerance > 0.0 && newRms <= settings.distanceTolerance) {
-      result.status = FitStatus::Converged;
-      result.reason = "the RMS distance reached the distance tolerance";
-      stopped = true;
-    } else if (settings.objectiveTolerance > 0.0 &&
-               relativeDecrease < settings.objectiveTolerance) {
-      result.status = FitStatus::Converged;
-      result.reason = "the objective decreased by less than the objective tolerance";
-      stopped = true;
-    }
-    if (!stopped && settings.interrupt && settings.interrupt(iteration, points)) {
-      result.interrupted = true;
-      result.status = FitStatus::IterationCap;
-      result.reason = "interrupted after iteration " + std::to_string(iteration);
-      stopped = true;
-    }
-  }
-  if (!stopped) {
-    result.status = FitStatus::IterationCap;
-    result.reason = "reached the iteration cap of " + std::to_string(settings.maxIterations) +
-                    " while the " + settings.splineName +
-                    " was still moving (last move across the target " + number(lastMove) +
-                    ", tolerance " + number(moveTolerance(rmsOf(error), error.count)) + ")";
-  }
-  result.controlPoints = std::move(points);
-  if (settings.progress) settings.progress("fit", 1.0);
-  return result;
+  return FitLoop(initial, settings, problem).run();
 }
 
 }  // namespace detail

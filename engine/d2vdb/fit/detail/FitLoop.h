@@ -15,8 +15,8 @@
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/fit/FitHistory.h"
-#include "d2vdb/fit/QuadraticModel.h"
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 
 namespace d2vdb::detail {
 

@@ -11,7 +11,7 @@
 
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/fit/CurveFit.h"
-#include "d2vdb/fit/SensorBasis.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
 #include "d2vdb/fit/detail/FitLoop.h"
 #include "d2vdb/measure/PointProjection.h"
 #include "d2vdb/spline/BSplineCurve.h"

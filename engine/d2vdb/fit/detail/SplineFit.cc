@@ -38,6 +38,22 @@ void validateFitOptions(const FitOptions& options, int sensorsPerSpan) {
           "the initial damping must be finite and non-negative");
 }
 
+void requireDataPoints(const std::vector<Eigen::Vector3d>& points, const std::string& what,
+                       bool planar) {
+  if (points.empty()) {
+    throw InputError("the point cloud is empty: there is nothing to fit " + what + " to");
+  }
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (!points[k].allFinite()) {
+      throw InputError("data point " + std::to_string(k) + " has a non-finite coordinate");
+    }
+    if (planar && points[k].z() != 0.0) {
+      throw InputError("data point " + std::to_string(k) +
+                       " has z != 0 but the curve is 2D; fit a 3D curve or project the data");
+    }
+  }
+}
+
 void requireNonDegenerate(const std::vector<Eigen::Vector3d>& controlPoints,
                           const std::string& what) {
   Eigen::AlignedBox3d box;

@@ -1,6 +1,6 @@
 // Internal: what the curve and surface fitters share around the fit loop (detail/FitLoop.h): the
-// option checks, the loop settings that come straight from FitOptions, the degenerate-net check
-// and the result with the fitted spline and its iterates.
+// option and data-point checks, the loop settings that come straight from FitOptions, the
+// degenerate-net check and the result with the fitted spline and its iterates.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,6 +22,11 @@ void validateFitOptions(const FitOptions& options, int sensorsPerSpan);
 /// the spline ("the initial curve").
 void requireNonDegenerate(const std::vector<Eigen::Vector3d>& controlPoints,
                           const std::string& what);
+
+/// Throws InputError when the point cloud `points` is empty (nothing to fit `what` to: "a curve")
+/// or a point has a non-finite coordinate or, with `planar`, z != 0 (the first such point named).
+void requireDataPoints(const std::vector<Eigen::Vector3d>& points, const std::string& what,
+                       bool planar = false);
 
 /// The loop settings taken over from `options` as they are (bending weight, Levenberg-Marquardt
 /// for TDM, damping, automatic bias, iteration cap, tolerances, iterates, progress); the caller

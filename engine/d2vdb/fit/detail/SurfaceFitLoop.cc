@@ -3,7 +3,7 @@
 
 #include <utility>
 
-#include "d2vdb/fit/ThinPlateMatrix.h"
+#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 #include "d2vdb/fit/detail/SplineFit.h"
 
 namespace d2vdb::detail {

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
-#include "d2vdb/fit/QuadraticModel.h"
-#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/detail/QuadraticModel.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 
 namespace d2vdb::detail {
 namespace {

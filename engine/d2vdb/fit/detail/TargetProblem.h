@@ -13,7 +13,7 @@
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
 #include "d2vdb/fit/FitMethod.h"
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 #include "d2vdb/fit/detail/FitLoop.h"
 
 namespace d2vdb::detail {

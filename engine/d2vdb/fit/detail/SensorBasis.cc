@@ -1,4 +1,4 @@
-#include "d2vdb/fit/SensorBasis.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -9,7 +9,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 SensorBasis::SensorBasis(const BSplineCurve& curve, std::vector<double> parameters)
     : SensorMap(static_cast<int>(parameters.size()), curve.degree() + 1, curve.controlPointCount()),
@@ -61,4 +61,4 @@ std::vector<double> uniformSensorParameters(const BSplineCurve& curve, int perSp
   return parameters;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 
 #include <cmath>
 #include <string>
@@ -7,7 +7,7 @@
 #include "d2vdb/core/GaussLegendre.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 void gaussLegendre(int count, std::vector<double>& nodes, std::vector<double>& weights) {
   if (count < 1 || count > 64) {
@@ -61,4 +61,4 @@ Eigen::SparseMatrix<double> derivativeGramMatrix(const BSplineCurve& curve, int 
   return gram;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,12 +1,12 @@
-// The linear map from a B-spline curve's control points to the positions of its sensors.
+// Internal: the linear map from a B-spline curve's control points to the positions of its sensors.
 #pragma once
 
 #include <vector>
 
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 #include "d2vdb/spline/BSplineCurve.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Sensors of a curve at fixed parameter values and the B-spline basis there: sensor k lies at
 /// x_k = sum_j weight(k, j) P[index(k, j)], j = 0..p, with P the curve's stored control points
@@ -32,4 +32,4 @@ class SensorBasis final : public SensorMap {
 /// that its ends are held too), ascending. InputError for perSpan < 1.
 std::vector<double> uniformSensorParameters(const BSplineCurve& curve, int perSpan);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,14 +1,15 @@
-// The linear map from a B-spline surface's control points to the positions of its sensors.
+// Internal: the linear map from a B-spline surface's control points to the positions of its
+// sensors.
 #pragma once
 
 #include <Eigen/Core>
 
 #include <vector>
 
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 #include "d2vdb/spline/BSplineSurface.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Sensors of a surface at fixed parameter pairs (u, v) and the tensor-product basis there:
 /// sensor k lies at x_k = sum_{a,b} N_a(u_k) M_b(v_k) P[index(k, a (q + 1) + b)], with P the
@@ -38,4 +39,4 @@ class SurfaceSensorBasis final : public SensorMap {
 std::vector<Eigen::Vector2d> uniformSurfaceSensorParameters(const BSplineSurface& surface,
                                                             int perSpan);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,4 +1,4 @@
-#include "d2vdb/fit/SurfaceSensorBasis.h"
+#include "d2vdb/fit/detail/SurfaceSensorBasis.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -10,7 +10,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 SurfaceSensorBasis::SurfaceSensorBasis(const BSplineSurface& surface,
                                        std::vector<Eigen::Vector2d> parameters)
@@ -112,4 +112,4 @@ std::vector<Eigen::Vector2d> uniformSurfaceSensorParameters(const BSplineSurface
   return parameters;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,5 +1,6 @@
-// The quadratic model of one fitting iteration: assembly of the sensors' quadratic forms and the
-// smoothing energy into a sparse symmetric system over the control points, and its solution.
+// Internal: the quadratic model of one fitting iteration: assembly of the sensors' quadratic forms
+// and the smoothing energy into a sparse symmetric system over the control points, and its
+// solution.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -13,13 +14,11 @@
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
-namespace detail {
 class SupernodalCholesky;
-}
 
 /// Rank-one terms alpha (u . c_k)^2 attached to the sensors of a SensorMap, with c_k the
 /// displacements of sensor k's control points: u has order() * dimension entries, entry
@@ -42,7 +41,7 @@ struct RankOneTerms {
   void reset(int sensorCount, int vectorLength, bool separableTerms = false) {
     length = vectorLength;
     separable = separableTerms;
-    start.assign(static_cast<std::size_t>(sensorCount) + 1, 0);
+    start.assign(sensorCount + 1, 0);
     coefficients.clear();
     vectors.clear();
   }
@@ -155,13 +154,21 @@ class QuadraticModel {
   double smoothingEnergy(const std::vector<Eigen::Vector3d>& controlPoints) const;
 
   /// Whether the last solve's system was positive definite (all LDL^T pivots positive).
-  bool lastSolvePositiveDefinite() const {
-    return factorizations_[static_cast<std::size_t>(current_)].positiveDefinite;
-  }
+  bool lastSolvePositiveDefinite() const { return factorizations_[current_].positiveDefinite; }
 
   int dimension() const { return dimension_; }
 
  private:
+  /// One assembly: every span group of every sensor set, the sums of its forms and rank-one
+  /// terms, and where its blocks go in the pattern (QuadraticModel.cc).
+  struct Assembly;
+  /// Looks up where `group`'s blocks go in the pattern; false when one lies outside it.
+  bool findRanks(Assembly& assembly, std::size_t group) const;
+  /// Resets the last assembly's values and right-hand sides to the sums of `assembly`.
+  void scatter(const Assembly& assembly);
+  /// Adds local block column b of `group`'s sums into control point `column`'s column of the
+  /// values and its rows of the right-hand sides.
+  void scatterBlockColumn(const Assembly& assembly, std::size_t group, int b, int column);
   /// Position in the control-point pattern of row i within column j, or -1 when absent.
   int patternRank(int row, int column) const;
   /// Rebuilds the pattern as the union of the current one, `pairs` (row, column of control
@@ -184,6 +191,12 @@ class QuadraticModel {
   Eigen::VectorXd stacked(const std::vector<Eigen::Vector3d>& controlPoints) const;
   /// The inverse of stacked().
   std::vector<Eigen::Vector3d> unstacked(const Eigen::VectorXd& vector) const;
+  /// values[e] = the last assembly's forms plus rankOneScale times its rank-one terms plus the
+  /// smoothing, in system_'s layout.
+  void hessianValues(double rankOneScale, double* values) const;
+  /// Fills system_ with the system of the last assembly for `rankOneScale` and `damping` (the
+  /// Hessian plus ridge, damping and regulariser) and returns its right-hand side r - H P.
+  Eigen::VectorXd loadSystem(double rankOneScale, double damping);
   /// solveAssembled() (`indefiniteToo`) or minimizeAssembled().
   std::optional<std::vector<Eigen::Vector3d>> solveSystem(double rankOneScale, double damping,
                                                           bool indefiniteToo);
@@ -234,10 +247,17 @@ class QuadraticModel {
     Solver solverUsed = Solver::none;
     bool analyzed = false;      ///< the supernodal factorisation has the current pattern
     bool ldltAnalyzed = false;  ///< the LDLT factorisation has the current pattern
-    std::unique_ptr<detail::SupernodalCholesky> cholesky;
+    std::unique_ptr<SupernodalCholesky> cholesky;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
     Eigen::LLT<Eigen::MatrixXd> denseCholesky;
     Eigen::LDLT<Eigen::MatrixXd> denseLdlt;
+    /// Factorises `system` (`unknowns` square) with the solver that its size and pattern call for
+    /// and sets positiveDefinite; a large system found indefinite gets the LDLT only with
+    /// `indefiniteToo`.
+    void factorize(const Eigen::SparseMatrix<double>& system, int unknowns, bool indefiniteToo);
+    void factorizeDense(const Eigen::SparseMatrix<double>& system);
+    void factorizeSparse(const Eigen::SparseMatrix<double>& system, int unknowns,
+                         bool indefiniteToo);
     /// x with A x = right for this factorisation's system A.
     Eigen::VectorXd solve(const Eigen::VectorXd& right) const;
     /// Forgets the factorisation and, with `pattern`, the analysis of the pattern.
@@ -246,7 +266,7 @@ class QuadraticModel {
   /// The last two factorisations: a system that turns out indefinite (a refused second-order
   /// step) does not evict the one before it, which the fallback step then reuses.
   std::array<Factorization, 2> factorizations_;
-  int current_ = 0;  ///< the slot of the last solve
+  std::size_t current_ = 0;  ///< the slot of the last solve
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

@@ -1,12 +1,12 @@
-// Quadratic smoothing energies of a tensor-product B-spline surface as matrices over its control
-// points: the thin-plate (bending) energy and the membrane (stretching) energy.
+// Internal: quadratic smoothing energies of a tensor-product B-spline surface as matrices over its
+// control points: the thin-plate (bending) energy and the membrane (stretching) energy.
 #pragma once
 
 #include <Eigen/Sparse>
 
 #include "d2vdb/spline/BSplineSurface.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// The thin-plate energy matrix T of the surface over the normalised parameters
 /// (s, t) = ((u - u_start) / L_u, (v - v_start) / L_v) in [0, 1]^2:
@@ -24,4 +24,4 @@ Eigen::SparseMatrix<double> thinPlateMatrix(const BSplineSurface& surface);
 /// Exact Gauss-Legendre quadrature as thinPlateMatrix(). Symmetric positive semidefinite.
 Eigen::SparseMatrix<double> membraneMatrix(const BSplineSurface& surface);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

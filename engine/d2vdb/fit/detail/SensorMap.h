@@ -1,12 +1,12 @@
-// The linear map from a spline's control points to the positions of its sensors, grouped by knot
-// span (curves) or knot cell (surfaces) for deterministic parallel assembly.
+// Internal: the linear map from a spline's control points to the positions of its sensors, grouped
+// by knot span (curves) or knot cell (surfaces) for deterministic parallel assembly.
 #pragma once
 
 #include <Eigen/Core>
 
 #include <vector>
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// Sensor k lies at x_k = sum_j weight(k, j) P[index(k, j)], j = 0..order()-1, with P the stored
 /// control points of a curve or surface. Because knots stay fixed during a fit, x_k is linear in
@@ -89,4 +89,4 @@ class SensorMap {
   std::vector<int> spanBegin_;
 };
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

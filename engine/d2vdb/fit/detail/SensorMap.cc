@@ -1,4 +1,4 @@
-#include "d2vdb/fit/SensorMap.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <numeric>
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 SensorMap::SensorMap(int sensorCount, int order, int controlPointCount)
     : sensorCount_(sensorCount),
@@ -51,4 +51,4 @@ std::vector<Eigen::Vector3d> SensorMap::positions(
   return result;
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

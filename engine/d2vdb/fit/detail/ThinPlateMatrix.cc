@@ -1,11 +1,11 @@
-#include "d2vdb/fit/ThinPlateMatrix.h"
+#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 
 #include <vector>
 
-#include "d2vdb/fit/SmoothingMatrix.h"
+#include "d2vdb/fit/detail/SmoothingMatrix.h"
 #include "d2vdb/spline/BasisFunctions.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 namespace {
 
 enum class Energy { ThinPlate, Membrane };
@@ -93,4 +93,4 @@ Eigen::SparseMatrix<double> membraneMatrix(const BSplineSurface& surface) {
   return energyMatrix(surface, Energy::Membrane);
 }
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail

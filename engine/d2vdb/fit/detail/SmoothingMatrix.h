@@ -1,4 +1,4 @@
-// Quadratic smoothing energies of a B-spline curve as matrices over its control points.
+// Internal: quadratic smoothing energies of a B-spline curve as matrices over its control points.
 #pragma once
 
 #include <Eigen/Sparse>
@@ -7,7 +7,7 @@
 
 #include "d2vdb/spline/BSplineCurve.h"
 
-namespace d2vdb {
+namespace d2vdb::detail {
 
 /// The Gram matrix G of the `derivativeOrder`-th derivatives of the curve's basis functions over
 /// the normalised parameter u = (t - t_start) / (t_end - t_start) in [0, 1]:
@@ -24,4 +24,4 @@ Eigen::SparseMatrix<double> derivativeGramMatrix(const BSplineCurve& curve, int 
 /// of degree 2 count - 1. InputError for another count.
 void gaussLegendre(int count, std::vector<double>& nodes, std::vector<double>& weights);
 
-}  // namespace d2vdb
+}  // namespace d2vdb::detail
