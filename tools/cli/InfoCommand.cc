@@ -248,4 +248,9 @@ void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
   registry.add(command, [file, &options]() { return runInfo(*file, options); });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addInfoCommand(CommandRegistry& registry) {
+  addInfoCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

@@ -415,4 +415,9 @@ void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addOffsetCommand(CommandRegistry& registry) {
+  addOffsetCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

@@ -157,4 +157,9 @@ void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addSupportCommand(CommandRegistry& registry) {
+  addSupportCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

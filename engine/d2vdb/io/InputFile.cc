@@ -30,18 +30,19 @@ constexpr std::size_t kHeadBytes = 4096;
 
 struct KindRow {
   InputKind kind;
+  const char* name;         // inputKindName()
   const char* description;  // for "is ..." and "must be ..."
 };
 
 constexpr std::array<KindRow, 8> kKinds = {{
-    {InputKind::Mesh, "a triangle mesh (.obj, .ply, .stl)"},
-    {InputKind::PointSet, "a point set (.xyz, .ply)"},
-    {InputKind::LevelSet, "a level set (.vdb)"},
-    {InputKind::Field, "an approximant field or a level set (.vdb)"},
-    {InputKind::VdbGrids, "a .vdb grid file"},
-    {InputKind::Curve, "a B-spline curve (.json)"},
-    {InputKind::Surface, "a B-spline surface (.json)"},
-    {InputKind::Polylines, "a polyline (.json)"},
+    {InputKind::Mesh, "mesh", "a triangle mesh (.obj, .ply, .stl)"},
+    {InputKind::PointSet, "points", "a point set (.xyz, .ply)"},
+    {InputKind::LevelSet, "level set", "a level set (.vdb)"},
+    {InputKind::Field, "field", "an approximant field or a level set (.vdb)"},
+    {InputKind::VdbGrids, "grids", "a .vdb grid file"},
+    {InputKind::Curve, "curve", "a B-spline curve (.json)"},
+    {InputKind::Surface, "surface", "a B-spline surface (.json)"},
+    {InputKind::Polylines, "polyline", "a polyline (.json)"},
 }};
 constexpr bool rowsFollowInputKind() {
   for (std::size_t i = 0; i < kKinds.size(); ++i) {
@@ -341,6 +342,10 @@ void detail::throwWrongInputKind(const std::filesystem::path& path, InputKind lo
                                  InputKind wanted) {
   throw RuntimeFailure("loadInput: " + quoted(path) + " was loaded as " +
                        describeInputKind(loaded) + ", not as " + describeInputKind(wanted));
+}
+
+const char* inputKindName(InputKind kind) {
+  return kKinds[static_cast<std::size_t>(kind)].name;
 }
 
 }  // namespace d2vdb

@@ -63,6 +63,10 @@ enum class InputKind {
   Polylines,  ///< a polyline .json, or the polylines of a slice file (PolylinesInput)
 };
 
+/// The name reports give a kind: "mesh", "points", "level set", "field", "grids", "curve",
+/// "surface" or "polyline" (the "input_kind" values of the JSON reports).
+const char* inputKindName(InputKind kind);
+
 /// A set of InputKinds, written as a list: {InputKind::Curve, InputKind::Polylines}.
 class InputKinds {
  public:
