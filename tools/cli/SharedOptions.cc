@@ -45,9 +45,9 @@ void declareBandOptions(CLI::App& command, BandArguments& band, const BandOption
                                        helpText(help, "voxel edge length in world units"));
   auto* resolution =
       command.add_option("--resolution", band.resolution,
-                         help.prefix + "voxels along the longest side of " + help.target +
-                             "'s bounding box (instead of --voxel-size; default " +
-                             std::to_string(kDefaultResolution) + ")");
+                         helpText(help, "voxels along the longest side of " + help.target +
+                                            "'s bounding box (instead of --voxel-size; default " +
+                                            std::to_string(kDefaultResolution) + ")"));
   voxelSize->excludes(resolution)->check(positiveNumber());
   resolution->excludes(voxelSize)->check(positiveNumber());
   command
