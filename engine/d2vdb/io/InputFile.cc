@@ -34,7 +34,7 @@ struct KindRow {
   const char* description;  // for "is ..." and "must be ..."
 };
 
-constexpr std::array<KindRow, 8> kKinds = {{
+constexpr std::array<KindRow, 9> kKinds = {{
     {InputKind::Mesh, "mesh", "a triangle mesh (.obj, .ply, .stl)"},
     {InputKind::PointSet, "points", "a point set (.xyz, .ply)"},
     {InputKind::LevelSet, "level set", "a level set (.vdb)"},
@@ -43,6 +43,7 @@ constexpr std::array<KindRow, 8> kKinds = {{
     {InputKind::Curve, "curve", "a B-spline curve (.json)"},
     {InputKind::Surface, "surface", "a B-spline surface (.json)"},
     {InputKind::Polylines, "polyline", "a polyline (.json)"},
+    {InputKind::SupportFunction, "support function", "a support function (.json)"},
 }};
 constexpr bool rowsFollowInputKind() {
   for (std::size_t i = 0; i < kKinds.size(); ++i) {
@@ -58,10 +59,11 @@ struct JsonTypeRow {
   const char* type;
   InputKind kind;
 };
-constexpr std::array<JsonTypeRow, 3> kJsonTypes = {{
+constexpr std::array<JsonTypeRow, 4> kJsonTypes = {{
     {"bspline_curve", InputKind::Curve},
     {"bspline_surface", InputKind::Surface},
     {"polyline", InputKind::Polylines},
+    {kSupportFunctionJsonType, InputKind::SupportFunction},
 }};
 
 std::string quoted(const std::filesystem::path& path) {
@@ -295,6 +297,8 @@ LoadedInput loadJson(const std::filesystem::path& path, InputKinds accepted,
       return {path, detail::surfaceFromJson(document, path.string())};
     case InputKind::Polylines:
       return {path, PolylinesInput{detail::polylinesFromJson(document, path.string())}};
+    case InputKind::SupportFunction:
+      return {path, detail::supportFunctionFromJson(document, path.string())};
     default:
       break;
   }
