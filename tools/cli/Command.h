@@ -193,7 +193,6 @@ void addSupportCommand(CommandRegistry& registry);
 void addOffsetCommand(CommandRegistry& registry);
 
 // TRANSITION: the old registration functions, until each command has its CommandDefinition.
-void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
@@ -203,7 +202,5 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli
