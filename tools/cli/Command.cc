@@ -54,6 +54,55 @@ ProgressCallback makeProgressPrinter(const GlobalOptions& options) {
   };
 }
 
+void printReport(const Report& report, const GlobalOptions& options) {
+  if (options.json) {
+    printJson(report.json);
+  } else if (report.textKind == Report::Text::Answer) {
+    std::cout << report.text << std::flush;
+  } else if (!options.quiet) {
+    std::cerr << report.text;
+  }
+}
+
+void CommandContext::status(std::string_view message) const {
+  cli::status(options_, message);
+}
+
+ProgressCallback CommandContext::progress() const {
+  return makeProgressPrinter(options_);
+}
+
+const CommandRegistry::Entry* CommandRegistry::chosen() const {
+  for (const Entry& entry : entries_) {
+    if (entry.command->parsed()) return &entry;
+  }
+  return nullptr;
+}
+
+int CommandRegistry::run() const {
+  const Entry* entry = chosen();
+  if (entry == nullptr) {
+    std::cerr << "error: no sub-command given; run 'd2vdb --help'\n";
+    return kUsageError;
+  }
+  if (entry->legacyBody) return entry->legacyBody();  // TRANSITION
+  const Report report = entry->run(CommandContext(options_, *entry->command));
+  printReport(report, options_);
+  return report.exitCode;
+}
+
+std::string CommandRegistry::chosenName() const {
+  const Entry* entry = chosen();
+  return entry == nullptr ? std::string("d2vdb") : entry->command->get_name();
+}
+
+std::string CommandRegistry::outOfMemoryAdvice() const {
+  const Entry* entry = chosen();
+  return entry == nullptr || entry->outOfMemoryAdvice.empty()
+             ? std::string("the input is too large for this machine")
+             : entry->outOfMemoryAdvice;
+}
+
 void printJson(const nlohmann::json& report) {
   // Strings from files (e.g. .vdb metadata) need not be UTF-8: invalid bytes become U+FFFD.
   std::cout << report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << std::endl;

@@ -1,4 +1,7 @@
-// Shared plumbing of the d2vdb command: global options, exit codes, progress and report output.
+// The shape every sub-command of the d2vdb command shares: an arguments struct, a function that
+// declares its options, and a function that runs it and returns a Report, registered together
+// with the advice given when it runs out of memory. Also the global options, exit codes, progress
+// and the option validators.
 #pragma once
 
 #include <openvdb/openvdb.h>
@@ -9,6 +12,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -25,23 +29,108 @@ enum ExitCode : int {
   kRunFailure = 3,  ///< failure while running (d2vdb::RuntimeFailure, I/O, out of memory)
 };
 
-/// Options every sub-command accepts.
+/// Options every sub-command accepts (declared once, on the top-level command).
 struct GlobalOptions {
   int threads = 0;     ///< 0 = all cores
   bool quiet = false;  ///< no progress or summaries on stderr
-  bool json = false;   ///< one JSON document on stdout instead of text (reporting sub-commands)
+  bool json = false;   ///< the report as one JSON document on stdout instead of text
 };
 
-/// A sub-command's body: runs after parsing, returns an exit code, may throw d2vdb exceptions.
-using CommandBody = std::function<int()>;
+/// What a sub-command returns: its report, as JSON and as text for people, and its exit code.
+struct Report {
+  /// Where the text goes: a summary of work done goes to stderr and is silenced by --quiet; the
+  /// answer of a command that exists to print it (info, query, project, hausdorff) goes to stdout.
+  enum class Text { Summary, Answer };
 
-/// Registers one sub-command on `app`; `body` is stored and run when the sub-command was chosen.
-/// Each sub-command lives in its own .cc and exposes one `add...Command` function.
-struct CommandRegistry {
-  std::vector<std::pair<CLI::App*, CommandBody>> commands;
-  void add(CLI::App* subcommand, CommandBody body) {
-    commands.emplace_back(subcommand, std::move(body));
+  nlohmann::json json;  ///< printed on stdout with --json (the documented, stable keys)
+  std::string text;     ///< printed without --json; empty prints nothing
+  Text textKind = Text::Summary;
+  int exitCode = kSuccess;
+};
+
+/// Prints `report`: its JSON with --json, otherwise its text (an answer on stdout, a summary on
+/// stderr unless --quiet). A summary's text is printed as given; lines end with '\n'.
+void printReport(const Report& report, const GlobalOptions& options);
+
+/// What a sub-command's run function may use besides its arguments.
+class CommandContext {
+ public:
+  CommandContext(const GlobalOptions& options, const CLI::App& command)
+      : options_(options), command_(command) {}
+
+  const GlobalOptions& options() const { return options_; }
+  /// How often option `name` (e.g. "--voxel-size") was given on the command line.
+  std::size_t count(const std::string& name) const { return command_.count(name); }
+  /// Prints a status line to stderr unless --quiet.
+  void status(std::string_view message) const;
+  /// A progress printer (see makeProgressPrinter()).
+  ProgressCallback progress() const;
+
+ private:
+  const GlobalOptions& options_;
+  const CLI::App& command_;
+};
+
+/// One sub-command: its name, help text, the advice printed when it runs out of memory (the
+/// options that size its work), how it declares its options into `Arguments` and how it runs.
+template <class Arguments>
+struct CommandDefinition {
+  std::string name;
+  std::string description;
+  std::string outOfMemoryAdvice;
+  void (*declare)(CLI::App& command, Arguments& arguments);
+  Report (*run)(const Arguments& arguments, const CommandContext& context);
+};
+
+/// The registered sub-commands. Each lives in its own .cc with one `add...Command` function that
+/// calls add() with its CommandDefinition.
+class CommandRegistry {
+ public:
+  CommandRegistry(CLI::App& app, GlobalOptions& options) : app_(app), options_(options) {}
+
+  /// Adds the sub-command of `definition` to the application: its options are declared now, its
+  /// run function is called by run() when it was chosen.
+  template <class Arguments>
+  void add(const CommandDefinition<Arguments>& definition) {
+    auto arguments = std::make_shared<Arguments>();
+    CLI::App* command = app_.add_subcommand(definition.name, definition.description);
+    definition.declare(*command, *arguments);
+    const auto run = definition.run;
+    entries_.push_back(
+        {command,
+         definition.outOfMemoryAdvice,
+         [arguments, run](const CommandContext& context) { return run(*arguments, context); },
+         {}});
   }
+
+  // TRANSITION (removed once every command has its CommandDefinition): a command registered the
+  // old way, with a body that prints its own report and returns the exit code.
+  void add(CLI::App* command, std::function<int()> body) {
+    entries_.push_back({command, "", {}, std::move(body)});
+  }
+  CLI::App& app() { return app_; }
+  GlobalOptions& legacyOptions() { return options_; }
+
+  /// Runs the chosen sub-command, prints its report and returns its exit code; kUsageError when
+  /// none was chosen. Exceptions propagate.
+  int run() const;
+
+  /// The chosen sub-command's name ("d2vdb" when none) and what to try when it runs out of memory.
+  std::string chosenName() const;
+  std::string outOfMemoryAdvice() const;
+
+ private:
+  struct Entry {
+    CLI::App* command;
+    std::string outOfMemoryAdvice;
+    std::function<Report(const CommandContext&)> run;
+    std::function<int()> legacyBody;  // TRANSITION
+  };
+  const Entry* chosen() const;
+
+  CLI::App& app_;
+  GlobalOptions& options_;
+  std::vector<Entry> entries_;
 };
 
 /// Prints a status line to stderr unless --quiet.
@@ -87,10 +176,23 @@ CLI::Option* addVector3Option(CLI::App& app, const std::string& name, std::array
                               const std::string& description);
 
 // One registration function per sub-command (tools/cli/<Name>Command.cc).
-void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addMesh2SdfCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addPrimitiveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addConvertCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
+void addInfoCommand(CommandRegistry& registry);
+void addMesh2SdfCommand(CommandRegistry& registry);
+void addPrimitiveCommand(CommandRegistry& registry);
+void addConvertCommand(CommandRegistry& registry);
+void addMeshCommand(CommandRegistry& registry);
+void addSliceCommand(CommandRegistry& registry);
+void addProjectCommand(CommandRegistry& registry);
+void addHausdorffCommand(CommandRegistry& registry);
+void addFitCurveCommand(CommandRegistry& registry);
+void addFitSurfaceCommand(CommandRegistry& registry);
+void addFieldCommand(CommandRegistry& registry);
+void addQueryCommand(CommandRegistry& registry);
+void addSmoothCommand(CommandRegistry& registry);
+void addSupportCommand(CommandRegistry& registry);
+void addOffsetCommand(CommandRegistry& registry);
+
+// TRANSITION: the old registration functions, until each command has its CommandDefinition.
 void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
@@ -100,7 +202,5 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

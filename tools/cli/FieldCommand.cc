@@ -264,4 +264,9 @@ void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addFieldCommand(CommandRegistry& registry) {
+  addFieldCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

@@ -310,4 +310,9 @@ void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions&
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addFitCurveCommand(CommandRegistry& registry) {
+  addFitCurveCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

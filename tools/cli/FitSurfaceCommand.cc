@@ -409,4 +409,9 @@ void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOption
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addFitSurfaceCommand(CommandRegistry& registry) {
+  addFitSurfaceCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

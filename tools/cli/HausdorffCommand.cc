@@ -174,4 +174,9 @@ void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addHausdorffCommand(CommandRegistry& registry) {
+  addHausdorffCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

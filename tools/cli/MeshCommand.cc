@@ -103,4 +103,9 @@ void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addMeshCommand(CommandRegistry& registry) {
+  addMeshCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

@@ -2,34 +2,30 @@
 // (h + d, tessellated over a geodesic sphere of normals or a patch's Gauss image) or the OpenVDB
 // way (level set of the input, LevelSetFilter::offset, marching cubes) as the reference. Each
 // offset is written as a mesh, or as a level set when OUT ends in .vdb.
-#include <openvdb/tools/LevelSetFilter.h>
-
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "Command.h"
-#include "SupportInputs.h"
-#include "d2vdb/contour/IsoSurface.h"
+#include "SharedOptions.h"
+#include "SupportReports.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/MeshToLevelSet.h"
-#include "d2vdb/field/VoxelBudget.h"
-#include "d2vdb/io/InputFile.h"
+#include "d2vdb/io/LevelSetOffsets.h"
+#include "d2vdb/io/SupportInput.h"
 #include "d2vdb/io/VdbFile.h"
 #include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/support/SupportOffsets.h"
 #include "d2vdb/support/SupportTessellation.h"
 
 namespace d2vdb::cli {
 namespace {
 
-constexpr int kDefaultResolution = 256;
-
-struct Arguments {
+struct OffsetArguments {
   std::string input, output, method = "support";
   std::vector<double> distances;
   int degree = 16;
@@ -38,11 +34,43 @@ struct Arguments {
   bool allowSingular = false;
   bool patches = false;
   double parabolicRatio = -1.0;
-  double voxelSize = 0.0;
-  int resolution = 0;
-  double halfWidth = 3.0;
-  std::uint64_t maxVoxels = kDefaultMaxActiveVoxels;
+  BandArguments band;
 };
+
+void declareOffset(CLI::App& command, OffsetArguments& args) {
+  command.add_option("input", args.input, "Mesh, point set (.ply), .vdb or support-function .json")
+      ->required();
+  command
+      .add_option("output", args.output,
+                  "Output mesh (.obj, .ply, .stl) or level set (.vdb); written atomically")
+      ->required();
+  command.add_option("--distance", args.distances, "Signed offset distance (repeatable)")
+      ->required()
+      ->allow_extra_args(false);
+  command.add_option("--method", args.method, "support or levelset")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"support", "levelset"}));
+  command
+      .add_option("--degree", args.degree,
+                  "support: spherical-harmonic degree of the fit (inputs other than .json)")
+      ->capture_default_str();
+  command
+      .add_option("--regularization", args.regularization,
+                  "support: smoothness weight of the fit (default 1e-10 sphere, 1e-13 patch)")
+      ->check(CLI::Range(0.0, 1e6));
+  command
+      .add_option("--subdivisions", args.subdivisions,
+                  "support: geodesic sphere of normals, 10 * 4^s + 2 vertices")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 9));
+  command.add_flag("--allow-singular", args.allowSingular,
+                   "support: write offsets outside the safe range or of a singular function");
+  command.add_flag("--patches", args.patches,
+                   "support: split a non-convex mesh or level set into patches of one curvature "
+                   "sign and offset each over its Gauss image");
+  declareBandOptions(command, args.band, {"the mesh", "levelset and .vdb outputs: "});
+  addParabolicRatioOption(command, args.parabolicRatio);
+}
 
 std::string shortNumber(double value) {
   return formatNumber(value, 6);
@@ -64,17 +92,6 @@ bool isVdbPath(const std::string& path) {
   return extension == ".vdb";
 }
 
-// The level-set options of --voxel-size, --resolution (default 256), --half-width, --max-voxels.
-LevelSetOptions levelSetOptionsOf(const Arguments& args) {
-  LevelSetOptions options;
-  options.voxelSize = args.voxelSize;
-  options.resolution =
-      args.voxelSize > 0 ? 0 : (args.resolution > 0 ? args.resolution : kDefaultResolution);
-  options.halfWidth = args.halfWidth;
-  options.maxActiveVoxels = args.maxVoxels;
-  return options;
-}
-
 // One computed offset: a mesh, or a level set for a .vdb output.
 struct Written {
   double distance = 0.0;
@@ -84,18 +101,24 @@ struct Written {
   double seconds = 0.0;
 };
 
+// What one method produced: its own report keys, the offsets (written) and the warnings.
+struct OffsetRun {
+  nlohmann::json json;
+  std::vector<Written> written;
+  std::vector<std::string> warnings;
+};
+
 // Writes every offset once all are computed, so a bad input never leaves some of them written.
-void writeAll(const std::vector<Written>& written, const GlobalOptions& options) {
+void writeAll(const std::vector<Written>& written, const CommandContext& context) {
   for (const Written& w : written) {
     if (w.grid) {
       writeVdb(w.path, {w.grid});
-      status(options, "wrote " + w.path + ": offset " + shortNumber(w.distance) +
-                          ", level set of " + std::to_string(w.grid->activeVoxelCount()) +
-                          " active voxels");
+      context.status("wrote " + w.path + ": offset " + shortNumber(w.distance) + ", level set of " +
+                     std::to_string(w.grid->activeVoxelCount()) + " active voxels");
     } else {
       writeMesh(w.path, w.mesh);
-      status(options, "wrote " + w.path + ": offset " + shortNumber(w.distance) + ", " +
-                          std::to_string(w.mesh.vertexCount()) + " vertices");
+      context.status("wrote " + w.path + ": offset " + shortNumber(w.distance) + ", " +
+                     std::to_string(w.mesh.vertexCount()) + " vertices");
     }
   }
 }
@@ -117,32 +140,21 @@ nlohmann::json writtenJson(const std::vector<Written>& written) {
 }
 
 // The support-function method: fit (or read) h, check every distance, then tessellate x_{h+d}.
-nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& options,
-                               std::vector<Written>& written, std::vector<std::string>& warnings) {
-  const SupportInput input = loadSupportInput(args.input, options);
-  warnings.insert(warnings.end(), input.warnings.begin(), input.warnings.end());
+OffsetRun offsetBySupport(const OffsetArguments& args, const CommandContext& context) {
+  OffsetRun run;
+  const SupportInput input = loadSupportInput(args.input, context.progress());
+  run.warnings = input.warnings;
   if (!input.document) {
-    status(options, "fitting degree " + std::to_string(args.degree) + " to " +
-                        std::to_string(input.samples.points.size()) + " samples of " + args.input +
-                        " (" + input.kind + ")");
+    context.status("fitting degree " + std::to_string(args.degree) + " to " +
+                   std::to_string(input.samples.points.size()) + " samples of " + args.input +
+                   " (" + supportInputKindName(input.kind) + ")");
   }
   const CheckedSupport support =
-      fitAndCheck(input, args.input, args.degree, args.regularization, args.allowSingular);
-  warnings.insert(warnings.end(), support.warnings.begin(), support.warnings.end());
-  for (const double d : args.distances) {
-    if (!support.validity.regular()) break;  // already refused or warned about
-    try {
-      requireRegularOffset(support.validity, d);
-    } catch (const InputError& error) {
-      if (!args.allowSingular) {
-        throw InputError(std::string(error.what()) +
-                         "; choose a distance inside the safe range or pass --allow-singular");
-      }
-      warnings.push_back(std::string(error.what()) + " (kept: --allow-singular)");
-    }
-  }
+      fitAndCheck(input, args.input, {args.degree, args.regularization, args.allowSingular});
+  run.warnings.insert(run.warnings.end(), support.warnings.begin(), support.warnings.end());
+  requireRegularOffsets(support.validity, args.distances, args.allowSingular, run.warnings);
   const SphericalTriangulation domain =
-      support.document.patch ? *support.document.patch : geodesicSphere(args.subdivisions);
+      tessellationDomain(support.document.patch, args.subdivisions);
   const bool toLevelSet = isVdbPath(args.output);
   if (toLevelSet && support.document.patch) {
     throw InputError("'" + args.input +
@@ -157,262 +169,161 @@ nlohmann::json offsetBySupport(const Arguments& args, const GlobalOptions& optio
     w.mesh = tessellateSupport(support.document.function, domain, d);
     if (toLevelSet) {
       LevelSetResult result =
-          meshToLevelSet(w.mesh, levelSetOptionsOf(args), makeProgressPrinter(options));
-      warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
+          meshToLevelSet(w.mesh, args.band.levelSetOptions(), context.progress());
+      run.warnings.insert(run.warnings.end(), result.warnings.begin(), result.warnings.end());
       w.grid = result.grid;
       w.mesh = TriangleMesh();
     }
     w.seconds = clock.seconds();
-    written.push_back(std::move(w));
+    run.written.push_back(std::move(w));
   }
-  writeAll(written, options);
-  nlohmann::json report = supportJson(support);
-  report["input_kind"] = input.kind;
-  report["tessellation"] =
+  writeAll(run.written, context);
+  run.json = supportJson(support);
+  run.json["input_kind"] = supportInputKindName(input.kind);
+  run.json["tessellation"] =
       support.document.patch
           ? std::string("gauss image")
           : "geodesic sphere, " + std::to_string(args.subdivisions) + " subdivisions";
-  return report;
+  return run;
 }
 
 // The support-function method over the patches of a non-convex surface: each patch's offset over
 // its Gauss image, all in one mesh (open pieces; gaps where no patch covers the surface).
-nlohmann::json offsetByPatches(const Arguments& args, const GlobalOptions& options,
-                               std::vector<Written>& written, std::vector<std::string>& warnings) {
+OffsetRun offsetByPatches(const OffsetArguments& args, const CommandContext& context) {
   if (isVdbPath(args.output)) {
     throw InputError(
         "--patches gives open pieces of the offset surface, which have no inside for "
         "a signed level set; write a mesh (.obj, .ply, .stl)");
   }
-  const PatchedSupport patched =
-      fitPatches(args.input, options, args.degree, args.regularization, args.parabolicRatio);
-  warnings.insert(warnings.end(), patched.warnings.begin(), patched.warnings.end());
-  for (const double d : args.distances) {
-    requireRegularPatchOffset(patched, d, args.allowSingular, warnings);
-  }
+  OffsetRun run;
+  const PatchSurface surface = loadPatchSurface(args.input, context.progress());
+  context.status("splitting " + args.input + " (" + inputKindName(surface.kind) + ", " +
+                 std::to_string(surface.mesh.triangles.size()) +
+                 " triangles) into patches of one curvature sign, degree " +
+                 std::to_string(args.degree));
+  const PatchedSupport patched = fitPatches(
+      surface, patchOptions(args.degree, args.regularization, args.parabolicRatio), args.input);
+  run.warnings = patched.warnings;
+  requireRegularPatchOffsets(patched.set, args.distances, args.allowSingular, run.warnings);
   for (const double d : args.distances) {
     const Stopwatch clock;
     Written w;
     w.distance = d;
     w.path = outputFor(args.output, d, args.distances.size()).string();
-    for (const SupportPatch& p : patched.set.patches) {
-      const TriangleMesh piece = tessellateSupport(p.function, p.gaussImage.gaussImage, d);
-      const auto base = static_cast<TriangleMesh::Index>(w.mesh.positions.size());
-      w.mesh.positions.insert(w.mesh.positions.end(), piece.positions.begin(),
-                              piece.positions.end());
-      w.mesh.normals.insert(w.mesh.normals.end(), piece.normals.begin(), piece.normals.end());
-      for (const auto& t : piece.triangles) {
-        w.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-      }
-    }
+    w.mesh = tessellatePatchOffsets(patched.set, d);
     w.seconds = clock.seconds();
-    written.push_back(std::move(w));
+    run.written.push_back(std::move(w));
   }
-  writeAll(written, options);
-  nlohmann::json report = patchesJson(patched);
-  report["tessellation"] = "gauss images of the patches";
-  return report;
+  writeAll(run.written, context);
+  run.json = patchesJson(patched);
+  run.json["tessellation"] = "gauss images of the patches";
+  return run;
 }
 
 // The level-set method (OpenVDB's way): level set of the input, offset by LevelSetFilter in steps
 // of at most half a voxel with renormalisation, marching cubes.
-nlohmann::json offsetByLevelSet(const Arguments& args, const GlobalOptions& options,
-                                std::vector<Written>& written, std::vector<std::string>& warnings) {
-  const ProgressCallback progress = makeProgressPrinter(options);
+OffsetRun offsetByLevelSet(const OffsetArguments& args, const CommandContext& context) {
+  const ProgressCallback progress = context.progress();
   const Stopwatch setup;
-  LoadOptions load;
-  load.purpose = "the input of 'd2vdb offset --method levelset' (a closed mesh or a level set)";
-  LoadedInput loaded = loadInput(args.input, {InputKind::Mesh, InputKind::LevelSet}, load);
-  openvdb::FloatGrid::Ptr levelSet;
-  std::string kind;
-  if (loaded.kind() == InputKind::LevelSet) {
-    levelSet = std::move(loaded).take<LevelSetInput>().floatGrid();
-    kind = "level set";
-  } else {
-    const TriangleMesh mesh = std::move(loaded).take<MeshInput>().mesh;
-    if (mesh.triangles.empty()) {
-      throw InputError("'" + args.input +
-                       "' has no triangles: the level-set method needs a closed mesh or a level "
-                       "set");
-    }
-    LevelSetResult result = meshToLevelSet(mesh, levelSetOptionsOf(args), progress);
-    warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
-    levelSet = result.grid;
-    kind = "mesh";
-  }
-  const double voxel = levelSet->voxelSize()[0];
+  OffsetRun run;
+  const OffsetLevelSet input =
+      loadOffsetLevelSet(args.input, args.band.levelSetOptions(), progress);
+  run.warnings = input.warnings;
+  const double voxel = input.grid->voxelSize()[0];
   const double setupSeconds = setup.seconds();
-  // The band keeps its width while it moves, so an outward offset grows it with the surface:
-  // bound the offset surface's area by that of the bounding box grown by d.
-  const openvdb::CoordBBox indexBox = levelSet->evalActiveVoxelBoundingBox();
-  const openvdb::Vec3d size = indexBox.dim().asVec3d() * voxel;
-  for (const double d : args.distances) {
-    const double grow = std::max(0.0, 2.0 * d);
-    const double sx = size.x() + grow, sy = size.y() + grow, sz = size.z() + grow;
-    const double area = 2.0 * (sx * sy + sy * sz + sz * sx);
-    const double estimate = area / (voxel * voxel) * 2.0 * args.halfWidth * 1.25;
-    if (estimate > static_cast<double>(args.maxVoxels)) {
-      throw InputError("offsetting by " + shortNumber(d) + " at voxel size " + shortNumber(voxel) +
-                       " would need about " + std::to_string(static_cast<long long>(estimate)) +
-                       " active voxels, above --max-voxels " + std::to_string(args.maxVoxels) +
-                       "; use a larger --voxel-size");
-    }
-  }
+  checkLevelSetOffsetBudget(*input.grid, args.distances, args.band.halfWidth, args.band.maxVoxels);
   for (const double d : args.distances) {
     const Stopwatch clock;
     Written w;
     w.distance = d;
     w.path = outputFor(args.output, d, args.distances.size()).string();
-    w.grid = levelSet->deepCopy();
-    openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*w.grid);
-    filter.offset(static_cast<float>(-d));  // OpenVDB adds its argument to the distances
-    IsoSurfaceOptions iso;
-    w.mesh = extractIsoSurface(*w.grid, iso, progress);
-    if (w.mesh.triangles.empty()) {
-      throw InputError("the offset at distance " + shortNumber(d) + " of '" + args.input +
-                       "' is empty (the body is thinner than 2 |d|)");
-    }
+    LevelSetOffset offset = offsetLevelSet(*input.grid, d, args.input, progress);
     if (isVdbPath(args.output)) {
-      w.mesh = TriangleMesh();  // the offset level set itself is the output
+      w.grid = std::move(offset.grid);  // the offset level set itself is the output
     } else {
-      w.grid.reset();
+      w.mesh = std::move(offset.mesh);
     }
     w.seconds = clock.seconds();
-    written.push_back(std::move(w));
+    run.written.push_back(std::move(w));
   }
-  writeAll(written, options);
-  return {{"input_kind", kind},
-          {"voxel_size", voxel},
-          {"half_width", args.halfWidth},
-          {"active_voxels", levelSet->activeVoxelCount()},
-          {"setup_seconds", setupSeconds}};
+  writeAll(run.written, context);
+  run.json = {{"input_kind", inputKindName(input.kind)},
+              {"voxel_size", voxel},
+              {"half_width", args.band.halfWidth},
+              {"active_voxels", input.grid->activeVoxelCount()},
+              {"setup_seconds", setupSeconds}};
+  return run;
+}
+
+Report runOffset(const OffsetArguments& args, const CommandContext& context) {
+  const Stopwatch clock;
+  // An unsupported extension fails before any work.
+  if (!isVdbPath(args.output)) {
+    try {
+      meshFormatFromPath(args.output);
+    } catch (const InputError&) {
+      throw InputError("the output '" + args.output +
+                       "' must be a mesh (.obj, .ply, .stl) or a level set (.vdb)");
+    }
+  }
+  for (const double d : args.distances) {
+    if (!std::isfinite(d)) throw InputError("--distance must be a finite number");
+  }
+  if (args.patches && args.method != "support") {
+    throw InputError("--patches belongs to --method support");
+  }
+  const OffsetRun run = args.method != "support" ? offsetByLevelSet(args, context)
+                        : args.patches           ? offsetByPatches(args, context)
+                                                 : offsetBySupport(args, context);
+  for (const std::string& message : run.warnings) warning(message);
+  Report report;
+  report.json = run.json;
+  report.json["input"] = args.input;
+  report.json["method"] = args.method;
+  report.json["distances"] = args.distances;
+  report.json["outputs"] = writtenJson(run.written);
+  report.json["warnings"] = run.warnings;
+  report.json["seconds"] = clock.seconds();
+  const std::string seconds = std::to_string(clock.seconds()) + " s";
+  if (args.patches) {
+    report.text = "offset " + args.input + " by support-function patches (" + seconds + "):\n" +
+                  patchesText(report.json, "  ");
+  } else if (args.method == "support") {
+    report.text = "offset " + args.input + " by support function (" + seconds + "):\n" +
+                  supportText(report.json, "  ");
+  } else {
+    report.text = "offset " + args.input + " by level set, voxel size " +
+                  shortNumber(report.json["voxel_size"].get<double>()) + " (" + seconds + ")\n";
+  }
+  return report;
 }
 
 }  // namespace
 
-void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
-  auto args = std::make_shared<Arguments>();
-  CLI::App* command = app.add_subcommand(
-      "offset",
-      "Offset a surface by signed distances d (along the outward normals; d < 0 moves inward)\n"
-      "and write each offset as a mesh. --method support (default): the support function h is\n"
-      "fitted (or read from a .json written by 'd2vdb support') and the offset is exactly\n"
-      "h + d, tessellated over a geodesic sphere of normals (closed inputs) or the input's\n"
-      "Gauss image (open meshes); a distance outside the safe range (where a principal radius\n"
-      "r + d would change sign: cusps, swallowtails) is refused unless --allow-singular, and so\n"
-      "is a non-convex closed input unless --patches: then the surface (a mesh or level set) is\n"
-      "split into patches of one curvature sign, each offset over its Gauss image, all written\n"
-      "as one mesh of open pieces. --method levelset: the OpenVDB way, as a reference: level\n"
-      "set of the input, LevelSetFilter::offset, marching cubes. Several --distance values give\n"
-      "OUT's name with _d<distance> inserted before the extension. An OUT ending in .vdb gets\n"
-      "each offset as a level set (--method levelset: the offset grid itself; support: the\n"
-      "tessellation converted at --voxel-size or --resolution, so choose --subdivisions fine\n"
-      "enough for that voxel size).\n"
-      "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
-      "         d2vdb offset volumes/torus.vdb torus-out.obj --distance 0.1 --patches\n"
-      "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset");
-  command
-      ->add_option("input", args->input, "Mesh, point set (.ply), .vdb or support-function .json")
-      ->required();
-  command
-      ->add_option("output", args->output,
-                   "Output mesh (.obj, .ply, .stl) or level set (.vdb); written atomically")
-      ->required();
-  command->add_option("--distance", args->distances, "Signed offset distance (repeatable)")
-      ->required()
-      ->allow_extra_args(false);
-  command->add_option("--method", args->method, "support or levelset")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"support", "levelset"}));
-  command
-      ->add_option("--degree", args->degree,
-                   "support: spherical-harmonic degree of the fit (inputs other than .json)")
-      ->capture_default_str();
-  command
-      ->add_option("--regularization", args->regularization,
-                   "support: smoothness weight of the fit (default 1e-10 sphere, 1e-13 patch)")
-      ->check(CLI::Range(0.0, 1e6));
-  command
-      ->add_option("--subdivisions", args->subdivisions,
-                   "support: geodesic sphere of normals, 10 * 4^s + 2 vertices")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 9));
-  command->add_flag("--allow-singular", args->allowSingular,
-                    "support: write offsets outside the safe range or of a singular function");
-  command->add_flag("--patches", args->patches,
-                    "support: split a non-convex mesh or level set into patches of one curvature "
-                    "sign and offset each over its Gauss image");
-  auto* voxelSize =
-      command->add_option("--voxel-size", args->voxelSize,
-                          "levelset and .vdb outputs: voxel edge length in world units");
-  auto* resolution = command->add_option(
-      "--resolution", args->resolution,
-      "levelset and .vdb outputs: voxels along the longest side of the mesh's bounding box "
-      "(default 256)");
-  voxelSize->excludes(resolution)->check(positiveNumber());
-  resolution->excludes(voxelSize)->check(positiveNumber());
-  command
-      ->add_option("--half-width", args->halfWidth,
-                   "levelset and .vdb outputs: band half-width in voxels")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
-  command
-      ->add_option("--max-voxels", args->maxVoxels,
-                   "levelset and .vdb outputs: refuse when the estimated number of active voxels "
-                   "exceeds this")
-      ->capture_default_str();
-  addParabolicRatioOption(command, args->parabolicRatio);
-  command->add_flag("--json", options.json, "Print the report as JSON on stdout");
-
-  registry.add(command, [args, &options]() {
-    const Stopwatch clock;
-    // An unsupported extension fails before any work.
-    if (!isVdbPath(args->output)) {
-      try {
-        meshFormatFromPath(args->output);
-      } catch (const InputError&) {
-        throw InputError("the output '" + args->output +
-                         "' must be a mesh (.obj, .ply, .stl) or a level set (.vdb)");
-      }
-    }
-    for (const double d : args->distances) {
-      if (!std::isfinite(d)) throw InputError("--distance must be a finite number");
-    }
-    std::vector<Written> written;
-    std::vector<std::string> warnings;
-    if (args->patches && args->method != "support") {
-      throw InputError("--patches belongs to --method support");
-    }
-    nlohmann::json report = args->method != "support"
-                                ? offsetByLevelSet(*args, options, written, warnings)
-                            : args->patches ? offsetByPatches(*args, options, written, warnings)
-                                            : offsetBySupport(*args, options, written, warnings);
-    for (const std::string& message : warnings) warning(message);
-    report["input"] = args->input;
-    report["method"] = args->method;
-    report["distances"] = args->distances;
-    report["outputs"] = writtenJson(written);
-    report["warnings"] = warnings;
-    report["seconds"] = clock.seconds();
-    if (options.json) {
-      printJson(report);
-    } else if (args->patches) {
-      std::string summary = patchesText(report, "  ");
-      summary.pop_back();
-      status(options, "offset " + args->input + " by support-function patches (" +
-                          std::to_string(clock.seconds()) + " s):\n" + summary);
-    } else if (args->method == "support") {
-      std::string summary = supportText(report, "  ");
-      summary.pop_back();
-      status(options, "offset " + args->input + " by support function (" +
-                          std::to_string(clock.seconds()) + " s):\n" + summary);
-    } else {
-      status(options, "offset " + args->input + " by level set, voxel size " +
-                          shortNumber(report["voxel_size"].get<double>()) + " (" +
-                          std::to_string(clock.seconds()) + " s)");
-    }
-    return kSuccess;
-  });
+void addOffsetCommand(CommandRegistry& registry) {
+  registry.add<OffsetArguments>(
+      {"offset",
+       "Offset a surface by signed distances d (along the outward normals; d < 0 moves inward)\n"
+       "and write each offset as a mesh. --method support (default): the support function h is\n"
+       "fitted (or read from a .json written by 'd2vdb support') and the offset is exactly\n"
+       "h + d, tessellated over a geodesic sphere of normals (closed inputs) or the input's\n"
+       "Gauss image (open meshes); a distance outside the safe range (where a principal radius\n"
+       "r + d would change sign: cusps, swallowtails) is refused unless --allow-singular, and so\n"
+       "is a non-convex closed input unless --patches: then the surface (a mesh or level set) is\n"
+       "split into patches of one curvature sign, each offset over its Gauss image, all written\n"
+       "as one mesh of open pieces. --method levelset: the OpenVDB way, as a reference: level\n"
+       "set of the input, LevelSetFilter::offset, marching cubes. Several --distance values give\n"
+       "OUT's name with _d<distance> inserted before the extension. An OUT ending in .vdb gets\n"
+       "each offset as a level set (--method levelset: the offset grid itself; support: the\n"
+       "tessellation converted at --voxel-size or --resolution, so choose --subdivisions fine\n"
+       "enough for that voxel size).\n"
+       "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
+       "         d2vdb offset volumes/torus.vdb torus-out.obj --distance 0.1 --patches\n"
+       "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset",
+       "use a lower --degree or fewer --subdivisions; for --method levelset and .vdb outputs a "
+       "coarser --voxel-size or --resolution, a smaller --half-width, or a lower --max-voxels to "
+       "be refused early",
+       declareOffset, runOffset});
 }
 
 }  // namespace d2vdb::cli

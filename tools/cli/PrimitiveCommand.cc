@@ -3,6 +3,7 @@
 #include <string>
 
 #include "Command.h"
+#include "SharedOptions.h"
 #include "d2vdb/field/Primitives.h"
 #include "d2vdb/io/VdbFile.h"
 
@@ -13,17 +14,16 @@ struct PrimitiveArguments {
   std::string shape, output, gridName = "surface";
   std::array<double, 3> centre{0, 0, 0}, min{-1, -1, -1}, max{1, 1, 1};
   double radius = 1, majorRadius = 1, minorRadius = 0.25, height = 2;
-  double voxelSize = 0;
-  int resolution = 100;
-  PrimitiveLevelSetOptions levelSet;
-  bool half = false, noCompression = false;
+  BandArguments band;
+  VdbOutputArguments vdb;
 };
 
 Eigen::Vector3d toEigen(const std::array<double, 3>& value) {
   return {value[0], value[1], value[2]};
 }
 
-std::unique_ptr<AnalyticShape> makeShape(const PrimitiveArguments& args, const CLI::App& command) {
+std::unique_ptr<AnalyticShape> makeShape(const PrimitiveArguments& args,
+                                         const CommandContext& command) {
   // Options that belong to another shape are a usage error rather than silently ignored.
   const auto reject = [&command, &args](std::initializer_list<const char*> names) {
     for (const char* name : names) {
@@ -48,72 +48,68 @@ std::unique_ptr<AnalyticShape> makeShape(const PrimitiveArguments& args, const C
   return std::make_unique<CappedCylinder>(toEigen(args.centre), args.radius, args.height);
 }
 
-}  // namespace
-
-void addPrimitiveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
-  auto args = std::make_shared<PrimitiveArguments>();
-  CLI::App* command = app.add_subcommand(
-      "primitive",
-      "Write the narrow-band level set of an analytic shape, with the exact signed distance at "
-      "every band voxel (references for accuracy tests). Axes of the torus and the cylinder are "
-      "parallel to +z.\n"
-      "  sphere   --center C --radius R\n"
-      "  box      --min A --max B\n"
-      "  torus    --center C --major R --minor r   (0 < r < R)\n"
-      "  cylinder --center C --radius R --height H (capped; C is the axis midpoint)\n"
-      "Example: d2vdb primitive torus --major 1 --minor 0.35 --voxel-size 0.02 torus.vdb");
-  command->add_option("shape", args->shape, "sphere, box, torus or cylinder")
+void declarePrimitive(CLI::App& command, PrimitiveArguments& args) {
+  command.add_option("shape", args.shape, "sphere, box, torus or cylinder")
       ->required()
       ->check(CLI::IsMember({"sphere", "box", "torus", "cylinder"}));
-  command->add_option("output", args->output, "Output .vdb file (written atomically)")->required();
-  addVector3Option(*command, "--center", args->centre, "Centre (sphere, torus, cylinder)")
+  command.add_option("output", args.output, "Output .vdb file (written atomically)")->required();
+  addVector3Option(command, "--center", args.centre, "Centre (sphere, torus, cylinder)")
       ->default_str("0,0,0");
-  addVector3Option(*command, "--min", args->min, "Minimum corner (box)")->default_str("-1,-1,-1");
-  addVector3Option(*command, "--max", args->max, "Maximum corner (box)")->default_str("1,1,1");
-  command->add_option("--radius", args->radius, "Radius (sphere, cylinder)")->capture_default_str();
-  command->add_option("--major", args->majorRadius, "Major radius (torus)")->capture_default_str();
-  command->add_option("--minor", args->minorRadius, "Minor (tube) radius (torus)")
+  addVector3Option(command, "--min", args.min, "Minimum corner (box)")->default_str("-1,-1,-1");
+  addVector3Option(command, "--max", args.max, "Maximum corner (box)")->default_str("1,1,1");
+  command.add_option("--radius", args.radius, "Radius (sphere, cylinder)")->capture_default_str();
+  command.add_option("--major", args.majorRadius, "Major radius (torus)")->capture_default_str();
+  command.add_option("--minor", args.minorRadius, "Minor (tube) radius (torus)")
       ->capture_default_str();
-  command->add_option("--height", args->height, "Height (cylinder)")->capture_default_str();
-  auto* voxelSize =
-      command->add_option("--voxel-size", args->voxelSize, "Voxel edge length in world units");
-  auto* resolution = command->add_option(
-      "--resolution", args->resolution,
-      "Voxels along the longest side of the shape's bounding box (used without --voxel-size)");
-  resolution->capture_default_str()->check(positiveNumber());
-  voxelSize->check(positiveNumber())->excludes(resolution);
-  command->add_option("--half-width", args->levelSet.halfWidth, "Narrow-band half-width in voxels")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
-  command
-      ->add_option("--max-voxels", args->levelSet.maxActiveVoxels,
-                   "Refuse when the estimated number of active voxels exceeds this")
-      ->capture_default_str();
-  command->add_option("--name", args->gridName, "Name of the written grid")->capture_default_str();
-  command->add_flag("--half", args->half, "Store values as 16-bit half floats (smaller, lossy)");
-  command->add_flag("--no-compression", args->noCompression, "Write without Blosc compression");
+  command.add_option("--height", args.height, "Height (cylinder)")->capture_default_str();
+  declareBandOptions(command, args.band, {"the shape", ""});
+  command.add_option("--name", args.gridName, "Name of the written grid")->capture_default_str();
+  declareVdbOutputOptions(command, args.vdb);
+}
 
-  registry.add(command, [args, &options, command]() {
-    const Stopwatch clock;
-    const std::unique_ptr<AnalyticShape> shape = makeShape(*args, *command);
-    args->levelSet.voxelSize = args->voxelSize > 0
-                                   ? args->voxelSize
-                                   : shape->bounds().sizes().maxCoeff() / args->resolution;
-    const openvdb::FloatGrid::Ptr grid = primitiveLevelSet(*shape, args->levelSet);
-    checkResolvesShape(*grid, shape->bounds().sizes().maxCoeff(), "the shape");
-    grid->setName(args->gridName);
-    VdbWriteOptions writeOptions;
-    writeOptions.blosc = !args->noCompression;
-    writeOptions.halfFloat = args->half;
-    writeOptions.source = shape->describe();
-    writeOptions.halfWidth = args->levelSet.halfWidth;
-    writeVdb(args->output, {grid}, writeOptions);
-    status(options, "wrote " + args->output + ": " + shape->describe() + ", " +
-                        std::to_string(grid->activeVoxelCount()) + " active voxels, voxel size " +
-                        std::to_string(args->levelSet.voxelSize) + ", " +
-                        std::to_string(clock.seconds()) + " s");
-    return kSuccess;
-  });
+Report runPrimitive(const PrimitiveArguments& args, const CommandContext& context) {
+  const Stopwatch clock;
+  const std::unique_ptr<AnalyticShape> shape = makeShape(args, context);
+  const Eigen::AlignedBox3d bounds = shape->bounds();
+  PrimitiveLevelSetOptions levelSet;
+  levelSet.voxelSize = args.band.voxelSizeFor(bounds, "shape");
+  levelSet.halfWidth = args.band.halfWidth;
+  levelSet.maxActiveVoxels = args.band.maxVoxels;
+  const openvdb::FloatGrid::Ptr grid = primitiveLevelSet(*shape, levelSet);
+  checkResolvesShape(*grid, bounds.sizes().maxCoeff(), "the shape");
+  grid->setName(args.gridName);
+  writeVdb(args.output, {grid}, args.vdb.writeOptions(shape->describe(), levelSet.halfWidth));
+  Report report;
+  report.json = {{"shape", args.shape},
+                 {"description", shape->describe()},
+                 {"output", args.output},
+                 {"voxel_size", levelSet.voxelSize},
+                 {"half_width", levelSet.halfWidth},
+                 {"active_voxels", grid->activeVoxelCount()},
+                 {"seconds", clock.seconds()}};
+  report.text = "wrote " + args.output + ": " + shape->describe() + ", " +
+                std::to_string(grid->activeVoxelCount()) + " active voxels, voxel size " +
+                std::to_string(levelSet.voxelSize) + ", " + std::to_string(clock.seconds()) +
+                " s\n";
+  return report;
+}
+
+}  // namespace
+
+void addPrimitiveCommand(CommandRegistry& registry) {
+  registry.add<PrimitiveArguments>(
+      {"primitive",
+       "Write the narrow-band level set of an analytic shape, with the exact signed distance at "
+       "every band voxel (references for accuracy tests). Axes of the torus and the cylinder are "
+       "parallel to +z.\n"
+       "  sphere   --center C --radius R\n"
+       "  box      --min A --max B\n"
+       "  torus    --center C --major R --minor r   (0 < r < R)\n"
+       "  cylinder --center C --radius R --height H (capped; C is the axis midpoint)\n"
+       "Example: d2vdb primitive torus --major 1 --minor 0.35 --voxel-size 0.02 torus.vdb",
+       "use a coarser --voxel-size or --resolution, a smaller --half-width, or a lower "
+       "--max-voxels to be refused early",
+       declarePrimitive, runPrimitive});
 }
 
 }  // namespace d2vdb::cli

@@ -92,4 +92,9 @@ void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addProjectCommand(CommandRegistry& registry) {
+  addProjectCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

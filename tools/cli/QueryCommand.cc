@@ -134,4 +134,9 @@ void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addQueryCommand(CommandRegistry& registry) {
+  addQueryCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

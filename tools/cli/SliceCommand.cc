@@ -121,4 +121,9 @@ void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& op
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addSliceCommand(CommandRegistry& registry) {
+  addSliceCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

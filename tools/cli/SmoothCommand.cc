@@ -262,4 +262,9 @@ void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& o
   });
 }
 
+// TRANSITION: the old registration until this command has its CommandDefinition.
+void addSmoothCommand(CommandRegistry& registry) {
+  addSmoothCommand(registry.app(), registry, registry.legacyOptions());
+}
+
 }  // namespace d2vdb::cli

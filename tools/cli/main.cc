@@ -12,31 +12,6 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
 
-namespace {
-
-// What to try when a sub-command runs out of memory: the option that sizes its work.
-std::string outOfMemoryAdvice(const std::string& subcommand) {
-  if (subcommand == "mesh2sdf" || subcommand == "primitive") {
-    return "use a coarser --voxel-size or --resolution, a smaller --half-width, or a lower "
-           "--max-voxels to be refused early";
-  }
-  if (subcommand == "field") {
-    return "use a coarser --voxel-size or --resolution, or a smaller --half-width";
-  }
-  if (subcommand == "fit-curve") {
-    return "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target";
-  }
-  if (subcommand == "hausdorff") {
-    return "compare curves with fewer control points, or raise --tolerance";
-  }
-  if (subcommand == "mesh" || subcommand == "slice") {
-    return "the level set is too large for this machine; mesh a coarser one";
-  }
-  return "the input is too large for this machine";
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace d2vdb::cli;
   CLI::App app{
@@ -52,23 +27,18 @@ int main(int argc, char** argv) {
   app.add_option("--threads", options.threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(1, 1024));
   app.add_flag("-q,--quiet", options.quiet, "No progress or summary on stderr");
+  app.add_flag("--json", options.json,
+               "Print the sub-command's report as one JSON document on stdout");
 
-  CommandRegistry registry;
-  addInfoCommand(app, registry, options);
-  addMesh2SdfCommand(app, registry, options);
-  addPrimitiveCommand(app, registry, options);
-  addConvertCommand(app, registry, options);
-  addMeshCommand(app, registry, options);
-  addSliceCommand(app, registry, options);
-  addProjectCommand(app, registry, options);
-  addHausdorffCommand(app, registry, options);
-  addFitCurveCommand(app, registry, options);
-  addFitSurfaceCommand(app, registry, options);
-  addFieldCommand(app, registry, options);
-  addQueryCommand(app, registry, options);
-  addSmoothCommand(app, registry, options);
-  addSupportCommand(app, registry, options);
-  addOffsetCommand(app, registry, options);
+  CommandRegistry registry(app, options);
+  using AddCommand = void (*)(CommandRegistry&);
+  for (const AddCommand add :
+       {addInfoCommand, addMesh2SdfCommand, addPrimitiveCommand, addConvertCommand, addMeshCommand,
+        addSliceCommand, addProjectCommand, addHausdorffCommand, addFitCurveCommand,
+        addFitSurfaceCommand, addFieldCommand, addQueryCommand, addSmoothCommand, addSupportCommand,
+        addOffsetCommand}) {
+    add(registry);
+  }
 
   try {
     app.parse(argc, argv);
@@ -90,11 +60,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    for (const auto& [subcommand, body] : registry.commands) {
-      if (subcommand->parsed()) return body();
-    }
-    std::cerr << "error: no sub-command given; run 'd2vdb --help'\n";
-    return kUsageError;
+    return registry.run();
   } catch (const CLI::Error& error) {
     std::cerr << "error: " << error.what() << "; run 'd2vdb "
               << app.get_subcommands().front()->get_name() << " --help'\n";
@@ -103,11 +69,8 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << error.what() << '\n';
     return kBadInput;
   } catch (const std::bad_alloc&) {
-    const std::string name = app.get_subcommands().empty()
-                                 ? std::string("d2vdb")
-                                 : app.get_subcommands().front()->get_name();
-    std::cerr << "error: out of memory in 'd2vdb " << name << "'; " << outOfMemoryAdvice(name)
-              << '\n';
+    std::cerr << "error: out of memory in 'd2vdb " << registry.chosenName() << "'; "
+              << registry.outOfMemoryAdvice() << '\n';
     return kRunFailure;
   } catch (const std::exception& error) {
     std::cerr << "error: " << error.what() << '\n';

@@ -16,6 +16,10 @@ namespace d2vdb {
 /// set's topology must fit beside each other (the measured figures are in the README, "mesh2sdf").
 inline constexpr std::uint64_t kDefaultMaxActiveVoxels = 150'000'000;
 
+/// Default resolution of a narrow band built from a target without a voxel size: voxels along the
+/// longest side of the target's bounding box (every front end uses this one value).
+inline constexpr int kDefaultResolution = 256;
+
 /// Factor applied to the band volume estimate below: voxel centres of a band of width 2r fill
 /// slightly more than its volume (OpenVDB's mesh band can be a fraction of a voxel wider than
 /// asked), and sharp features add wedges the per-piece box terms only approximate.

@@ -30,18 +30,20 @@ constexpr std::size_t kHeadBytes = 4096;
 
 struct KindRow {
   InputKind kind;
+  const char* name;         // inputKindName()
   const char* description;  // for "is ..." and "must be ..."
 };
 
-constexpr std::array<KindRow, 8> kKinds = {{
-    {InputKind::Mesh, "a triangle mesh (.obj, .ply, .stl)"},
-    {InputKind::PointSet, "a point set (.xyz, .ply)"},
-    {InputKind::LevelSet, "a level set (.vdb)"},
-    {InputKind::Field, "an approximant field or a level set (.vdb)"},
-    {InputKind::VdbGrids, "a .vdb grid file"},
-    {InputKind::Curve, "a B-spline curve (.json)"},
-    {InputKind::Surface, "a B-spline surface (.json)"},
-    {InputKind::Polylines, "a polyline (.json)"},
+constexpr std::array<KindRow, 9> kKinds = {{
+    {InputKind::Mesh, "mesh", "a triangle mesh (.obj, .ply, .stl)"},
+    {InputKind::PointSet, "points", "a point set (.xyz, .ply)"},
+    {InputKind::LevelSet, "level set", "a level set (.vdb)"},
+    {InputKind::Field, "field", "an approximant field or a level set (.vdb)"},
+    {InputKind::VdbGrids, "grids", "a .vdb grid file"},
+    {InputKind::Curve, "curve", "a B-spline curve (.json)"},
+    {InputKind::Surface, "surface", "a B-spline surface (.json)"},
+    {InputKind::Polylines, "polyline", "a polyline (.json)"},
+    {InputKind::SupportFunction, "support function", "a support function (.json)"},
 }};
 constexpr bool rowsFollowInputKind() {
   for (std::size_t i = 0; i < kKinds.size(); ++i) {
@@ -57,10 +59,11 @@ struct JsonTypeRow {
   const char* type;
   InputKind kind;
 };
-constexpr std::array<JsonTypeRow, 3> kJsonTypes = {{
+constexpr std::array<JsonTypeRow, 4> kJsonTypes = {{
     {"bspline_curve", InputKind::Curve},
     {"bspline_surface", InputKind::Surface},
     {"polyline", InputKind::Polylines},
+    {kSupportFunctionJsonType, InputKind::SupportFunction},
 }};
 
 std::string quoted(const std::filesystem::path& path) {
@@ -294,6 +297,8 @@ LoadedInput loadJson(const std::filesystem::path& path, InputKinds accepted,
       return {path, detail::surfaceFromJson(document, path.string())};
     case InputKind::Polylines:
       return {path, PolylinesInput{detail::polylinesFromJson(document, path.string())}};
+    case InputKind::SupportFunction:
+      return {path, detail::supportFunctionFromJson(document, path.string())};
     default:
       break;
   }
@@ -341,6 +346,10 @@ void detail::throwWrongInputKind(const std::filesystem::path& path, InputKind lo
                                  InputKind wanted) {
   throw RuntimeFailure("loadInput: " + quoted(path) + " was loaded as " +
                        describeInputKind(loaded) + ", not as " + describeInputKind(wanted));
+}
+
+const char* inputKindName(InputKind kind) {
+  return kKinds[static_cast<std::size_t>(kind)].name;
 }
 
 }  // namespace d2vdb

@@ -1,6 +1,6 @@
 // One way in for files: loadInput() reads any input d2vdb works on (meshes, point sets, .vdb level
-// sets and approximant fields, B-spline curves and surfaces, polylines), recognising the file by
-// its content and, where the content cannot tell, by its extension.
+// sets and approximant fields, B-spline curves and surfaces, polylines, support functions),
+// recognising the file by its content and, where the content cannot tell, by its extension.
 #pragma once
 
 #include <openvdb/openvdb.h>
@@ -20,6 +20,7 @@
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/io/GridSelection.h"
+#include "d2vdb/io/SupportFunctionJson.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 #include "d2vdb/spline/BSplineCurve.h"
@@ -32,8 +33,8 @@
 //   .vdb   the OpenVDB magic number in the first 8 bytes
 //   PLY    "ply" on the first line
 //   JSON   a document starting with '{' (after white space); its "type" says what it holds:
-//          "bspline_curve", "bspline_surface", "polyline", or no "type" and a "polylines" list
-//          (`d2vdb slice --polylines` files)
+//          "bspline_curve", "bspline_surface", "polyline", "support_function", or no "type" and a
+//          "polylines" list (`d2vdb slice --polylines` files)
 //   STL    "solid" at the start (ASCII; the STL reader also accepts binary files whose 80-byte
 //          header starts so), or a size of exactly 84 + 50 n bytes for the n triangles the binary
 //          header announces
@@ -52,16 +53,21 @@ namespace d2vdb {
 
 /// What loadInput() returns a file as.
 enum class InputKind {
-  Mesh,       ///< a triangle mesh: OBJ, STL, or PLY with faces (MeshInput)
-  PointSet,   ///< points: .xyz, or the vertices of a PLY (PointSetInput)
-  LevelSet,   ///< one scalar grid of a .vdb file, chosen by selectGrid() (LevelSetInput)
-  Field,      ///< an approximant field: stored in a .vdb by `d2vdb field`, or computed from a
-              ///< level set .vdb (FieldInput)
-  VdbGrids,   ///< every grid of a .vdb file, none chosen (VdbGridsInput)
-  Curve,      ///< a B-spline curve .json (BSplineCurve)
-  Surface,    ///< a B-spline surface .json (BSplineSurface)
-  Polylines,  ///< a polyline .json, or the polylines of a slice file (PolylinesInput)
+  Mesh,             ///< a triangle mesh: OBJ, STL, or PLY with faces (MeshInput)
+  PointSet,         ///< points: .xyz, or the vertices of a PLY (PointSetInput)
+  LevelSet,         ///< one scalar grid of a .vdb file, chosen by selectGrid() (LevelSetInput)
+  Field,            ///< an approximant field: stored in a .vdb by `d2vdb field`, or computed from a
+                    ///< level set .vdb (FieldInput)
+  VdbGrids,         ///< every grid of a .vdb file, none chosen (VdbGridsInput)
+  Curve,            ///< a B-spline curve .json (BSplineCurve)
+  Surface,          ///< a B-spline surface .json (BSplineSurface)
+  Polylines,        ///< a polyline .json, or the polylines of a slice file (PolylinesInput)
+  SupportFunction,  ///< a support-function .json (SupportFunctionDocument, SupportFunctionJson.h)
 };
+
+/// The name reports give a kind: "mesh", "points", "level set", "field", "grids", "curve",
+/// "surface", "polyline" or "support function" (the "input_kind" values of the JSON reports).
+const char* inputKindName(InputKind kind);
 
 /// A set of InputKinds, written as a list: {InputKind::Curve, InputKind::Polylines}.
 class InputKinds {
@@ -138,7 +144,7 @@ struct LoadOptions {
 struct LoadedInput {
   /// The alternatives, in the order of InputKind.
   using Value = std::variant<MeshInput, PointSetInput, LevelSetInput, FieldInput, VdbGridsInput,
-                             BSplineCurve, BSplineSurface, PolylinesInput>;
+                             BSplineCurve, BSplineSurface, PolylinesInput, SupportFunctionDocument>;
 
   std::filesystem::path path;
   Value value;
@@ -157,7 +163,8 @@ struct LoadedInput {
 ///   grid (built with ApproximantField::fromLevelSet() from selectGrid()'s choice, or the grid
 ///   named options.gridName); then LevelSet; then VdbGrids. The grids are read once.
 /// - PLY: Mesh when it has faces; then PointSet (its vertices); then Mesh (without faces).
-/// - OBJ, STL: Mesh. .xyz: PointSet. JSON: Curve, Surface or Polylines by its "type".
+/// - OBJ, STL: Mesh. .xyz: PointSet. JSON: Curve, Surface, Polylines or SupportFunction by its
+///   "type" (a support-function document is checked as readSupportFunctionJson() checks it).
 /// Throws InputError naming the file when it does not exist, is a directory, cannot be read or is
 /// empty; when neither its content nor its extension is one of the formats above ("cannot tell
 /// what ... is"); when it holds a kind `accepted` lacks ("'f.json' is a B-spline surface;
@@ -210,7 +217,8 @@ static_assert(inputKindOf<MeshInput>() == InputKind::Mesh &&
                   inputKindOf<VdbGridsInput>() == InputKind::VdbGrids &&
                   inputKindOf<BSplineCurve>() == InputKind::Curve &&
                   inputKindOf<BSplineSurface>() == InputKind::Surface &&
-                  inputKindOf<PolylinesInput>() == InputKind::Polylines,
+                  inputKindOf<PolylinesInput>() == InputKind::Polylines &&
+                  inputKindOf<SupportFunctionDocument>() == InputKind::SupportFunction,
               "LoadedInput::Value lists its alternatives in the order of InputKind");
 
 template <typename T>

@@ -6,6 +6,7 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/io/detail/JsonDocuments.h"
 #include "d2vdb/io/detail/JsonReader.h"
 #include "d2vdb/io/detail/TextFile.h"
 
@@ -148,6 +149,11 @@ SupportFunctionDocument parseSupportFunctionJson(const std::string& text,
                                                  const std::string& sourceName) {
   const Reader reader(sourceName);
   return reader.document(reader.parse(text));
+}
+
+SupportFunctionDocument detail::supportFunctionFromJson(const Json& document,
+                                                        const std::string& sourceName) {
+  return Reader(sourceName).document(document);
 }
 
 SupportFunctionDocument readSupportFunctionJson(const std::filesystem::path& file) {

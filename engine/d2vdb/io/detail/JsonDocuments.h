@@ -1,11 +1,13 @@
-// Internal to the io module: d2vdb's JSON documents (SplineJson.h, PolylineFile.h) from a document
-// that is already parsed, so that a reader that looked at its "type" first need not parse it again.
+// Internal to the io module: d2vdb's JSON documents (SplineJson.h, PolylineFile.h,
+// SupportFunctionJson.h) from a document that is already parsed, so that a reader that looked at
+// its "type" first need not parse it again.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/io/SupportFunctionJson.h"
 #include "d2vdb/io/detail/JsonReader.h"
 #include "d2vdb/spline/BSplineCurve.h"
 #include "d2vdb/spline/BSplineSurface.h"
@@ -21,5 +23,10 @@ BSplineSurface surfaceFromJson(const Json& document, const std::string& sourceNa
 
 /// The polylines of a parsed polyline or slice document. Failure behaviour as parsePolylines().
 std::vector<Polyline> polylinesFromJson(const Json& document, const std::string& sourceName);
+
+/// The support function of a parsed "support_function" document. Failure behaviour as
+/// parseSupportFunctionJson().
+SupportFunctionDocument supportFunctionFromJson(const Json& document,
+                                                const std::string& sourceName);
 
 }  // namespace d2vdb::detail

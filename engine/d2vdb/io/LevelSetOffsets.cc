@@ -1,0 +1,73 @@
+#include "d2vdb/io/LevelSetOffsets.h"
+
+#include <openvdb/tools/LevelSetFilter.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "d2vdb/contour/IsoSurface.h"
+#include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
+
+namespace d2vdb {
+
+OffsetLevelSet loadOffsetLevelSet(const std::filesystem::path& path, const LevelSetOptions& options,
+                                  const ProgressCallback& progress) {
+  LoadOptions load;
+  load.purpose = "the input of 'd2vdb offset --method levelset' (a closed mesh or a level set)";
+  LoadedInput loaded = loadInput(path, {InputKind::Mesh, InputKind::LevelSet}, load);
+  OffsetLevelSet input;
+  input.kind = loaded.kind();
+  if (loaded.kind() == InputKind::LevelSet) {
+    input.grid = std::move(loaded).take<LevelSetInput>().floatGrid();
+    return input;
+  }
+  const TriangleMesh mesh = std::move(loaded).take<MeshInput>().mesh;
+  if (mesh.triangles.empty()) {
+    throw InputError("'" + path.string() +
+                     "' has no triangles: the level-set method needs a closed mesh or a level "
+                     "set");
+  }
+  LevelSetResult result = meshToLevelSet(mesh, options, progress);
+  input.grid = result.grid;
+  input.warnings = std::move(result.warnings);
+  return input;
+}
+
+void checkLevelSetOffsetBudget(const openvdb::FloatGrid& levelSet,
+                               const std::vector<double>& distances, double halfWidth,
+                               std::uint64_t maxActiveVoxels) {
+  const double voxel = levelSet.voxelSize()[0];
+  const openvdb::CoordBBox indexBox = levelSet.evalActiveVoxelBoundingBox();
+  const openvdb::Vec3d size = indexBox.dim().asVec3d() * voxel;
+  for (const double d : distances) {
+    const double grow = std::max(0.0, 2.0 * d);
+    const double sx = size.x() + grow, sy = size.y() + grow, sz = size.z() + grow;
+    const double area = 2.0 * (sx * sy + sy * sz + sz * sx);
+    const double estimate = area / (voxel * voxel) * 2.0 * halfWidth * 1.25;
+    if (estimate > static_cast<double>(maxActiveVoxels)) {
+      throw InputError("offsetting by " + formatNumber(d, 6) + " at voxel size " +
+                       formatNumber(voxel, 6) + " would need about " +
+                       std::to_string(static_cast<long long>(estimate)) +
+                       " active voxels, above --max-voxels " + std::to_string(maxActiveVoxels) +
+                       "; use a larger --voxel-size");
+    }
+  }
+}
+
+LevelSetOffset offsetLevelSet(const openvdb::FloatGrid& levelSet, double distance,
+                              const std::string& source, const ProgressCallback& progress) {
+  LevelSetOffset offset;
+  offset.grid = levelSet.deepCopy();
+  openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*offset.grid);
+  filter.offset(static_cast<float>(-distance));  // OpenVDB adds its argument to the distances
+  const IsoSurfaceOptions iso;
+  offset.mesh = extractIsoSurface(*offset.grid, iso, progress);
+  if (offset.mesh.triangles.empty()) {
+    throw InputError("the offset at distance " + formatNumber(distance, 6) + " of '" + source +
+                     "' is empty (the body is thinner than 2 |d|)");
+  }
+  return offset;
+}
+
+}  // namespace d2vdb
