@@ -54,12 +54,26 @@ TEST_F(CliTest, UsageErrorsExitWithOne) {
   EXPECT_EQ(run("no-such-subcommand").exitCode, 1);
   EXPECT_EQ(run("info").exitCode, 1);  // missing FILE
   const fs::path cube = write("cube.obj", cubeObj());
-  const CliResult noSize = run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb"));
-  EXPECT_EQ(noSize.exitCode, 1);
-  EXPECT_NE(noSize.err.find("--voxel-size"), std::string::npos) << noSize.err;
+  EXPECT_EQ(run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb") +
+                " --voxel-size 0.1 --resolution 20")
+                .exitCode,
+            1);  // the two exclude each other
   EXPECT_FALSE(fs::exists(scratch_ / "out.vdb"));
   EXPECT_EQ(
       run("mesh2sdf " + path("cube.obj") + " " + path("out.vdb") + " --voxel-size -1").exitCode, 1);
+}
+
+TEST_F(CliTest, BandWithoutASizeHasTheDefaultResolution) {
+  // Neither --voxel-size nor --resolution: 256 voxels along the longest side, for every command
+  // that builds a band (the unit cube: voxel size 1/256; the unit sphere's box: 2/256).
+  write("cube.obj", cubeObj());
+  const CliResult mesh =
+      run("mesh2sdf " + path("cube.obj") + " " + path("cube.vdb") + " --json -q");
+  ASSERT_EQ(mesh.exitCode, 0) << mesh.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(mesh.out).at("voxel_size").get<double>(), 1.0 / 256);
+  const CliResult sphere = run("primitive sphere " + path("sphere.vdb") + " --json -q");
+  ASSERT_EQ(sphere.exitCode, 0) << sphere.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(sphere.out).at("voxel_size").get<double>(), 2.0 / 256);
 }
 
 TEST_F(CliTest, NonexistentInputIsBadInput) {
