@@ -194,8 +194,6 @@ void addOffsetCommand(CommandRegistry& registry);
 
 // TRANSITION: the old registration functions, until each command has its CommandDefinition.
 void addInfoCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
