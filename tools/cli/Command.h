@@ -193,14 +193,9 @@ void addSupportCommand(CommandRegistry& registry);
 void addOffsetCommand(CommandRegistry& registry);
 
 // TRANSITION: the old registration functions, until each command has its CommandDefinition.
-void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

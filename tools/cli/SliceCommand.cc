@@ -1,16 +1,22 @@
 // d2vdb slice: iso-lines of a .vdb grid on an axis-aligned plane (marching squares) as SVG.
-#include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <string>
 
 #include "Command.h"
+#include "ContourInputs.h"
 #include "d2vdb/contour/IsoLines.h"
 #include "d2vdb/contour/IsoLinesSvg.h"
+#include "d2vdb/contour/SliceMeasures.h"
 #include "d2vdb/core/AtomicFile.h"
-#include "d2vdb/io/InputFile.h"
 
 namespace d2vdb::cli {
 namespace {
+
+struct SliceArguments {
+  std::string input, output, gridName, axis = "z", polylines;
+  SliceOptions slice;
+};
 
 const char* axisName(int axis) {
   return axis == 0 ? "x" : (axis == 1 ? "y" : "z");
@@ -31,99 +37,80 @@ nlohmann::json polylinesJson(const Slice& slice, double iso) {
           {"polylines", lines}};
 }
 
-}  // namespace
-
-void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
-  struct Arguments {
-    std::string input, output, gridName, axis = "z", polylines;
-    SliceOptions slice;
-  };
-  auto args = std::make_shared<Arguments>();
-  CLI::App* command = app.add_subcommand(
-      "slice",
-      "Draw the iso-lines of a grid in a .vdb file on an axis-aligned plane as SVG (marching\n"
-      "squares; closed lines for a closed level set, inside on the left). The SVG shows the two\n"
-      "other axes in cyclic order (z: x right, y up). --polylines also writes the lines as JSON.\n"
-      "Example: d2vdb slice bunny.vdb bunny-z.svg --axis z --offset 0.1");
-  command->add_option("input", args->input, "Input .vdb file")->required();
-  command->add_option("output", args->output, "Output .svg file (written atomically)")->required();
-  command->add_option("--axis", args->axis, "Normal of the plane: x, y or z")
+void declareSlice(CLI::App& command, SliceArguments& args) {
+  command.add_option("input", args.input, "Input .vdb file")->required();
+  command.add_option("output", args.output, "Output .svg file (written atomically)")->required();
+  command.add_option("--axis", args.axis, "Normal of the plane: x, y or z")
       ->capture_default_str()
       ->check(CLI::IsMember({"x", "y", "z"}));
-  command->add_option("--offset", args->slice.offset,
-                      "World coordinate of the plane along the axis (default: the centre of the "
-                      "grid's active voxels)");
-  command->add_option("--iso", args->slice.isoValue, "Iso-value (grid value units)")
-      ->capture_default_str();
-  command->add_option("--grid", args->gridName,
-                      "Name of the grid (default: the first float/double level set)");
-  command->add_option("--polylines", args->polylines,
-                      "Also write the lines as JSON: {axis, offset, iso, plane_axes, polylines: "
-                      "[{closed, points: [[u, v], ...]}]}");
-  command->add_flag("--json", options.json, "Print the summary as JSON on stdout");
-
-  registry.add(command, [args, &options, command]() {
-    const Stopwatch clock;
-    LoadOptions load;
-    load.purpose = "the input of 'd2vdb slice'";
-    load.gridName = args->gridName;
-    load.gridTypes = ScalarGridTypes::FloatOrDouble;
-    const openvdb::GridBase::Ptr grid = loadInputAs<LevelSetInput>(args->input, load).grid;
-    args->slice.axis = args->axis == "x" ? 0 : (args->axis == "y" ? 1 : 2);
-    if (command->count("--offset") == 0) {
-      const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
-      if (!box.empty()) {
-        args->slice.offset = grid->indexToWorld(box.getCenter())[args->slice.axis];
-      }
-    }
-    const Slice slice = sliceIsoLines(*grid, args->slice);
-    std::size_t closed = 0, points = 0;
-    for (const IsoLine& line : slice.lines) {
-      closed += line.closed ? 1 : 0;
-      points += line.points.size();
-    }
-    if (slice.lines.empty()) {
-      warning("no iso-line on the plane " + std::string(axisName(slice.axis)) + " = " +
-              std::to_string(slice.offset));
-    } else if (closed < slice.lines.size()) {
-      warning(std::to_string(slice.lines.size() - closed) +
-              " iso-lines are open: they leave the grid's stored band");
-    }
-    writeIsoLinesSvg(args->output, slice);
-    if (!args->polylines.empty()) {
-      const nlohmann::json lines = polylinesJson(slice, args->slice.isoValue);
-      writeStreamAtomically(args->polylines, [&](std::ostream& out) {
-        out << std::setprecision(17) << lines << '\n';
-      });
-    }
-    const nlohmann::json report = {
-        {"input", args->input},
-        {"output", args->output},
-        {"grid", grid->getName()},
-        {"axis", axisName(slice.axis)},
-        {"offset", slice.offset},
-        {"iso", args->slice.isoValue},
-        {"plane_axes", {axisName(slice.planeAxes[0]), axisName(slice.planeAxes[1])}},
-        {"lines", slice.lines.size()},
-        {"closed_lines", closed},
-        {"points", points},
-        {"seconds", clock.seconds()},
-    };
-    if (options.json) {
-      printJson(report);
-    } else {
-      status(options, "wrote " + args->output + ": " + std::to_string(slice.lines.size()) +
-                          " iso-lines (" + std::to_string(closed) + " closed), " +
-                          std::to_string(points) + " points on the plane " + axisName(slice.axis) +
-                          " = " + std::to_string(slice.offset));
-    }
-    return kSuccess;
-  });
+  command.add_option("--offset", args.slice.offset,
+                     "World coordinate of the plane along the axis (default: the centre of the "
+                     "grid's active voxels)");
+  declareIsoAndGridOptions(command, args.slice.isoValue, args.gridName);
+  command.add_option("--polylines", args.polylines,
+                     "Also write the lines as JSON: {axis, offset, iso, plane_axes, polylines: "
+                     "[{closed, points: [[u, v], ...]}]}");
 }
 
-// TRANSITION: the old registration until this command has its CommandDefinition.
+// Warns when the slice has no line, or lines that leave the grid's stored band.
+void warnAboutLines(const Slice& slice, const SliceLineCounts& counts) {
+  if (counts.lines == 0) {
+    warning("no iso-line on the plane " + std::string(axisName(slice.axis)) + " = " +
+            std::to_string(slice.offset));
+  } else if (counts.closedLines < counts.lines) {
+    warning(std::to_string(counts.lines - counts.closedLines) +
+            " iso-lines are open: they leave the grid's stored band");
+  }
+}
+
+Report runSlice(const SliceArguments& args, const CommandContext& context) {
+  const Stopwatch clock;
+  const openvdb::GridBase::Ptr grid = loadContourGrid(args.input, args.gridName, "slice");
+  SliceOptions options = args.slice;
+  options.axis = args.axis == "x" ? 0 : (args.axis == "y" ? 1 : 2);
+  if (context.count("--offset") == 0) {
+    options.offset = activeVoxelCentreOffset(*grid, options.axis).value_or(options.offset);
+  }
+  const Slice slice = sliceIsoLines(*grid, options);
+  const SliceLineCounts counts = countSliceLines(slice);
+  warnAboutLines(slice, counts);
+  writeIsoLinesSvg(args.output, slice);
+  if (!args.polylines.empty()) {
+    const nlohmann::json lines = polylinesJson(slice, options.isoValue);
+    writeStreamAtomically(
+        args.polylines, [&](std::ostream& out) { out << std::setprecision(17) << lines << '\n'; });
+  }
+  Report report;
+  report.json = {
+      {"input", args.input},
+      {"output", args.output},
+      {"grid", grid->getName()},
+      {"axis", axisName(slice.axis)},
+      {"offset", slice.offset},
+      {"iso", options.isoValue},
+      {"plane_axes", {axisName(slice.planeAxes[0]), axisName(slice.planeAxes[1])}},
+      {"lines", counts.lines},
+      {"closed_lines", counts.closedLines},
+      {"points", counts.points},
+      {"seconds", clock.seconds()},
+  };
+  report.text = "wrote " + args.output + ": " + std::to_string(counts.lines) + " iso-lines (" +
+                std::to_string(counts.closedLines) + " closed), " + std::to_string(counts.points) +
+                " points on the plane " + axisName(slice.axis) + " = " +
+                std::to_string(slice.offset) + "\n";
+  return report;
+}
+
+}  // namespace
+
 void addSliceCommand(CommandRegistry& registry) {
-  addSliceCommand(registry.app(), registry, registry.legacyOptions());
+  registry.add<SliceArguments>(
+      {"slice",
+       "Draw the iso-lines of a grid in a .vdb file on an axis-aligned plane as SVG (marching\n"
+       "squares; closed lines for a closed level set, inside on the left). The SVG shows the two\n"
+       "other axes in cyclic order (z: x right, y up). --polylines also writes the lines as JSON.\n"
+       "Example: d2vdb slice bunny.vdb bunny-z.svg --axis z --offset 0.1",
+       "the level set is too large for this machine; mesh a coarser one", declareSlice, runSlice});
 }
 
 }  // namespace d2vdb::cli

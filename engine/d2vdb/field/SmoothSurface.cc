@@ -9,18 +9,15 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/detail/NearestPointTree.h"
 #include "d2vdb/manifold/SourceDistance.h"
 
 namespace d2vdb {
 namespace {
 
-std::string formatPoint(const Eigen::Vector3d& p) {
-  std::ostringstream out;
-  out.precision(6);
-  out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-  return out.str();
-}
+/// Significant digits of the numbers in messages.
+constexpr int kDigits = 6;
 
 /// Below this 1 + d k_i the SDM weights are near a centre of curvature (the field's threshold).
 constexpr double kCutLocusMargin = 0.05;
@@ -77,10 +74,11 @@ Approximant SmoothSurface::approximantAt(const Eigen::Vector3d& point) const {
   if (!domain_.contains(point)) {
     const double outside = std::sqrt(domain_.squaredExteriorDistance(point));
     std::ostringstream message;
-    message.precision(6);
-    message << "the point " << formatPoint(point) << " lies " << outside
+    message.precision(kDigits);
+    message << "the point " << formatPoint(point, kDigits) << " lies " << outside
             << " outside the working domain of the " << describe() << " (box "
-            << formatPoint(domain_.min()) << " to " << formatPoint(domain_.max()) << ")";
+            << formatPoint(domain_.min(), kDigits) << " to " << formatPoint(domain_.max(), kDigits)
+            << ")";
     throw InputError(message.str());
   }
   return approximantAtAnyPoint(point);

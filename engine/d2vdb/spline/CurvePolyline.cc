@@ -1,0 +1,31 @@
+#include "d2vdb/spline/CurvePolyline.h"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace d2vdb {
+namespace {
+
+constexpr std::size_t kPointsPerSegment = 64;
+constexpr std::size_t kMinimumPoints = 512;
+constexpr std::size_t kMaximumPoints = 20000;
+
+}  // namespace
+
+int drawingPointCount(const BSplineCurve& curve) {
+  const std::size_t segments = curve.toBezierSegments().size();
+  return static_cast<int>(
+      std::clamp<std::size_t>(kPointsPerSegment * segments, kMinimumPoints, kMaximumPoints));
+}
+
+std::vector<std::vector<Eigen::Vector3d>> drawingPolylines(
+    std::initializer_list<std::reference_wrapper<const BSplineCurve>> curves) {
+  int count = 0;
+  for (const BSplineCurve& curve : curves) count = std::max(count, drawingPointCount(curve));
+  std::vector<std::vector<Eigen::Vector3d>> polylines;
+  polylines.reserve(curves.size());
+  for (const BSplineCurve& curve : curves) polylines.push_back(curve.sample(count));
+  return polylines;
+}
+
+}  // namespace d2vdb
