@@ -200,9 +200,7 @@ void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& 
 void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
