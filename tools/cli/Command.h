@@ -198,8 +198,6 @@ void addMeshCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& opt
 void addSliceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addProjectCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addHausdorffCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addQueryCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addSupportCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 void addOffsetCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
