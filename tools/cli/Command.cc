@@ -85,7 +85,6 @@ int CommandRegistry::run() const {
     std::cerr << "error: no sub-command given; run 'd2vdb --help'\n";
     return kUsageError;
   }
-  if (entry->legacyBody) return entry->legacyBody();  // TRANSITION
   const Report report = entry->run(CommandContext(options_, *entry->command));
   printReport(report, options_);
   return report.exitCode;

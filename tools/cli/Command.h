@@ -86,7 +86,7 @@ struct CommandDefinition {
 /// calls add() with its CommandDefinition.
 class CommandRegistry {
  public:
-  CommandRegistry(CLI::App& app, GlobalOptions& options) : app_(app), options_(options) {}
+  CommandRegistry(CLI::App& app, const GlobalOptions& options) : app_(app), options_(options) {}
 
   /// Adds the sub-command of `definition` to the application: its options are declared now, its
   /// run function is called by run() when it was chosen.
@@ -97,19 +97,9 @@ class CommandRegistry {
     definition.declare(*command, *arguments);
     const auto run = definition.run;
     entries_.push_back(
-        {command,
-         definition.outOfMemoryAdvice,
-         [arguments, run](const CommandContext& context) { return run(*arguments, context); },
-         {}});
+        {command, definition.outOfMemoryAdvice,
+         [arguments, run](const CommandContext& context) { return run(*arguments, context); }});
   }
-
-  // TRANSITION (removed once every command has its CommandDefinition): a command registered the
-  // old way, with a body that prints its own report and returns the exit code.
-  void add(CLI::App* command, std::function<int()> body) {
-    entries_.push_back({command, "", {}, std::move(body)});
-  }
-  CLI::App& app() { return app_; }
-  GlobalOptions& legacyOptions() { return options_; }
 
   /// Runs the chosen sub-command, prints its report and returns its exit code; kUsageError when
   /// none was chosen. Exceptions propagate.
@@ -124,12 +114,11 @@ class CommandRegistry {
     CLI::App* command;
     std::string outOfMemoryAdvice;
     std::function<Report(const CommandContext&)> run;
-    std::function<int()> legacyBody;  // TRANSITION
   };
   const Entry* chosen() const;
 
   CLI::App& app_;
-  GlobalOptions& options_;
+  const GlobalOptions& options_;
   std::vector<Entry> entries_;
 };
 
@@ -191,11 +180,5 @@ void addQueryCommand(CommandRegistry& registry);
 void addSmoothCommand(CommandRegistry& registry);
 void addSupportCommand(CommandRegistry& registry);
 void addOffsetCommand(CommandRegistry& registry);
-
-// TRANSITION: the old registration functions, until each command has its CommandDefinition.
-void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addFieldCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
-void addSmoothCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options);
 
 }  // namespace d2vdb::cli

@@ -3,8 +3,6 @@
 // the iteration history and optionally drawing the iterates and the convergence as SVG.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,85 +11,18 @@
 #include "ConvergencePlot.h"
 #include "FitReports.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/ApproximantField.h"
-#include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/fit/CurveFitter.h"
 #include "d2vdb/fit/InitialCurve.h"
-#include "d2vdb/fit/OffsetTarget.h"
 #include "d2vdb/fit/PointCloudFitter.h"
+#include "d2vdb/io/FitTarget.h"
 #include "d2vdb/io/InputFile.h"
-#include "d2vdb/io/PolylineFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/plot/SvgCanvas.h"
 
 namespace d2vdb::cli {
 namespace {
 
-// What --target named, loaded.
-struct LoadedTarget {
-  std::string kind;                               // "curve", "polyline", "points", "field"
-  std::unique_ptr<SquaredDistanceTarget> target;  // curve, polyline, field
-  std::unique_ptr<OffsetTarget> offset;           // --offset
-  std::vector<Eigen::Vector3d> points;            // point cloud, or samples of a curve
-  bool closed = false;                            // closed curve or polyline
-  int dimension = 3;
-  std::size_t pieces = 0;  // vertices of a polyline, control points of a B-spline target
-
-  const SquaredDistanceTarget& fitTarget() const {
-    return offset ? static_cast<const SquaredDistanceTarget&>(*offset) : *target;
-  }
-};
-
-LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
-  LoadOptions load;
-  load.purpose = "the target of 'd2vdb fit-curve'";
-  load.progress = makeProgressPrinter(options);
-  LoadedInput input = loadInput(
-      file, {InputKind::Curve, InputKind::Polylines, InputKind::PointSet, InputKind::Field}, load);
-  LoadedTarget loaded;
-  if (input.kind() == InputKind::Curve || input.kind() == InputKind::Polylines) {
-    std::unique_ptr<CurveTarget> curve;
-    if (input.kind() == InputKind::Curve) {
-      const BSplineCurve spline = std::move(input).take<BSplineCurve>();
-      loaded.kind = "curve";
-      loaded.pieces = static_cast<std::size_t>(spline.controlPointCount());
-      loaded.closed = spline.isClosed();
-      loaded.dimension = spline.dimension();
-      curve = std::make_unique<CurveTarget>(spline);
-    } else {
-      Polyline polyline = onlyPolyline(std::move(input).take<PolylinesInput>().polylines, file);
-      loaded.kind = "polyline";
-      loaded.pieces = polyline.points.size();
-      loaded.closed = polyline.closed;
-      loaded.dimension = polyline.dimension;
-      curve = std::make_unique<CurveTarget>(std::move(polyline));
-    }
-    curve->setLabel(file);
-    loaded.points = curve->samplePoints(curve->length() / 2000.0);
-    loaded.target = std::move(curve);
-  } else if (input.kind() == InputKind::PointSet) {
-    loaded.kind = "points";
-    loaded.points = std::move(input).take<PointSetInput>().points;
-    loaded.dimension = std::all_of(loaded.points.begin(), loaded.points.end(),
-                                   [](const Eigen::Vector3d& p) { return p.z() == 0.0; })
-                           ? 2
-                           : 3;
-  } else {
-    loaded.kind = "field";
-    loaded.target = std::make_unique<ApproximantField>(std::move(input).take<FieldInput>().field);
-    loaded.dimension = 3;
-  }
-  if (offset != 0.0) {
-    if (!loaded.target || loaded.target->kind() != TargetKind::Curve) {
-      throw InputError("--offset needs a curve target (a B-spline or polyline .json), not a " +
-                       loaded.kind + " target");
-    }
-    loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
-  }
-  return loaded;
-}
-
-struct Arguments {
+struct FitCurveArguments {
   std::string target, init = "ellipse", method = "sdm", out, svg, plot;
   int degree = 3;
   int controlPoints = 12;
@@ -104,18 +35,68 @@ struct Arguments {
   CurveFitOptions fit;
 };
 
+void declareFitCurveOutputs(CLI::App& command, FitCurveArguments& args) {
+  command.add_flag("--no-footpoint-correction", args.noFootpointCorrection,
+                   "SDM on point clouds without correcting each step by the least-squares fit "
+                   "for the footpoint parameters it reached (for comparison)");
+  command.add_option("--svg", args.svg, "Draw target, initial, iterates and final curve (SVG)");
+  command.add_option("--every", args.every, "With --svg: draw every k-th iterate")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  command.add_option("--plot", args.plot, "Plot the RMS distance per iteration (SVG, log scale)");
+  command.add_flag("--compare", args.compare,
+                   "Also run PDM and SDM from the same initial curve; report and plot them");
+}
+
+void declareFitCurve(CLI::App& command, FitCurveArguments& args) {
+  command.add_option("--target", args.target, "Target: curve/polyline .json, .xyz/.ply, .vdb")
+      ->required();
+  command
+      .add_option("--init", args.init,
+                  "Initial curve: 'circle' or 'ellipse' around the target (closed), 'polyline' "
+                  "(least-squares fit to the target's points in order), or a curve .json")
+      ->capture_default_str();
+  command.add_option("--method", args.method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
+  command.add_option("--degree", args.degree, "Degree of a generated initial curve")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 15));
+  command.add_option("--ctrl", args.controlPoints, "Control points of a generated initial curve")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000000));
+  command.add_flag("--closed", args.closed, "With --init polyline: fit a closed curve");
+  command.add_option("--offset", args.offset, "Fit the offset at this distance (curve targets)")
+      ->check(positiveNumber());
+  command.add_option("--out", args.out, "Write the fitted curve (.json)")->required();
+  command.add_option("--sensors", args.fit.sensorsPerSpan, "Sensors per knot span (SDM I)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  declareFitOptions(command, args.fit, args.plainSdm,
+                    {"curve",
+                     "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
+                     "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
+                     "field target)",
+                     "Weight of int |x'|^2 (dimensionless)",
+                     "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
+                     "Liu 2006 as published; for comparison)"});
+  declareFitCurveOutputs(command, args);
+}
+
+bool isCurve(InputKind kind) {
+  return kind == InputKind::Curve || kind == InputKind::Polylines;
+}
+
 // Refuses more control points than the target can determine, before any work: a point cloud's
 // points each give one equation; a curve target is resolved once the fitted curve has 100 spans
 // per vertex or control point of it (at least 1000 control points); a field, 100000.
-void checkControlPointCount(int controlPoints, const LoadedTarget& target) {
+void checkControlPointCount(int controlPoints, const FitTarget& target) {
   std::size_t limit = 100000;
   std::string why = "a field target";
-  if (target.kind == "points") {
+  if (target.kind == InputKind::PointSet) {
     limit = target.points.size();
     why = "the " + std::to_string(limit) + " points of the target, which cannot determine more";
-  } else if (target.kind == "curve" || target.kind == "polyline") {
+  } else if (isCurve(target.kind)) {
     limit = std::max<std::size_t>(1000, 100 * target.pieces);
-    why = "100 per " + std::string(target.kind == "curve" ? "control point" : "vertex") +
+    why = "100 per " + std::string(target.kind == InputKind::Curve ? "control point" : "vertex") +
           " of the target (" + std::to_string(target.pieces) +
           "), beyond which spans are finer than anything it describes";
   }
@@ -127,11 +108,11 @@ void checkControlPointCount(int controlPoints, const LoadedTarget& target) {
   }
 }
 
-BSplineCurve initialCurve(const Arguments& args, const LoadedTarget& target) {
+BSplineCurve initialCurve(const FitCurveArguments& args, const FitTarget& target) {
   const std::string& init = args.init;
   if (init == "circle" || init == "ellipse" || init == "polyline") {
     if (target.points.empty()) {
-      throw InputError("a " + target.kind +
+      throw InputError("a " + std::string(inputKindName(target.kind)) +
                        " target gives no points to place a generated initial "
                        "curve around; pass --init curve.json");
     }
@@ -151,15 +132,15 @@ BSplineCurve initialCurve(const Arguments& args, const LoadedTarget& target) {
   return loadInputAs<BSplineCurve>(init, load);
 }
 
-CurveFitResult runFit(const BSplineCurve& initial, const LoadedTarget& target,
+CurveFitResult runFit(const BSplineCurve& initial, const FitTarget& target,
                       const CurveFitOptions& options) {
-  if (target.kind == "points") return fitCurveToPoints(initial, target.points, options);
+  if (target.kind == InputKind::PointSet) return fitCurveToPoints(initial, target.points, options);
   return fitCurve(initial, target.fitTarget(), options);
 }
 
 // Target (grey), initial curve (dashed blue), every k-th iterate (light), final curve (red),
 // projected onto the xy plane, y up.
-void writeIterationSvg(const std::string& file, const LoadedTarget& target,
+void writeIterationSvg(const std::string& file, const FitTarget& target,
                        const CurveFitResult& result, int every) {
   std::vector<std::vector<Eigen::Vector3d>> iterates;
   for (const BSplineCurve& curve : result.iterates) iterates.push_back(curve.sample(600));
@@ -171,7 +152,7 @@ void writeIterationSvg(const std::string& file, const LoadedTarget& target,
   canvas.comment("d2vdb fit-curve: target (grey), initial curve (dashed blue), every " +
                  std::to_string(every) +
                  "-th iterate (light blue), final curve (red); xy projection");
-  if (target.kind == "points") {
+  if (target.kind == InputKind::PointSet) {
     const SvgStyle dot = SvgStyle::filled("#808080");
     const std::size_t stride = std::max<std::size_t>(1, target.points.size() / 5000);
     for (std::size_t i = 0; i < target.points.size(); i += stride) {
@@ -192,127 +173,104 @@ void writeIterationSvg(const std::string& file, const LoadedTarget& target,
   canvas.write(file);
 }
 
-}  // namespace
+using ComparedFits = std::vector<std::pair<FitMethod, CurveFitResult>>;
 
-void addFitCurveCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
-  auto args = std::make_shared<Arguments>();
-  CLI::App* command = app.add_subcommand(
-      "fit-curve",
-      "Fit a B-spline curve (knots fixed) to a target by squared distance minimisation: a curve or "
-      "polyline .json (SDM I; --offset R fits the offset at distance R), a point cloud .xyz/.ply "
-      "(SDM II: errors orthogonal to the active curve) or a distance field .vdb. Prints the "
-      "iteration history (objective, RMS and max distance, step) and why it stopped.\n"
-      "Example: d2vdb fit-curve --target ellipse.json --init circle --method sdm --ctrl 12 "
-      "--out fitted.json --svg fit.svg --plot conv.svg --compare");
-  command->add_option("--target", args->target, "Target: curve/polyline .json, .xyz/.ply, .vdb")
-      ->required();
-  command
-      ->add_option("--init", args->init,
-                   "Initial curve: 'circle' or 'ellipse' around the target (closed), 'polyline' "
-                   "(least-squares fit to the target's points in order), or a curve .json")
-      ->capture_default_str();
-  command->add_option("--method", args->method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
-  command->add_option("--degree", args->degree, "Degree of a generated initial curve")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 15));
-  command->add_option("--ctrl", args->controlPoints, "Control points of a generated initial curve")
-      ->capture_default_str()
-      ->check(CLI::Range(2, 1000000));
-  command->add_flag("--closed", args->closed, "With --init polyline: fit a closed curve");
-  command->add_option("--offset", args->offset, "Fit the offset at this distance (curve targets)")
-      ->check(positiveNumber());
-  command->add_option("--out", args->out, "Write the fitted curve (.json)")->required();
-  command->add_option("--sensors", args->fit.sensorsPerSpan, "Sensors per knot span (SDM I)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1000));
-  addFitOptions(*command, args->fit, args->plainSdm,
-                {"curve",
-                 "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
-                 "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
-                 "field target)",
-                 "Weight of int |x'|^2 (dimensionless)",
-                 "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "
-                 "Liu 2006 as published; for comparison)"});
-  command->add_flag("--no-footpoint-correction", args->noFootpointCorrection,
-                    "SDM on point clouds without correcting each step by the least-squares fit "
-                    "for the footpoint parameters it reached (for comparison)");
-  command->add_option("--svg", args->svg, "Draw target, initial, iterates and final curve (SVG)");
-  command->add_option("--every", args->every, "With --svg: draw every k-th iterate")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
-  command->add_option("--plot", args->plot, "Plot the RMS distance per iteration (SVG, log scale)");
-  command->add_flag("--compare", args->compare,
-                    "Also run PDM and SDM from the same initial curve; report and plot them");
-  command->add_flag("--json", options.json, "Print one JSON document on stdout");
-
-  registry.add(command, [args, &options]() {
-    const Stopwatch clock;
-    const FitMethod method = parseFitMethod(args->method);
-    const LoadedTarget target = loadTarget(args->target, args->offset, options);
-    checkControlPointCount(args->controlPoints, target);
-    const BSplineCurve initial = initialCurve(*args, target);
-    CurveFitOptions fit = args->fit;
-    fit.method = method;
-    fit.exactSecondOrder = !args->plainSdm;
-    fit.footpointCorrection = !args->noFootpointCorrection;
-    fit.keepIterates = !args->svg.empty();
-    fit.progress = makeProgressPrinter(options);
-    const CurveFitResult result = runFit(initial, target, fit);
-    writeCurveJson(args->out, result.curve);
-
-    std::vector<std::pair<FitMethod, CurveFitResult>> extra;
-    if (args->compare) {
-      for (const FitMethod other : {FitMethod::PDM, FitMethod::SDM}) {
-        if (other == method) continue;
-        CurveFitOptions otherFit = fit;
-        otherFit.method = other;
-        otherFit.keepIterates = false;
-        extra.emplace_back(other, runFit(initial, target, otherFit));
-      }
-    }
-    if (!args->svg.empty()) writeIterationSvg(args->svg, target, result, args->every);
-    if (!args->plot.empty()) {
-      std::vector<ConvergenceSeries> runs = {
-          {method, &result.history, result.iterations(), result.status}};
-      for (const auto& [other, otherResult] : extra) {
-        runs.push_back({other, &otherResult.history, otherResult.iterations(), otherResult.status});
-      }
-      writeConvergencePlot(args->plot, runs, "fit-curve");
-    }
-
-    nlohmann::json report = fitReportJson(result, method);
-    report["target"] = args->target;
-    report["target_kind"] = target.kind;
-    report["offset"] = args->offset;
-    report["dimension"] = initial.dimension();
-    report["degree"] = initial.degree();
-    report["control_points"] = initial.controlPointCount();
-    report["closed"] = initial.isClosed();
-    report["output"] = args->out;
-    if (!args->svg.empty()) report["svg"] = args->svg;
-    if (!args->plot.empty()) report["plot"] = args->plot;
-    if (args->compare) {
-      nlohmann::json compare = {{fitMethodName(method), fitReportJson(result, method)}};
-      for (const auto& [other, otherResult] : extra) {
-        compare[fitMethodName(other)] = fitReportJson(otherResult, other);
-      }
-      report["compare"] = compare;
-    }
-    report["seconds"] = clock.seconds();
-    if (options.json) {
-      printJson(report);
-      return kSuccess;
-    }
-    printFitReport(result, method);
-    for (const auto& [other, otherResult] : extra) printFitReport(otherResult, other);
-    status(options, "wrote " + args->out);
-    return kSuccess;
-  });
+// --compare: PDM and SDM (whichever was not the method) from the same initial curve.
+ComparedFits compareFits(const BSplineCurve& initial, const FitTarget& target,
+                         const CurveFitOptions& fit) {
+  ComparedFits extra;
+  for (const FitMethod other : {FitMethod::PDM, FitMethod::SDM}) {
+    if (other == fit.method) continue;
+    CurveFitOptions otherFit = fit;
+    otherFit.method = other;
+    otherFit.keepIterates = false;
+    extra.emplace_back(other, runFit(initial, target, otherFit));
+  }
+  return extra;
 }
 
-// TRANSITION: the old registration until this command has its CommandDefinition.
+void writePlot(const std::string& file, FitMethod method, const CurveFitResult& result,
+               const ComparedFits& extra) {
+  std::vector<ConvergenceSeries> runs = {
+      {method, &result.history, result.iterations(), result.status}};
+  for (const auto& [other, otherResult] : extra) {
+    runs.push_back({other, &otherResult.history, otherResult.iterations(), otherResult.status});
+  }
+  writeConvergencePlot(file, runs, "fit-curve");
+}
+
+nlohmann::json fitCurveJson(const FitCurveArguments& args, const FitTarget& target,
+                            const BSplineCurve& initial, FitMethod method,
+                            const CurveFitResult& result, const ComparedFits& extra) {
+  nlohmann::json json = fitReportJson(result, method);
+  json["target"] = args.target;
+  json["target_kind"] = inputKindName(target.kind);
+  json["offset"] = args.offset;
+  json["dimension"] = initial.dimension();
+  json["degree"] = initial.degree();
+  json["control_points"] = initial.controlPointCount();
+  json["closed"] = initial.isClosed();
+  json["output"] = args.out;
+  if (!args.svg.empty()) json["svg"] = args.svg;
+  if (!args.plot.empty()) json["plot"] = args.plot;
+  if (args.compare) {
+    nlohmann::json compare = {{fitMethodName(method), fitReportJson(result, method)}};
+    for (const auto& [other, otherResult] : extra) {
+      compare[fitMethodName(other)] = fitReportJson(otherResult, other);
+    }
+    json["compare"] = compare;
+  }
+  return json;
+}
+
+Report runFitCurve(const FitCurveArguments& args, const CommandContext& context) {
+  const Stopwatch clock;
+  const FitMethod method = parseFitMethod(args.method);
+  FitTargetOptions load;
+  load.spline = FitSpline::Curve;
+  load.offset = args.offset;
+  load.purpose = "the target of 'd2vdb fit-curve'";
+  load.progress = context.progress();
+  const FitTarget target = loadFitTarget(args.target, load);
+  checkControlPointCount(args.controlPoints, target);
+  const BSplineCurve initial = initialCurve(args, target);
+  CurveFitOptions fit = args.fit;
+  fit.method = method;
+  fit.exactSecondOrder = !args.plainSdm;
+  fit.footpointCorrection = !args.noFootpointCorrection;
+  fit.keepIterates = !args.svg.empty();
+  fit.progress = context.progress();
+  const CurveFitResult result = runFit(initial, target, fit);
+  writeCurveJson(args.out, result.curve);
+
+  const ComparedFits extra = args.compare ? compareFits(initial, target, fit) : ComparedFits{};
+  if (!args.svg.empty()) writeIterationSvg(args.svg, target, result, args.every);
+  if (!args.plot.empty()) writePlot(args.plot, method, result, extra);
+
+  Report report;
+  report.json = fitCurveJson(args, target, initial, method, result, extra);
+  report.json["seconds"] = clock.seconds();
+  report.text = fitReportText(result, method);
+  for (const auto& [other, otherResult] : extra) report.text += fitReportText(otherResult, other);
+  report.textKind = Report::Text::Answer;
+  if (!context.options().json) context.status("wrote " + args.out);
+  return report;
+}
+
+}  // namespace
+
 void addFitCurveCommand(CommandRegistry& registry) {
-  addFitCurveCommand(registry.app(), registry, registry.legacyOptions());
+  registry.add<FitCurveArguments>(
+      {"fit-curve",
+       "Fit a B-spline curve (knots fixed) to a target by squared distance minimisation: a curve "
+       "or polyline .json (SDM I; --offset R fits the offset at distance R), a point cloud "
+       ".xyz/.ply (SDM II: errors orthogonal to the active curve) or a distance field .vdb. "
+       "Prints the iteration history (objective, RMS and max distance, step) and why it "
+       "stopped.\n"
+       "Example: d2vdb fit-curve --target ellipse.json --init circle --method sdm --ctrl 12 "
+       "--out fitted.json --svg fit.svg --plot conv.svg --compare",
+       "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target",
+       declareFitCurve, runFitCurve});
 }
 
 }  // namespace d2vdb::cli

@@ -2,12 +2,14 @@
 #include "FitReports.h"
 
 #include <cstdio>
+#include <string>
 
 #include "Command.h"
 
 namespace d2vdb::cli {
 
-void addFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm, const FitOptionHelp& help) {
+void declareFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm,
+                       const FitOptionHelp& help) {
   command.add_option("--iterations", fit.maxIterations, "Iteration cap")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
@@ -74,16 +76,33 @@ nlohmann::json fitReportJson(const FitReport& report, FitMethod method) {
           {"history", rows}};
 }
 
-void printFitReport(const FitReport& report, FitMethod method) {
-  std::printf("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
-              fitStatusName(report.status), report.iterations(), report.reason.c_str());
-  std::printf("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms", "max",
-              "step", "move", "scale", "damping", "smooth", "newton");
+namespace {
+
+// printf into a std::string.
+template <typename... Values>
+std::string format(const char* pattern, Values... values) {
+  const int length = std::snprintf(nullptr, 0, pattern, values...);
+  std::string text(static_cast<std::size_t>(length) + 1, '\0');
+  std::snprintf(text.data(), text.size(), pattern, values...);
+  text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+std::string fitReportText(const FitReport& report, FitMethod method) {
+  std::string text =
+      format("%s fit: %s after %d iterations (%s)\n", fitMethodName(method),
+             fitStatusName(report.status), report.iterations(), report.reason.c_str());
+  text += format("%5s %14s %12s %12s %12s %12s %7s %9s %9s %6s\n", "iter", "objective", "rms",
+                 "max", "step", "move", "scale", "damping", "smooth", "newton");
   for (const FitIteration& row : report.history) {
-    std::printf("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
-                row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
-                row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
+    text +=
+        format("%5d %14.6e %12.5e %12.5e %12.5e %12.5e %7.4f %9.2e %9.2e %6.3f\n", row.iteration,
+               row.objective, row.rmsDistance, row.maxDistance, row.stepLength, row.targetMove,
+               row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
   }
+  return text;
 }
 
 }  // namespace d2vdb::cli

@@ -22,12 +22,13 @@ struct FitOptionHelp {
   std::string plainSdm;    ///< --plain-sdm: what the exact second-order terms are left out of
 };
 
-/// Registers the options of `fit` that every fit command takes: --iterations, --smoothness,
+/// Declares the options of `fit` that every fit command takes: --iterations, --smoothness,
 /// --smoothing-bias, --step-smoothness, --stretch, --pdm-weight, --tolerance, --step-tolerance,
 /// --move-tolerance, and --plain-sdm (sets `plainSdm`; see applyPlainSdm()). Each number is
 /// checked as it is parsed (a non-negative or positive finite number, an iteration cap in
 /// [0, 10^6]); the defaults are those of `fit` at registration.
-void addFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm, const FitOptionHelp& help);
+void declareFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm,
+                       const FitOptionHelp& help);
 
 /// {"method", "status", "reason", "iterations", "rms_distance", "max_distance", "smoothness" (of
 ///  the last iteration), "history": [{"iteration", "objective", "rms_distance", "max_distance",
@@ -35,8 +36,8 @@ void addFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm, const Fit
 ///  "second_order_weight"}]}
 nlohmann::json fitReportJson(const FitReport& report, FitMethod method);
 
-/// Prints to stdout "<method> fit: <status> after N iterations (<reason>)" and the history as a
-/// table, one row per iteration.
-void printFitReport(const FitReport& report, FitMethod method);
+/// "<method> fit: <status> after N iterations (<reason>)" and the history as a table, one row per
+/// iteration, each line ending in '\n'.
+std::string fitReportText(const FitReport& report, FitMethod method);
 
 }  // namespace d2vdb::cli

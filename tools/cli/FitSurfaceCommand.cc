@@ -3,15 +3,12 @@
 // TDM, SDM, TDM+PDM; Pottmann, Leopoldseder and Hofer 2002), optionally a ruled surface or an
 // offset, and writes the surface, a tessellated mesh coloured by the distance, the rulings and
 // the convergence plot.
-#include <openvdb/openvdb.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <functional>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -21,12 +18,10 @@
 #include "FitReports.h"
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/ApproximantField.h"
-#include "d2vdb/field/SurfaceTarget.h"
 #include "d2vdb/fit/InitialSurface.h"
-#include "d2vdb/fit/OffsetTarget.h"
 #include "d2vdb/fit/RuledSurface.h"
 #include "d2vdb/fit/SurfaceFitter.h"
+#include "d2vdb/io/FitTarget.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
 #include "d2vdb/mesh/MeshIO.h"
@@ -83,82 +78,7 @@ class CloudDistance {
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
 };
 
-// What --target named, loaded.
-struct LoadedTarget {
-  std::string kind;  // "field", "surface", "points"
-  std::unique_ptr<SquaredDistanceTarget> target;
-  std::unique_ptr<OffsetTarget> offset;
-  std::vector<Eigen::Vector3d> points;  // the cloud, or samples of the target's surface
-
-  const SquaredDistanceTarget& fitTarget() const {
-    return offset ? static_cast<const SquaredDistanceTarget&>(*offset) : *target;
-  }
-};
-
-/// Samples of a field's zero level set: footpoints of the band voxels within half a voxel of
-/// it, at most about `limit` of them (every k-th voxel).
-std::vector<Eigen::Vector3d> fieldSurfaceSamples(const ApproximantField& field, std::size_t limit) {
-  const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
-  const double h = field.voxelSize();
-  std::vector<Eigen::Vector3d> centres;
-  for (auto it = grid->cbeginValueOn(); it; ++it) {
-    if (std::abs(*it) > 0.5 * h) continue;
-    const openvdb::Vec3d p = grid->indexToWorld(it.getCoord());
-    centres.emplace_back(p.x(), p.y(), p.z());
-  }
-  const std::size_t stride = std::max<std::size_t>(1, centres.size() / limit);
-  std::vector<Eigen::Vector3d> samples;
-  for (std::size_t i = 0; i < centres.size(); i += stride) {
-    samples.push_back(field.approximantAt(centres[i]).footpoint);
-  }
-  return samples;
-}
-
-LoadedTarget loadTarget(const std::string& file, double offset, const GlobalOptions& options) {
-  LoadOptions load;
-  load.purpose = "the target of 'd2vdb fit-surface'";
-  load.progress = makeProgressPrinter(options);
-  LoadedInput input = loadInput(
-      file, {InputKind::Field, InputKind::Surface, InputKind::PointSet, InputKind::Mesh}, load);
-  LoadedTarget loaded;
-  if (input.kind() == InputKind::Field) {
-    loaded.kind = "field";
-    auto field = std::make_unique<ApproximantField>(std::move(input).take<FieldInput>().field);
-    if (field->statistics().kind != TargetKind::Surface) {
-      throw InputError("target file '" + file +
-                       "' is not the field of a surface (a level set); fit-surface fits surfaces "
-                       "to level sets, B-spline surfaces and point clouds");
-    }
-    loaded.points = fieldSurfaceSamples(*field, 200000);
-    if (loaded.points.empty()) {
-      throw InputError("target file '" + file + "' has no voxels on its zero level set");
-    }
-    loaded.target = std::move(field);
-  } else if (input.kind() == InputKind::Surface) {
-    loaded.kind = "surface";
-    const BSplineSurface surface = std::move(input).take<BSplineSurface>();
-    auto target = std::make_unique<SurfaceTarget>(surface);
-    target->setLabel(file);
-    loaded.points = target->samplePoints(101, 101);
-    loaded.target = std::move(target);
-  } else if (input.kind() == InputKind::PointSet) {
-    loaded.kind = "points";
-    loaded.points = std::move(input).take<PointSetInput>().points;
-  } else {
-    throw InputError("target file '" + file +
-                     "' is a triangle mesh; use a level-set or field .vdb (meshes: d2vdb mesh2sdf "
-                     "first), a B-spline surface .json or a point cloud .xyz/.ply");
-  }
-  if (offset != 0.0) {
-    if (!loaded.target) {
-      throw InputError("--offset needs a field or B-spline surface target, not a point cloud");
-    }
-    loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
-  }
-  return loaded;
-}
-
-struct Arguments {
+struct FitSurfaceArguments {
   std::string target, init = "plane", method = "sdm", out, mesh, plot, rulings;
   std::vector<int> degree{3, 3};
   std::vector<int> controlPoints{8, 8};
@@ -171,7 +91,8 @@ struct Arguments {
   SurfaceFitOptions fit;
 };
 
-BSplineSurface initialSurface(const Arguments& args, const LoadedTarget& target, bool& ruled) {
+BSplineSurface initialSurface(const FitSurfaceArguments& args, const FitTarget& target,
+                              bool& ruled) {
   if (args.init != "plane" && args.init != "cylinder" && args.init != "torus") {
     LoadOptions load;
     load.purpose = "the initial surface (--init)";
@@ -208,8 +129,8 @@ BSplineSurface initialSurface(const Arguments& args, const LoadedTarget& target,
 
 /// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings.
 std::function<double(const Eigen::Vector3d&)> distanceFunction(
-    const LoadedTarget& target, std::unique_ptr<CloudDistance>& cloud) {
-  if (target.kind == "points") {
+    const FitTarget& target, std::unique_ptr<CloudDistance>& cloud) {
+  if (target.kind == InputKind::PointSet) {
     cloud = std::make_unique<CloudDistance>(target.points);
     const CloudDistance* measure = cloud.get();
     return [measure](const Eigen::Vector3d& x) { return (*measure)(x); };
@@ -283,135 +204,153 @@ nlohmann::json writeRulings(const std::string& file, const BSplineSurface& surfa
   return {{"file", file}, {"count", rulings.size()}, {"max_distance", worst}};
 }
 
-}  // namespace
-
-void addFitSurfaceCommand(CLI::App& app, CommandRegistry& registry, GlobalOptions& options) {
-  auto args = std::make_shared<Arguments>();
-  CLI::App* command = app.add_subcommand(
-      "fit-surface",
-      "Fit a tensor-product B-spline surface (knots fixed; open or closed in u and v; ruled with "
-      "--ruled) to a level set / field .vdb (SDM I), a B-spline surface .json (exact, SDM I) or a "
-      "point cloud .xyz/.ply (SDM II: errors orthogonal to the active surface). Prints the "
-      "iteration history and why it stopped.\n"
-      "Example: d2vdb fit-surface --target volumes/torus.vdb --init torus --ctrl 12,8 "
-      "--out torus.json --mesh torus.ply --plot conv.svg");
+void declareFitSurfaceShape(CLI::App& command, FitSurfaceArguments& args) {
   command
-      ->add_option("--target", args->target,
-                   "Target: .vdb level set or field, surface .json, "
-                   ".xyz/.ply point cloud")
-      ->required();
-  command
-      ->add_option("--init", args->init,
-                   "Initial surface: plane (sheet over the target's principal plane), cylinder "
-                   "(closed around its axis), torus (closed in both), or a surface .json")
+      .add_option("--init", args.init,
+                  "Initial surface: plane (sheet over the target's principal plane), cylinder "
+                  "(closed around its axis), torus (closed in both), or a surface .json")
       ->capture_default_str();
-  command->add_option("--method", args->method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
-  command->add_option("--degree", args->degree, "Degrees p,q of a generated initial surface")
+  command.add_option("--method", args.method, "pdm, tdm, sdm or tdm+pdm")->capture_default_str();
+  command.add_option("--degree", args.degree, "Degrees p,q of a generated initial surface")
       ->delimiter(',')
       ->expected(2)
       ->capture_default_str();
-  command->add_option("--ctrl", args->controlPoints, "Control points m,n of a generated surface")
+  command.add_option("--ctrl", args.controlPoints, "Control points m,n of a generated surface")
       ->delimiter(',')
       ->expected(2)
       ->capture_default_str();
-  command->add_flag("--closed-u", args->closedU, "Closed (periodic) in u");
-  command->add_flag("--closed-v", args->closedV, "Closed (periodic) in v");
-  command->add_flag("--ruled", args->ruled,
-                    "Ruled surface: degree 1 in u (straight rulings along u), degree q in v");
-  command->add_option(
-      "--offset", args->offset,
-      "Fit the offset at this distance (negative: inward; field or surface target)");
-  command->add_option("--out", args->out, "Write the fitted surface (.json)")->required();
-  command->add_option("--mesh", args->mesh,
-                      "Write a tessellation (.obj/.ply; PLY with a per-vertex 'distance' and "
-                      "colours: blue inside, white on, red outside the target)");
-  command->add_option("--mesh-samples", args->meshSamples, "Mesh vertices per control point")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 64));
-  command->add_option("--rulings", args->rulings,
-                      "With a ruled surface: write its rulings (.json) with their distances");
-  command
-      ->add_option("--ruling-samples", args->rulingSamples,
-                   "Rulings per knot span besides "
-                   "the knots")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1000));
-  command->add_option("--plot", args->plot, "Plot the RMS distance per iteration (SVG)");
-  command
-      ->add_option("--sensors", args->fit.sensorsPerSpan,
-                   "Sensors per knot span and direction (SDM I)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100));
-  addFitOptions(*command, args->fit, args->plainSdm,
-                {"surface", "Thin-plate weight (dimensionless; default: automatic, see README)",
-                 "Membrane weight (dimensionless)",
-                 "SDM without the exact second-order terms (for comparison)"});
-  command->add_flag("--no-restart", args->noRestart,
-                    "Field and surface targets: no re-parametrisation by chord length and restart "
-                    "(for comparison)");
-  command->add_flag("--json", options.json, "Print one JSON document on stdout");
-
-  registry.add(command, [args, &options]() {
-    const Stopwatch clock;
-    const FitMethod method = parseFitMethod(args->method);
-    if (!std::isfinite(args->offset)) throw InputError("--offset must be a finite number");
-    const LoadedTarget target = loadTarget(args->target, args->offset, options);
-    bool ruled = false;
-    const BSplineSurface initial = initialSurface(*args, target, ruled);
-    if (!args->rulings.empty() && !ruled) {
-      throw InputError(
-          "--rulings needs a ruled surface (--ruled, or an initial surface of degree "
-          "1 in u)");
-    }
-    SurfaceFitOptions fit = args->fit;
-    fit.method = method;
-    fit.exactSecondOrder = !args->plainSdm;
-    fit.reparametrize = !args->noRestart;
-    fit.progress = makeProgressPrinter(options);
-    const SurfaceFitResult result = target.kind == "points"
-                                        ? fitSurfaceToPoints(initial, target.points, fit)
-                                        : fitSurface(initial, target.fitTarget(), fit);
-    std::unique_ptr<CloudDistance> cloud;
-    const auto distance = distanceFunction(target, cloud);
-    writeSurfaceJson(args->out, result.surface);
-
-    nlohmann::json report = fitReportJson(result, method);
-    report.update({{"target", args->target},
-                   {"target_kind", target.kind},
-                   {"offset", args->offset},
-                   {"dimension", 3},
-                   {"degree", {initial.degreeU(), initial.degreeV()}},
-                   {"control_points", {initial.countU(), initial.countV()}},
-                   {"closed", {initial.isClosedU(), initial.isClosedV()}},
-                   {"ruled", ruled},
-                   {"output", args->out}});
-    if (!args->mesh.empty()) {
-      report["mesh"] = writeSurfaceMesh(args->mesh, result.surface, args->meshSamples, distance);
-    }
-    if (!args->rulings.empty()) {
-      report["rulings"] =
-          writeRulings(args->rulings, result.surface, args->rulingSamples, distance);
-    }
-    if (!args->plot.empty()) {
-      writeConvergencePlot(args->plot,
-                           {{method, &result.history, result.iterations(), result.status}},
-                           "fit-surface");
-      report["plot"] = args->plot;
-    }
-    report["seconds"] = clock.seconds();
-    if (options.json) {
-      printJson(report);
-      return kSuccess;
-    }
-    printFitReport(result, method);
-    status(options, "wrote " + args->out);
-    return kSuccess;
-  });
+  command.add_flag("--closed-u", args.closedU, "Closed (periodic) in u");
+  command.add_flag("--closed-v", args.closedV, "Closed (periodic) in v");
+  command.add_flag("--ruled", args.ruled,
+                   "Ruled surface: degree 1 in u (straight rulings along u), degree q in v");
+  command.add_option("--offset", args.offset,
+                     "Fit the offset at this distance (negative: inward; field or surface target)");
 }
 
-// TRANSITION: the old registration until this command has its CommandDefinition.
+void declareFitSurfaceOutputs(CLI::App& command, FitSurfaceArguments& args) {
+  command.add_option("--out", args.out, "Write the fitted surface (.json)")->required();
+  command.add_option("--mesh", args.mesh,
+                     "Write a tessellation (.obj/.ply; PLY with a per-vertex 'distance' and "
+                     "colours: blue inside, white on, red outside the target)");
+  command.add_option("--mesh-samples", args.meshSamples, "Mesh vertices per control point")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  command.add_option("--rulings", args.rulings,
+                     "With a ruled surface: write its rulings (.json) with their distances");
+  command
+      .add_option("--ruling-samples", args.rulingSamples,
+                  "Rulings per knot span besides "
+                  "the knots")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
+  command.add_option("--plot", args.plot, "Plot the RMS distance per iteration (SVG)");
+}
+
+void declareFitSurface(CLI::App& command, FitSurfaceArguments& args) {
+  command
+      .add_option("--target", args.target,
+                  "Target: .vdb level set or field, surface .json, "
+                  ".xyz/.ply point cloud")
+      ->required();
+  declareFitSurfaceShape(command, args);
+  declareFitSurfaceOutputs(command, args);
+  command
+      .add_option("--sensors", args.fit.sensorsPerSpan,
+                  "Sensors per knot span and direction (SDM I)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  declareFitOptions(command, args.fit, args.plainSdm,
+                    {"surface", "Thin-plate weight (dimensionless; default: automatic, see README)",
+                     "Membrane weight (dimensionless)",
+                     "SDM without the exact second-order terms (for comparison)"});
+  command.add_flag("--no-restart", args.noRestart,
+                   "Field and surface targets: no re-parametrisation by chord length and restart "
+                   "(for comparison)");
+}
+
+SurfaceFitResult runFit(const FitSurfaceArguments& args, FitMethod method,
+                        const BSplineSurface& initial, const FitTarget& target,
+                        const CommandContext& context) {
+  SurfaceFitOptions fit = args.fit;
+  fit.method = method;
+  fit.exactSecondOrder = !args.plainSdm;
+  fit.reparametrize = !args.noRestart;
+  fit.progress = context.progress();
+  return target.kind == InputKind::PointSet ? fitSurfaceToPoints(initial, target.points, fit)
+                                            : fitSurface(initial, target.fitTarget(), fit);
+}
+
+// The mesh, the rulings and the plot, each with its entry of the report.
+void writeFitSurfaceOutputs(const FitSurfaceArguments& args, FitMethod method,
+                            const FitTarget& target, const SurfaceFitResult& result,
+                            nlohmann::json& report) {
+  std::unique_ptr<CloudDistance> cloud;
+  const auto distance = distanceFunction(target, cloud);
+  writeSurfaceJson(args.out, result.surface);
+  if (!args.mesh.empty()) {
+    report["mesh"] = writeSurfaceMesh(args.mesh, result.surface, args.meshSamples, distance);
+  }
+  if (!args.rulings.empty()) {
+    report["rulings"] = writeRulings(args.rulings, result.surface, args.rulingSamples, distance);
+  }
+  if (!args.plot.empty()) {
+    writeConvergencePlot(args.plot, {{method, &result.history, result.iterations(), result.status}},
+                         "fit-surface");
+    report["plot"] = args.plot;
+  }
+}
+
+Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& context) {
+  const Stopwatch clock;
+  const FitMethod method = parseFitMethod(args.method);
+  if (!std::isfinite(args.offset)) throw InputError("--offset must be a finite number");
+  FitTargetOptions load;
+  load.spline = FitSpline::Surface;
+  load.offset = args.offset;
+  load.purpose = "the target of 'd2vdb fit-surface'";
+  load.progress = context.progress();
+  const FitTarget target = loadFitTarget(args.target, load);
+  bool ruled = false;
+  const BSplineSurface initial = initialSurface(args, target, ruled);
+  if (!args.rulings.empty() && !ruled) {
+    throw InputError(
+        "--rulings needs a ruled surface (--ruled, or an initial surface of degree "
+        "1 in u)");
+  }
+  const SurfaceFitResult result = runFit(args, method, initial, target, context);
+
+  Report report;
+  report.json = fitReportJson(result, method);
+  report.json.update({{"target", args.target},
+                      {"target_kind", inputKindName(target.kind)},
+                      {"offset", args.offset},
+                      {"dimension", 3},
+                      {"degree", {initial.degreeU(), initial.degreeV()}},
+                      {"control_points", {initial.countU(), initial.countV()}},
+                      {"closed", {initial.isClosedU(), initial.isClosedV()}},
+                      {"ruled", ruled},
+                      {"output", args.out}});
+  writeFitSurfaceOutputs(args, method, target, result, report.json);
+  report.json["seconds"] = clock.seconds();
+  report.text = fitReportText(result, method);
+  report.textKind = Report::Text::Answer;
+  if (!context.options().json) context.status("wrote " + args.out);
+  return report;
+}
+
+}  // namespace
+
 void addFitSurfaceCommand(CommandRegistry& registry) {
-  addFitSurfaceCommand(registry.app(), registry, registry.legacyOptions());
+  registry.add<FitSurfaceArguments>(
+      {"fit-surface",
+       "Fit a tensor-product B-spline surface (knots fixed; open or closed in u and v; ruled with "
+       "--ruled) to a level set / field .vdb (SDM I), a B-spline surface .json (exact, SDM I) or "
+       "a point cloud .xyz/.ply (SDM II: errors orthogonal to the active surface). Prints the "
+       "iteration history and why it stopped.\n"
+       "Example: d2vdb fit-surface --target volumes/torus.vdb --init torus --ctrl 12,8 "
+       "--out torus.json --mesh torus.ply --plot conv.svg",
+       "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target",
+       declareFitSurface, runFitSurface});
 }
 
 }  // namespace d2vdb::cli

@@ -1,0 +1,153 @@
+// Reading the target of a fit (FitTarget.h).
+#include "d2vdb/io/FitTarget.h"
+
+#include <openvdb/openvdb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "d2vdb/core/Error.h"
+#include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/field/SurfaceTarget.h"
+#include "d2vdb/io/PolylineFile.h"
+
+namespace d2vdb {
+namespace {
+
+// Spacing of a curve target's samples, as a fraction of its length.
+constexpr double kCurveSampleFraction = 1.0 / 2000.0;
+// Parameter grid of a B-spline surface target's samples.
+constexpr int kSurfaceSamplesPerDirection = 101;
+// About this many samples of a surface field's zero level set.
+constexpr std::size_t kFieldSurfaceSamples = 200000;
+
+/// Samples of a field's zero level set: footpoints of the band voxels within half a voxel of
+/// it, at most about `limit` of them (every k-th voxel).
+std::vector<Eigen::Vector3d> fieldSurfaceSamples(const ApproximantField& field, std::size_t limit) {
+  const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
+  const double h = field.voxelSize();
+  std::vector<Eigen::Vector3d> centres;
+  for (auto it = grid->cbeginValueOn(); it; ++it) {
+    if (std::abs(*it) > 0.5 * h) continue;
+    const openvdb::Vec3d p = grid->indexToWorld(it.getCoord());
+    centres.emplace_back(p.x(), p.y(), p.z());
+  }
+  const std::size_t stride = std::max<std::size_t>(1, centres.size() / limit);
+  std::vector<Eigen::Vector3d> samples;
+  for (std::size_t i = 0; i < centres.size(); i += stride) {
+    samples.push_back(field.approximantAt(centres[i]).footpoint);
+  }
+  return samples;
+}
+
+LoadedInput loadTargetFile(const std::filesystem::path& path, const FitTargetOptions& options) {
+  LoadOptions load;
+  load.purpose = options.purpose;
+  load.progress = options.progress;
+  if (options.spline == FitSpline::Curve) {
+    return loadInput(
+        path, {InputKind::Curve, InputKind::Polylines, InputKind::PointSet, InputKind::Field},
+        load);
+  }
+  return loadInput(
+      path, {InputKind::Field, InputKind::Surface, InputKind::PointSet, InputKind::Mesh}, load);
+}
+
+void takeCurve(LoadedInput input, const std::filesystem::path& path, FitTarget& loaded) {
+  std::unique_ptr<CurveTarget> curve;
+  if (input.kind() == InputKind::Curve) {
+    const BSplineCurve spline = std::move(input).take<BSplineCurve>();
+    loaded.pieces = static_cast<std::size_t>(spline.controlPointCount());
+    loaded.closed = spline.isClosed();
+    loaded.dimension = spline.dimension();
+    curve = std::make_unique<CurveTarget>(spline);
+  } else {
+    Polyline polyline = onlyPolyline(std::move(input).take<PolylinesInput>().polylines, path);
+    loaded.pieces = polyline.points.size();
+    loaded.closed = polyline.closed;
+    loaded.dimension = polyline.dimension;
+    curve = std::make_unique<CurveTarget>(std::move(polyline));
+  }
+  curve->setLabel(path.string());
+  loaded.points = curve->samplePoints(curve->length() * kCurveSampleFraction);
+  loaded.target = std::move(curve);
+}
+
+void takeSurfaceField(ApproximantField field, const std::filesystem::path& path,
+                      FitTarget& loaded) {
+  if (field.statistics().kind != TargetKind::Surface) {
+    throw InputError("target file '" + path.string() +
+                     "' is not the field of a surface (a level set); fit-surface fits surfaces "
+                     "to level sets, B-spline surfaces and point clouds");
+  }
+  auto target = std::make_unique<ApproximantField>(std::move(field));
+  loaded.points = fieldSurfaceSamples(*target, kFieldSurfaceSamples);
+  if (loaded.points.empty()) {
+    throw InputError("target file '" + path.string() + "' has no voxels on its zero level set");
+  }
+  loaded.target = std::move(target);
+}
+
+void takeSurface(const BSplineSurface& surface, const std::filesystem::path& path,
+                 FitTarget& loaded) {
+  auto target = std::make_unique<SurfaceTarget>(surface);
+  target->setLabel(path.string());
+  loaded.points = target->samplePoints(kSurfaceSamplesPerDirection, kSurfaceSamplesPerDirection);
+  loaded.target = std::move(target);
+}
+
+void addOffset(double offset, FitSpline spline, FitTarget& loaded) {
+  if (offset == 0.0) return;
+  if (spline == FitSpline::Curve) {
+    if (!loaded.target || loaded.target->kind() != TargetKind::Curve) {
+      throw InputError("--offset needs a curve target (a B-spline or polyline .json), not a " +
+                       std::string(inputKindName(loaded.kind)) + " target");
+    }
+  } else if (!loaded.target) {
+    throw InputError("--offset needs a field or B-spline surface target, not a point cloud");
+  }
+  loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
+}
+
+}  // namespace
+
+FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOptions& options) {
+  LoadedInput input = loadTargetFile(path, options);
+  FitTarget loaded;
+  loaded.kind = input.kind();
+  switch (input.kind()) {
+    case InputKind::Curve:
+    case InputKind::Polylines:
+      takeCurve(std::move(input), path, loaded);
+      break;
+    case InputKind::PointSet:
+      loaded.points = std::move(input).take<PointSetInput>().points;
+      loaded.dimension = std::all_of(loaded.points.begin(), loaded.points.end(),
+                                     [](const Eigen::Vector3d& p) { return p.z() == 0.0; })
+                             ? 2
+                             : 3;
+      break;
+    case InputKind::Field: {
+      ApproximantField field = std::move(input).take<FieldInput>().field;
+      if (options.spline == FitSpline::Surface) {
+        takeSurfaceField(std::move(field), path, loaded);
+      } else {
+        loaded.target = std::make_unique<ApproximantField>(std::move(field));
+      }
+      break;
+    }
+    case InputKind::Surface:
+      takeSurface(std::move(input).take<BSplineSurface>(), path, loaded);
+      break;
+    default:
+      throw InputError("target file '" + path.string() +
+                       "' is a triangle mesh; use a level-set or field .vdb (meshes: d2vdb "
+                       "mesh2sdf first), a B-spline surface .json or a point cloud .xyz/.ply");
+  }
+  addOffset(options.offset, options.spline, loaded);
+  return loaded;
+}
+
+}  // namespace d2vdb
