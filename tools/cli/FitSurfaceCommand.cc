@@ -10,7 +10,6 @@
 #include <limits>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "Command.h"
@@ -24,59 +23,13 @@
 #include "d2vdb/io/FitTarget.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/io/SplineJson.h"
+#include "d2vdb/measure/PointSetDistance.h"
+#include "d2vdb/mesh/DistanceColors.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/SurfaceTessellation.h"
 
 namespace d2vdb::cli {
 namespace {
-
-/// Nearest-point distances to a point cloud through a uniform hash grid (exact: the search grows
-/// ring by ring until no closer point can exist).
-class CloudDistance {
- public:
-  explicit CloudDistance(const std::vector<Eigen::Vector3d>& points) : points_(points) {
-    Eigen::AlignedBox3d box;
-    for (const Eigen::Vector3d& p : points) box.extend(p);
-    const double volume = std::max(box.sizes().prod(), 1e-30);
-    cell_ = std::max(std::cbrt(volume / std::max<double>(1.0, points.size() / 4.0)),
-                     1e-9 * std::max(box.sizes().maxCoeff(), 1e-300));
-    for (std::size_t i = 0; i < points.size(); ++i) grid_[key(cellOf(points[i]))].push_back(i);
-  }
-  double operator()(const Eigen::Vector3d& x) const {
-    const Eigen::Vector3i centre = cellOf(x);
-    double best = std::numeric_limits<double>::infinity();
-    for (int ring = 0; ring < 1 << 20; ++ring) {
-      for (int i = -ring; i <= ring; ++i) {
-        for (int j = -ring; j <= ring; ++j) {
-          for (int k = -ring; k <= ring; ++k) {
-            if (std::max({std::abs(i), std::abs(j), std::abs(k)}) != ring) continue;
-            const auto found = grid_.find(key(centre + Eigen::Vector3i(i, j, k)));
-            if (found == grid_.end()) continue;
-            for (const std::size_t index : found->second) {
-              best = std::min(best, (points_[index] - x).squaredNorm());
-            }
-          }
-        }
-      }
-      // Every point outside the searched cube is at least `ring` cells away.
-      if (best <= std::pow(ring * cell_, 2)) break;
-    }
-    return std::sqrt(best);
-  }
-
- private:
-  Eigen::Vector3i cellOf(const Eigen::Vector3d& p) const {
-    return (p / cell_).array().floor().cast<int>();
-  }
-  static std::int64_t key(const Eigen::Vector3i& c) {
-    return (static_cast<std::int64_t>(c.x()) * 73856093) ^
-           (static_cast<std::int64_t>(c.y()) * 19349663) ^
-           (static_cast<std::int64_t>(c.z()) * 83492791);
-  }
-  const std::vector<Eigen::Vector3d>& points_;
-  double cell_ = 1.0;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
-};
 
 struct FitSurfaceArguments {
   std::string target, init = "plane", method = "sdm", out, mesh, plot, rulings;
@@ -127,13 +80,12 @@ BSplineSurface initialSurface(const FitSurfaceArguments& args, const FitTarget& 
   return initialSurfaceAround(target.points, placement);
 }
 
-/// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings.
-std::function<double(const Eigen::Vector3d&)> distanceFunction(
-    const FitTarget& target, std::unique_ptr<CloudDistance>& cloud) {
+/// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings:
+/// the nearest data point of a cloud, the target's distance elsewhere (NaN outside its domain).
+std::function<double(const Eigen::Vector3d&)> distanceFunction(const FitTarget& target) {
   if (target.kind == InputKind::PointSet) {
-    cloud = std::make_unique<CloudDistance>(target.points);
-    const CloudDistance* measure = cloud.get();
-    return [measure](const Eigen::Vector3d& x) { return (*measure)(x); };
+    auto cloud = std::make_shared<const PointSetDistance>(target.points);
+    return [cloud](const Eigen::Vector3d& x) { return (*cloud)(x); };
   }
   const SquaredDistanceTarget& fitTarget = target.fitTarget();
   const Eigen::AlignedBox3d domain = fitTarget.domain();
@@ -144,33 +96,13 @@ std::function<double(const Eigen::Vector3d&)> distanceFunction(
   };
 }
 
-/// Blue (negative) - white (0) - red (positive) by distance / scale, clamped.
-std::array<std::uint8_t, 3> distanceColour(double distance, double scale) {
-  const double t = std::clamp(distance / scale, -1.0, 1.0);
-  const auto channel = [](double value) {
-    return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(value, 0.0, 1.0)));
-  };
-  return t >= 0.0 ? std::array<std::uint8_t, 3>{255, channel(1.0 - t), channel(1.0 - t)}
-                  : std::array<std::uint8_t, 3>{channel(1.0 + t), channel(1.0 + t), 255};
-}
-
 nlohmann::json writeSurfaceMesh(const std::string& file, const BSplineSurface& surface, int samples,
                                 const std::function<double(const Eigen::Vector3d&)>& distance) {
   const int samplesU = std::max(surface.isClosedU() ? 3 : 2, samples * surface.countU());
   const int samplesV = std::max(surface.isClosedV() ? 3 : 2, samples * surface.countV());
   const TriangleMesh mesh = tessellate(surface, samplesU, samplesV);
-  VertexAttributes attributes;
-  attributes.scalarName = "distance";
   double largest = 0.0;
-  for (const Eigen::Vector3f& p : mesh.positions) {
-    double d = distance(p.cast<double>());
-    if (!std::isfinite(d)) d = 0.0;  // outside the target's domain (not expected)
-    attributes.scalars.push_back(static_cast<float>(d));
-    largest = std::max(largest, std::abs(d));
-  }
-  const double scale = largest > 0.0 ? largest : 1.0;
-  for (const float d : attributes.scalars) attributes.colours.push_back(distanceColour(d, scale));
-  writeMesh(file, mesh, attributes);
+  writeMesh(file, mesh, distanceAttributes(mesh, distance, largest));
   return {{"file", file},
           {"vertices", mesh.vertexCount()},
           {"triangles", mesh.triangleCount()},
@@ -284,8 +216,7 @@ SurfaceFitResult runFit(const FitSurfaceArguments& args, FitMethod method,
 void writeFitSurfaceOutputs(const FitSurfaceArguments& args, FitMethod method,
                             const FitTarget& target, const SurfaceFitResult& result,
                             nlohmann::json& report) {
-  std::unique_ptr<CloudDistance> cloud;
-  const auto distance = distanceFunction(target, cloud);
+  const auto distance = distanceFunction(target);
   writeSurfaceJson(args.out, result.surface);
   if (!args.mesh.empty()) {
     report["mesh"] = writeSurfaceMesh(args.mesh, result.surface, args.meshSamples, distance);
