@@ -10,6 +10,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
+#include "d2vdb/field/detail/DomainError.h"
 #include "d2vdb/field/detail/NearestPointTree.h"
 #include "d2vdb/manifold/SourceDistance.h"
 
@@ -72,14 +73,7 @@ PseudoManifold::Projection SmoothSurface::project(const Eigen::Vector3d& point) 
 Approximant SmoothSurface::approximantAt(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("smooth-surface target: the query point is not finite");
   if (!domain_.contains(point)) {
-    const double outside = std::sqrt(domain_.squaredExteriorDistance(point));
-    std::ostringstream message;
-    message.precision(kDigits);
-    message << "the point " << formatPoint(point, kDigits) << " lies " << outside
-            << " outside the working domain of the " << describe() << " (box "
-            << formatPoint(domain_.min(), kDigits) << " to " << formatPoint(domain_.max(), kDigits)
-            << ")";
-    throw InputError(message.str());
+    detail::throwOutsideDomain(point, domain_, describe(), kDigits);
   }
   return approximantAtAnyPoint(point);
 }

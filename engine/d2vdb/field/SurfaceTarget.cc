@@ -7,6 +7,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
+#include "d2vdb/field/detail/DomainError.h"
 #include "d2vdb/measure/SurfaceProjection.h"
 #include "d2vdb/spline/SurfaceGeometry.h"
 
@@ -79,14 +80,7 @@ std::string SurfaceTarget::describe() const {
 Approximant SurfaceTarget::approximantAt(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("surface target: the query point is not finite");
   if (!domain_.contains(point)) {
-    std::ostringstream message;
-    message.precision(6);
-    message << "the point " << formatPoint(point, kDigits) << " lies "
-            << std::sqrt(domain_.squaredExteriorDistance(point))
-            << " outside the working domain of the " << describe() << " (box "
-            << formatPoint(domain_.min(), kDigits) << " to " << formatPoint(domain_.max(), kDigits)
-            << ")";
-    throw InputError(message.str());
+    detail::throwOutsideDomain(point, domain_, describe(), kDigits);
   }
   return approximantAtAnyPoint(point);
 }
