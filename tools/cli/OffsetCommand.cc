@@ -196,13 +196,8 @@ OffsetRun offsetByPatches(const OffsetArguments& args, const CommandContext& con
         "a signed level set; write a mesh (.obj, .ply, .stl)");
   }
   OffsetRun run;
-  const PatchSurface surface = loadPatchSurface(args.input, context.progress());
-  context.status("splitting " + args.input + " (" + inputKindName(surface.kind) + ", " +
-                 std::to_string(surface.mesh.triangles.size()) +
-                 " triangles) into patches of one curvature sign, degree " +
-                 std::to_string(args.degree));
-  const PatchedSupport patched = fitPatches(
-      surface, patchOptions(args.degree, args.regularization, args.parabolicRatio), args.input);
+  const PatchedSupport patched =
+      loadAndFitPatches(args.input, args.degree, args.regularization, args.parabolicRatio, context);
   run.warnings = patched.warnings;
   requireRegularPatchOffsets(patched.set, args.distances, args.allowSingular, run.warnings);
   for (const double d : args.distances) {

@@ -59,13 +59,8 @@ std::filesystem::path patchOutput(const std::filesystem::path& output, std::size
 // Gauss image (all computed before any is written), report them.
 Report runPatches(const SupportArguments& args, const CommandContext& context,
                   const Stopwatch& clock) {
-  const PatchSurface surface = loadPatchSurface(args.input, context.progress());
-  context.status("splitting " + args.input + " (" + inputKindName(surface.kind) + ", " +
-                 std::to_string(surface.mesh.triangles.size()) +
-                 " triangles) into patches of one curvature sign, degree " +
-                 std::to_string(args.degree));
-  const PatchedSupport patched = fitPatches(
-      surface, patchOptions(args.degree, args.regularization, args.parabolicRatio), args.input);
+  const PatchedSupport patched =
+      loadAndFitPatches(args.input, args.degree, args.regularization, args.parabolicRatio, context);
   for (const std::string& message : patched.warnings) warning(message);
   Report report;
   report.json = patchesJson(patched);

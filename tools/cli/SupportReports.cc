@@ -195,4 +195,14 @@ std::string supportText(const nlohmann::json& report, const std::string& indent)
   return text;
 }
 
+PatchedSupport loadAndFitPatches(const std::string& input, int degree, double regularization,
+                                 double parabolicRatio, const CommandContext& context) {
+  const PatchSurface surface = loadPatchSurface(input, context.progress());
+  context.status("splitting " + input + " (" + inputKindName(surface.kind) + ", " +
+                 std::to_string(surface.mesh.triangles.size()) +
+                 " triangles) into patches of one curvature sign, degree " +
+                 std::to_string(degree));
+  return fitPatches(surface, patchOptions(degree, regularization, parabolicRatio), input);
+}
+
 }  // namespace d2vdb::cli

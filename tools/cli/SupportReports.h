@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "Command.h"
 #include "d2vdb/io/SupportInput.h"
 
 namespace d2vdb::cli {
@@ -40,5 +41,10 @@ void addParabolicRatioOption(CLI::App& command, double& ratio);
 /// The patch options of --degree, --regularization and --parabolic-ratio (< 0: unset, the
 /// default of SupportPatchOptions).
 SupportPatchOptions patchOptions(int degree, double regularization, double parabolicRatio);
+
+/// `--patches`: loads `input` (a mesh, or a level set's zero iso-surface), says so in a status
+/// line, and fits its patches of one curvature sign (fitPatches() with patchOptions()).
+PatchedSupport loadAndFitPatches(const std::string& input, int degree, double regularization,
+                                 double parabolicRatio, const CommandContext& context);
 
 }  // namespace d2vdb::cli
