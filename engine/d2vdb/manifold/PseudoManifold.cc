@@ -320,28 +320,36 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
 }
 #endif
 
-template <int D, int Order>
-inline void dispatchPatch(const double* controls, double s, double t, double out[10][3]) {
+/// A fixed-bidegree patch function (fixedPatch's arguments).
+using PatchFunction = void (*)(const double*, double, double, double[10][3]);
+
+/// The patch functions of bidegrees 2 + Offsets: fixedPatchWide where Wide, else fixedPatch.
+template <int Order, bool Wide, int... Offsets>
+constexpr std::array<PatchFunction, sizeof...(Offsets)> patchFunctions(
+    std::integer_sequence<int, Offsets...>) {
 #ifdef D2VDB_WIDE_PATCH
-  static const bool wide = __builtin_cpu_supports("avx2");
-  if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
+  if constexpr (Wide) return {&fixedPatchWide<2 + Offsets, Order>...};
 #endif
-  fixedPatch<D, Order>(controls, s, t, out);
+  return {&fixedPatch<2 + Offsets, Order>...};
 }
 
-/// patch() for bidegree d >= First: the fixed-bidegree code of d, of kMaxBidegree beyond it.
-template <int Order, int First>
-inline void patchFrom(int d, const double* controls, double s, double t, double out[10][3]) {
-  if constexpr (First < kMaxBidegree) {
-    if (d != First) return patchFrom<Order, First + 1>(d, controls, s, t, out);
-  }
-  dispatchPatch<First, Order>(controls, s, t, out);
-}
-
-/// A patch of bidegree d (2..kMaxBidegree; controls and out as for fixedPatch).
+/// A patch of bidegree d (2..kMaxBidegree; any other d as kMaxBidegree), controls and out as for
+/// fixedPatch: its fixed-bidegree function, the wide one where the processor has AVX2, by one
+/// indirect call through a table of them.
 template <int Order>
 void patch(int d, const double* controls, double s, double t, double out[10][3]) {
-  patchFrom<Order, 2>(d, controls, s, t, out);
+  constexpr auto bidegrees = std::make_integer_sequence<int, kMaxBidegree - 1>();
+  const auto index = static_cast<unsigned>(d - 2);
+  const unsigned at = index < kMaxBidegree - 2 ? index : kMaxBidegree - 2;
+#ifdef D2VDB_WIDE_PATCH
+  static constexpr std::array<PatchFunction, kMaxBidegree - 1> wideFunctions =
+      patchFunctions<Order, true>(bidegrees);
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return wideFunctions[at](controls, s, t, out);
+#endif
+  static constexpr std::array<PatchFunction, kMaxBidegree - 1> functions =
+      patchFunctions<Order, false>(bidegrees);
+  functions[at](controls, s, t, out);
 }
 
 /// Chart point jets from canonical point jets, with the exact linear map at the centre of a
@@ -1233,7 +1241,9 @@ double predictedNextStep(double length, double lastStep, double radius) {
 /// One run of projectFrom(): Newton's method as project() describes it. The iteration's state
 /// lives here and each member function is one phase of an iteration; a phase that returns true
 /// has ended the iteration, either with a step to the next iterate (current_) or with the
-/// projection stopped (result converged or beyond).
+/// projection stopped (result converged or beyond). The projection is the hot path of the
+/// smooth-surface field: run(), iterate(), endAt() and keepModel() are forced inline so that a
+/// projection compiles to one function with one loop, its state in that function's frame.
 class PseudoManifold::ProjectionRun {
  public:
   /// `result` may hold an earlier projection: every member not written by finish() is reset.
@@ -1242,8 +1252,6 @@ class PseudoManifold::ProjectionRun {
                 Projection& result)
       : surface_(surface),
         mesh_(*surface.mesh_),
-        evaluator_{surface},
-        thirdEvaluator_{surface},
         x_(x),
         nearby_(nearby),
         options_(options),
@@ -1260,7 +1268,7 @@ class PseudoManifold::ProjectionRun {
   }
 
   /// Iterates until the projection stops (at most 60 iterations), then writes the result.
-  void run() {
+  __attribute__((always_inline)) void run() {
     constexpr int kMaxIterations = 60;
     for (int iteration = 0; iteration < kMaxIterations && !stopped(); ++iteration) {
       iterate(iteration);
@@ -1276,7 +1284,7 @@ class PseudoManifold::ProjectionRun {
   bool stopped() const { return result_.converged || result_.beyond; }
 
   /// One iteration: the iterate's jet and Newton step, then the first phase that applies.
-  void iterate(int iteration) {
+  __attribute__((always_inline)) void iterate(int iteration) {
     evaluateIterate();
     if (finalStep_) {
       // Evaluated where the converging step ended: the answer (an uphill step cannot happen
@@ -1320,14 +1328,15 @@ class PseudoManifold::ProjectionRun {
       const bool sameChart = stepEnd_ && stepEnd_->vertex == vertex;
       const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd_->p : nullptr;
       if (wantThird_ && !finalStep_) {
-        const Jet3<3> full = thirdEvaluator_.chart(current_, centre_, &chartPoint_.p, knownPoint);
+        const Jet3<3> full =
+            Evaluator<3>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
         jet_.v = full.v;
         for (int i = 0; i < 2; ++i) jet_.d[i] = full.d[i];
         for (int i = 0; i < 3; ++i) jet_.h[i] = full.h[i];
         for (int i = 0; i < 4; ++i) third_[i] = full.t[i];
         haveThird_ = true;
       } else {
-        jet_ = evaluator_.chart(current_, centre_, &chartPoint_.p, knownPoint);
+        jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
       }
       chartPoint_.vertex = vertex;
       ++result_.iterations;
@@ -1561,7 +1570,7 @@ class PseudoManifold::ProjectionRun {
 
   /// Ends the projection at chart point p of chartPoint_'s vertex with the jet `there`: its face
   /// point, the corner of that vertex and the jet.
-  void endAt(const Eigen::Vector2d& p, const Jet3<2>& there) {
+  __attribute__((always_inline)) void endAt(const Eigen::Vector2d& p, const Jet3<2>& there) {
     current_ = surface_.atlas_.fromChart({chartPoint_.vertex, p});
     for (int c = 0; c < 3; ++c) {
       if (mesh_.from(3 * current_.face + static_cast<Index>(c)) == chartPoint_.vertex) centre_ = c;
@@ -1571,7 +1580,7 @@ class PseudoManifold::ProjectionRun {
   }
 
   /// Keeps the cubic model at the current iterate (jet_ and third_) in the result, built in place.
-  void keepModel() {
+  __attribute__((always_inline)) void keepModel() {
     Projection::CubicModel& model = result_.model.emplace();
     model.origin = chartPoint_;
     model.derivatives.position = jet_.v;
@@ -1584,7 +1593,7 @@ class PseudoManifold::ProjectionRun {
   void finish() {
     if (!stopped()) {
       centre_ = nearestCorner(current_.bary);
-      jet_ = evaluator_.chart(current_, centre_, &chartPoint_.p);
+      jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p);
       ++result_.iterations;
     }
     if (result_.converged && firstEnd_ && firstEnd_->vertex == chartPoint_.vertex) {
@@ -1606,8 +1615,6 @@ class PseudoManifold::ProjectionRun {
 
   const PseudoManifold& surface_;
   const HalfEdgeMesh& mesh_;
-  const Evaluator<2> evaluator_;
-  const Evaluator<3> thirdEvaluator_;
   const Eigen::Vector3d& x_;
   const Projection* nearby_;  ///< the projection that ended at the start, if given
   const SmoothProjectionOptions& options_;
