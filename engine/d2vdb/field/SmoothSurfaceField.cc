@@ -247,17 +247,7 @@ class SeedBlocks {
     // `reach` blocks of the leaf's.
     const int reach = static_cast<int>(std::ceil((radius / voxelSize_ + 0.501) / 8.0));
     std::vector<std::pair<std::size_t, std::size_t>> ranges;
-    std::size_t seeds = 0;
-    for (int dx = -reach; dx <= reach; ++dx) {
-      for (int dy = -reach; dy <= reach; ++dy) {
-        for (int dz = -reach; dz <= reach; ++dz) {
-          const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
-          if (found == ranges_.end()) continue;
-          ranges.push_back(found->second);
-          seeds += found->second.second - found->second.first;
-        }
-      }
-    }
+    const std::size_t seeds = blockRanges(block, reach, ranges);
     for (Near& part : parts) {
       part.origin_ = leafOrigin;
       part.radius2_ = radius * radius;
@@ -309,6 +299,24 @@ class SeedBlocks {
   }
 
  private:
+  /// Appends the ranges (into order_ and positions_) of the seed blocks within `reach` blocks of
+  /// `block` along every axis to `ranges`, in (dx, dy, dz) order; returns their number of seeds.
+  std::size_t blockRanges(const openvdb::Coord& block, int reach,
+                          std::vector<std::pair<std::size_t, std::size_t>>& ranges) const {
+    std::size_t seeds = 0;
+    for (int dx = -reach; dx <= reach; ++dx) {
+      for (int dy = -reach; dy <= reach; ++dy) {
+        for (int dz = -reach; dz <= reach; ++dz) {
+          const auto found = ranges_.find(block.offsetBy(dx, dy, dz));
+          if (found == ranges_.end()) continue;
+          ranges.push_back(found->second);
+          seeds += found->second.second - found->second.first;
+        }
+      }
+    }
+    return seeds;
+  }
+
   openvdb::Coord blockOf(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d index = p / voxelSize_;
     const openvdb::Coord voxel(static_cast<int>(std::lround(index.x())),
@@ -341,35 +349,17 @@ constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
                                                                   {-1, 1, 1}}};
 constexpr std::size_t kFaceNeighbours = 3;
 
-}  // namespace
+/// The number of lattice points of faces with these intervals per edge.
+double latticePointCount(const std::vector<long>& intervals) {
+  double count = 0.0;
+  for (const long g : intervals) count += 0.5 * static_cast<double>(g + 1) * (g + 2);
+  return count;
+}
 
-ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelSize,
-                                    double halfWidth, const std::string& label,
-                                    const ApproximantFieldOptions& options,
-                                    const ProgressCallback& progress) {
-  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
-    throw InputError("smooth-surface field: the voxel size must be a positive number");
-  }
-  if (!(halfWidth >= 1.0 && halfWidth <= 64.0)) {
-    throw InputError("smooth-surface field: the half-width must lie in 1..64 voxels");
-  }
-  const HalfEdgeMesh& mesh = surface.mesh();
+/// Pilot intervals per face edge from the mesh's edge lengths: half as dense as `spacing` asks
+/// for flat faces.
+std::vector<long> pilotIntervals(const HalfEdgeMesh& mesh, double spacing) {
   const std::size_t faceCount = mesh.faceCount();
-  // Seeds at most 1.2 voxels apart: they find the band and start the projections of the first
-  // voxels of each leaf. Denser seeds cost surface evaluations and nearest-seed scans (at 0.8
-  // voxel there were 2.2 times as many and the bunny's field at 512 took 10 % more time, for the
-  // same band: one voxel beside the medial axis 0.003 voxel nearer, the rest within 1e-5 voxel);
-  // sparser ones let more voxels beyond the band through the nearest-seed test (at 1.6 voxels
-  // those projections cost what the fewer seeds save) and weaken the medial-axis test below (it
-  // misses a nearer sheet whose seeds are all further than a seed near the local minimum found:
-  // a seed exceeds its sheet's distance by up to about seedReach^2 / (2 distance)).
-  const double spacing = 1.2 * voxelSize;
-  const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
-
-  // Intervals per face edge: a pilot lattice from the mesh's edge lengths (half as dense as
-  // `spacing` asks for flat faces), then, from the largest step between neighbouring lattice
-  // points there, the intervals that bring it within `spacing` (the steps shrink about in
-  // proportion to the intervals), raised further until the steps are within `spacing`.
   std::vector<long> intervals(faceCount);
   tbb::parallel_for(std::size_t{0}, faceCount, [&](std::size_t f) {
     const auto face = static_cast<Index>(f);
@@ -381,18 +371,27 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
     }
     intervals[f] = std::max(1L, static_cast<long>(std::ceil(0.5 * extent / spacing)));
   });
-  const auto seedCount = [&]() {
-    double count = 0.0;
-    for (const long g : intervals) count += 0.5 * static_cast<double>(g + 1) * (g + 2);
-    return count;
-  };
-  std::vector<std::vector<Eigen::Vector3d>> facePositions(faceCount);
+  return intervals;
+}
+
+/// Raises each face's intervals until the largest step between neighbouring lattice points on
+/// the surface is within `spacing`: from the largest step of the lattice so far, to the intervals
+/// that bring it within `spacing` (the steps shrink about in proportion to the intervals), at most
+/// 8 rounds. facePositions[f] receives the surface points of face f's final lattice. Throws
+/// InputError when more than `seedBudget` points would be needed or a face is not done then.
+void refineLattices(const PseudoManifold& surface, double spacing, double seedBudget,
+                    double voxelSize, std::vector<long>& intervals,
+                    std::vector<std::vector<Eigen::Vector3d>>& facePositions) {
+  const std::size_t faceCount = intervals.size();
   // One byte per face, not std::vector<bool>: the faces' tasks write their flags concurrently, and
   // neighbouring bits of a bit vector share a word (a data race ThreadSanitizer reports).
   std::vector<std::uint8_t> done(faceCount, 0);
+  const auto allDone = [&] {
+    return std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; });
+  };
   for (int round = 0; round < 8; ++round) {
-    if (seedCount() > seedBudget) {
-      throw InputError("smooth-surface field: " + std::to_string(seedCount()) +
+    if (latticePointCount(intervals) > seedBudget) {
+      throw InputError("smooth-surface field: " + std::to_string(latticePointCount(intervals)) +
                        " surface seeds would be needed at voxel size " + std::to_string(voxelSize) +
                        ", more than the budget of " + std::to_string(seedBudget) +
                        "; choose a coarser voxel size");
@@ -415,29 +414,271 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
         intervals[f] = std::max(intervals[f] + 1, static_cast<long>(std::min(scaled, 1e6)));
       }
     });
-    if (std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) break;
+    if (allDone()) break;
   }
-  if (!std::all_of(done.begin(), done.end(), [](std::uint8_t d) { return d != 0; })) {
+  if (!allDone()) {
     throw InputError("smooth-surface field: the surface could not be sampled at voxel size " +
                      std::to_string(voxelSize) + " (a face stretches too far)");
   }
+}
+
+/// Surface seeds: points of the smooth surface and the face points they are at.
+struct SurfaceSeeds {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<FacePoint> points;
+};
+
+/// The seeds of every face's lattice at most `spacing` apart on the surface (refineLattices),
+/// face by face in lattice order.
+SurfaceSeeds surfaceSeeds(const PseudoManifold& surface, double spacing, double seedBudget,
+                          double voxelSize) {
+  const std::size_t faceCount = surface.mesh().faceCount();
+  std::vector<long> intervals = pilotIntervals(surface.mesh(), spacing);
+  std::vector<std::vector<Eigen::Vector3d>> facePositions(faceCount);
+  refineLattices(surface, spacing, seedBudget, voxelSize, intervals, facePositions);
   // The seeds face by face (each face's from its offset on), in parallel.
   std::vector<std::size_t> seedOffset(faceCount + 1, 0);
   for (std::size_t f = 0; f < faceCount; ++f)
     seedOffset[f + 1] = seedOffset[f] + facePositions[f].size();
-  std::vector<Eigen::Vector3d> seeds(seedOffset[faceCount]);
-  std::vector<FacePoint> seedPoints(seedOffset[faceCount]);
+  SurfaceSeeds seeds;
+  seeds.positions.resize(seedOffset[faceCount]);
+  seeds.points.resize(seedOffset[faceCount]);
   tbb::parallel_for(std::size_t{0}, faceCount, [&](std::size_t f) {
     const std::vector<Eigen::Vector3d> lattice = faceLattice(static_cast<int>(intervals[f]));
     for (std::size_t i = 0; i < lattice.size(); ++i) {
-      seeds[seedOffset[f] + i] = facePositions[f][i];
-      seedPoints[seedOffset[f] + i] = {static_cast<Index>(f), lattice[i]};
+      seeds.positions[seedOffset[f] + i] = facePositions[f][i];
+      seeds.points[seedOffset[f] + i] = {static_cast<Index>(f), lattice[i]};
     }
     std::vector<Eigen::Vector3d>().swap(facePositions[f]);
   });
+  return seeds;
+}
+
+/// How the band voxels are projected (PseudoManifold::project), stopping beyond `stopBeyond`
+/// (world units).
+SmoothProjectionOptions bandProjectionOptions(double stopBeyond) {
+  // The field stores curvatures in half precision: their O(1e-6) error from an extrapolated last
+  // step does not show.
+  SmoothProjectionOptions options;
+  options.extrapolateLastStep = true;
+  // Likewise their error of about 1e-5 of their value from a footpoint placed on the cubic
+  // Taylor model of the surface at the last iterate (a step of at most 1e-3 of the chart radius
+  // away), and from each voxel's start on its neighbour's model: most voxels then cost one
+  // surface evaluation (with third derivatives), some none.
+  options.cubicFinish = true;
+  options.startFromModel = true;
+  // Voxels certainly beyond the band are discarded without converging.
+  options.stopBeyond = stopBeyond;
+  return options;
+}
+
+/// The approximant of a voxel outside the band: its `distance`, above the half-width (the band
+/// discards it).
+Approximant outsideBand(const Eigen::Vector3d& centre, double distance) {
+  Approximant outside;
+  outside.kind = TargetKind::Surface;
+  outside.origin = centre;
+  outside.distance = distance;
+  return outside;
+}
+
+/// What the voxel function keeps from one voxel to the next: everything depends only on the
+/// current leaf node (8^3 voxels, visited in offset order, all in one call sequence), so the field
+/// does not depend on the order of the leaves or the thread count: the seeds within skipBeyond of
+/// the leaf (the nearest seed of a voxel, ties to the lowest index, is exact up to that distance),
+/// and the projections of the leaf's voxels: each voxel's Newton iteration starts from a projected
+/// neighbour visited before it in the same leaf (kStartNeighbours). One per thread, kept from one
+/// block of leaves to the next, so that its buffers (0.4 MB) are allocated once per thread.
+struct LeafState {
+  openvdb::Coord leaf = openvdb::Coord::max();
+  std::uint32_t generation = 0;
+  std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
+  std::vector<PseudoManifold::Projection> projections =
+      std::vector<PseudoManifold::Projection>(512);
+  // The neighbour each voxel's projection started from (1 + its index in kStartNeighbours), 0
+  // for a start from a seed.
+  std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
+  SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
+};
+
+/// The approximant of a candidate voxel of the smooth-surface field (smoothSurfaceField()), with
+/// the state of its thread. Shared by every worker; immutable.
+class VoxelProjector {
+ public:
+  /// `blocks` and `seeds` as surfaceSeeds() made them, seedReach (world units) the largest
+  /// distance of a surface point from its nearest seed.
+  VoxelProjector(const PseudoManifold& surface, const SeedBlocks& blocks,
+                 const std::vector<FacePoint>& seeds, double voxelSize, double halfWidth,
+                 double seedReach)
+      : surface_(surface),
+        blocks_(blocks),
+        seeds_(seeds),
+        options_(bandProjectionOptions(halfWidth * voxelSize)),
+        seedReach_(seedReach),
+        skipBeyond_(halfWidth * voxelSize + seedReach),
+        sameSheet_(1.5 * seedReach),
+        clamp_(1.0 / voxelSize) {}
+
+  Approximant operator()(LeafState& state, const openvdb::Coord& ijk,
+                         const Eigen::Vector3d& centre) const {
+    const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
+    if (leaf != state.leaf) {
+      state.leaf = leaf;
+      ++state.generation;
+      blocks_.near(leaf, skipBeyond_, state.subNear);
+    }
+    const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
+    const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+    if (!(nearest.distance <= skipBeyond_)) {
+      // Outside the band (a lower bound of the distance).
+      return outsideBand(centre, std::isfinite(nearest.distance) ? nearest.distance - seedReach_
+                                                                 : skipBeyond_ - seedReach_);
+    }
+    const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
+    // The voxel's projection goes straight into its slot (the leaf's earlier voxels, the
+    // neighbour among them, have other slots).
+    const auto at = static_cast<std::size_t>(offset);
+    PseudoManifold::Projection& projection = state.projections[at];
+    state.startedFrom[at] =
+        project(state, startOf(state, ijk, offset, centre), centre, nearest, projection);
+    state.stamp[at] = state.generation;
+    if (projection.beyond) {
+      // Outside the band (its distance is above the half-width). Its last iterate still starts
+      // its neighbours' projections.
+      return outsideBand(centre, projection.distance);
+    }
+    Approximant a = SmoothSurface::approximantOf(centre, projection);
+    if (std::abs(a.k1) > clamp_ || std::abs(a.k2) > clamp_) {
+      a.k1 = std::clamp(a.k1, -clamp_, clamp_);
+      a.k2 = std::clamp(a.k2, -clamp_, clamp_);
+      a.flags |= kFlagCurvatureClamped;
+    }
+    return a;
+  }
+
+ private:
+  /// A voxel's start: the slot of the neighbour whose projection it starts from (-1: the
+  /// nearest seed) and LeafState::startedFrom for it.
+  struct Start {
+    int neighbour = -1;
+    std::uint8_t startedFrom = 0;
+  };
+
+  /// The neighbour to start from: of the face neighbours whose projection ended on a cubic
+  /// model, the one whose model is expanded nearest to this voxel's centre (its footpoint is then
+  /// mostly the nearest to this voxel's: the shortest step along the model, the most accurate
+  /// start, the fewest evaluations); without one, the first of the other kStartNeighbours with a
+  /// model; else the first projected neighbour (a Newton iteration from its footpoint); else
+  /// none (a seed).
+  Start startOf(const LeafState& state, const openvdb::Coord& ijk, int offset,
+                const Eigen::Vector3d& centre) const {
+    Start start;
+    // The slot of kStartNeighbours[k] when it lies in the leaf and was projected, else -1.
+    const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
+    const auto projectedSlot = [&](std::size_t k) {
+      const auto& [dx, dy, dz] = kStartNeighbours[k];
+      if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) return -1;
+      const int slot = offset + 64 * dx + 8 * dy + dz;
+      return state.stamp[static_cast<std::size_t>(slot)] == state.generation ? slot : -1;
+    };
+    double nearestOrigin = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < kFaceNeighbours; ++k) {
+      const int candidate = projectedSlot(k);
+      if (candidate < 0) continue;
+      const auto& model = state.projections[static_cast<std::size_t>(candidate)].model;
+      if (!model) continue;
+      const double squared = (model->derivatives.position - centre).squaredNorm();
+      if (squared < nearestOrigin) {
+        nearestOrigin = squared;
+        start = {candidate, static_cast<std::uint8_t>(k + 1)};
+      }
+    }
+    const bool modelledFace = start.neighbour >= 0;
+    for (std::size_t k = 0; k < kStartNeighbours.size() && !modelledFace; ++k) {
+      const int candidate = projectedSlot(k);
+      if (candidate < 0) continue;
+      const bool modelled =
+          state.projections[static_cast<std::size_t>(candidate)].model.has_value();
+      if (start.neighbour < 0 || modelled) start = {candidate, static_cast<std::uint8_t>(k + 1)};
+      if (modelled) break;
+    }
+    return start;
+  }
+
+  /// Projects `centre` into `projection` from `start` (or from the nearest seed); returns the
+  /// start it kept (LeafState::startedFrom).
+  std::uint8_t project(const LeafState& state, const Start& start, const Eigen::Vector3d& centre,
+                       const SeedBlocks::Nearest& nearest,
+                       PseudoManifold::Projection& projection) const {
+    if (start.neighbour < 0) {
+      projection = surface_.project(centre, seeds_[nearest.index], options_);
+      return start.startedFrom;
+    }
+    // Second-order start: when the neighbour was itself projected from its neighbour by the same
+    // displacement, the first Newton step here misses the footpoint by nearly what the
+    // neighbour's missed it by.
+    const auto from = static_cast<std::size_t>(start.neighbour);
+    SmoothProjectionOptions options = options_;
+    if (state.startedFrom[from] == start.startedFrom) {
+      options.firstStepCorrection = state.projections[from].firstStepMiss;
+    }
+    surface_.project(centre, state.projections[from], options, projection);
+    // A surface point (the nearest seed) is nearer than the local minimum found from the
+    // neighbour, or the nearest seed lies on another sheet: that minimum may not be the closest
+    // point (the voxel is near the medial axis); project from the seed too and keep the nearer.
+    const bool elsewhere = projection.distance > nearest.distance ||
+                           (nearest.position - projection.position).norm() > sameSheet_;
+    if (elsewhere) {
+      PseudoManifold::Projection fromSeed =
+          surface_.project(centre, seeds_[nearest.index], options_);
+      if (fromSeed.distance < projection.distance) {
+        projection = std::move(fromSeed);
+        return 0;
+      }
+    }
+    return start.startedFrom;
+  }
+
+  const PseudoManifold& surface_;
+  const SeedBlocks& blocks_;
+  const std::vector<FacePoint>& seeds_;
+  const SmoothProjectionOptions options_;
+  const double seedReach_;
+  const double skipBeyond_;  ///< voxels whose nearest seed is further cannot be in the band
+  /// A projection from the neighbour's footpoint is repeated from the nearest seed when that seed
+  /// may stand for a nearer part of the surface: when it is nearer than the local minimum found
+  /// (or the iterate, for a projection stopped beyond the band) or further than this from its
+  /// surface point (the nearest seeds of its own sheet lie within seedReach of the footpoint, a
+  /// stopped iterate within a few hundredths of a voxel of that): then the nearest seed lies on
+  /// another sheet, which may be nearer than that seed by up to about seedReach^2 / (2 distance).
+  const double sameSheet_;
+  const double clamp_;  ///< curvatures are clamped to 1 / voxel
+};
+
+}  // namespace
+
+ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelSize,
+                                    double halfWidth, const std::string& label,
+                                    const ApproximantFieldOptions& options,
+                                    const ProgressCallback& progress) {
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
+    throw InputError("smooth-surface field: the voxel size must be a positive number");
+  }
+  if (!(halfWidth >= 1.0 && halfWidth <= 64.0)) {
+    throw InputError("smooth-surface field: the half-width must lie in 1..64 voxels");
+  }
+  // Seeds at most 1.2 voxels apart: they find the band and start the projections of the first
+  // voxels of each leaf. Denser seeds cost surface evaluations and nearest-seed scans for the
+  // same band; sparser ones let more voxels beyond the band through the nearest-seed test and
+  // weaken the medial-axis test (VoxelProjector::sameSheet_: it misses a nearer sheet whose seeds
+  // are all further than a seed near the local minimum found). 1.2 was the fastest spacing
+  // (BENCHMARKS.md, "Sparser seeds, a state per thread").
+  const double spacing = 1.2 * voxelSize;
+  const double seedBudget = 4.0 * static_cast<double>(options.maxActiveVoxels);
+  SurfaceSeeds seeds = surfaceSeeds(surface, spacing, seedBudget, voxelSize);
   // The seeds by leaf-node block (8^3 voxels; block of voxel (i, j, k): (i, j, k) >> 3), sorted
   // by block and index, for the seeds near each leaf (SeedBlocks).
-  const SeedBlocks blocks(seeds, voxelSize);
+  const SeedBlocks blocks(seeds.positions, voxelSize);
 
   // Every surface point lies within `seedReach` of a seed: the corners of its lattice triangle
   // are at most `spacing` apart, every point of a flat triangle whose edges are at most L long is
@@ -448,165 +689,16 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   // voxel) of a seed (FieldBand::nearSeeds), and a voxel whose nearest seed is further than that
   // cannot be in the band: it is not projected.
   const double seedReach = spacing / std::sqrt(3.0) + 0.2 * voxelSize;
-  const double skipBeyond = halfWidth * voxelSize + seedReach;
-  FieldBand band = FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds), voxelSize, halfWidth,
-                                        seedReach / voxelSize);
-  const double clamp = 1.0 / voxelSize;
-  // The field stores curvatures in half precision: their O(1e-6) error from an extrapolated last
-  // step does not show.
-  SmoothProjectionOptions projectionOptions;
-  projectionOptions.extrapolateLastStep = true;
-  // Likewise their error of about 1e-5 of their value from a footpoint placed on the cubic
-  // Taylor model of the surface at the last iterate (a step of at most 1e-3 of the chart radius
-  // away), and from each voxel's start on its neighbour's model: most voxels then cost one
-  // surface evaluation (with third derivatives), some none.
-  projectionOptions.cubicFinish = true;
-  projectionOptions.startFromModel = true;
-  // Voxels certainly beyond the band are discarded without converging.
-  projectionOptions.stopBeyond = halfWidth * voxelSize;
-  // A projection from the neighbour's footpoint is repeated from the nearest seed when that seed
-  // may stand for a nearer part of the surface: when it is nearer than the local minimum found
-  // (or the iterate, for a projection stopped beyond the band) or further than this from its
-  // surface point (the nearest seeds of its own sheet lie within seedReach of the footpoint, a
-  // stopped iterate within a few hundredths of a voxel of that): then the nearest seed lies on
-  // another sheet, which may be nearer than that seed by up to about seedReach^2 / (2 distance).
-  const double sameSheet = 1.5 * seedReach;
-  // Everything a voxel's function keeps depends only on the current leaf node (8^3 voxels,
-  // visited in offset order, all in one call sequence), so the field does not depend on the order
-  // of the leaves or the thread count: the seeds within skipBeyond of the leaf (the nearest seed
-  // of a voxel, ties to the lowest index, is exact up to that distance), and the projections of
-  // the leaf's voxels: each voxel's Newton iteration starts from a projected neighbour visited
-  // before it in the same leaf (kStartNeighbours). One such state per thread, kept from one block
-  // of leaves to the next (its buffers, 0.4 MB, would otherwise be allocated and cleared for each
-  // of some thousands of blocks).
-  struct State {
-    openvdb::Coord leaf = openvdb::Coord::max();
-    std::uint32_t generation = 0;
-    std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
-    std::vector<PseudoManifold::Projection> projections =
-        std::vector<PseudoManifold::Projection>(512);
-    // The neighbour each voxel's projection started from (1 + its index in kStartNeighbours), 0
-    // for a start from a seed.
-    std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
-    SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
-  };
-  tbb::enumerable_thread_specific<State> states;
+  FieldBand band = FieldBand::nearSeeds(TargetKind::Surface, std::move(seeds.positions), voxelSize,
+                                        halfWidth, seedReach / voxelSize);
+  const VoxelProjector voxels(surface, blocks, seeds.points, voxelSize, halfWidth, seedReach);
+  tbb::enumerable_thread_specific<LeafState> states;
+  const std::size_t faceCount = surface.mesh().faceCount();
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
         // The factory runs on the thread that uses the function it makes (FieldBand).
-        return [&, statePointer = &states.local()](const openvdb::Coord& ijk,
-                                                   const Eigen::Vector3d& centre) {
-          State& state = *statePointer;
-          const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
-          if (leaf != state.leaf) {
-            state.leaf = leaf;
-            ++state.generation;
-            blocks.near(leaf, skipBeyond, state.subNear);
-          }
-          const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-          const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
-          if (!(nearest.distance <= skipBeyond)) {
-            // Outside the band (a lower bound of the distance, which the band discards).
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = skipBeyond - seedReach;
-            if (std::isfinite(nearest.distance)) outside.distance = nearest.distance - seedReach;
-            return outside;
-          }
-          const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
-          const auto projected = [&](int neighbour) {
-            return state.stamp[static_cast<std::size_t>(neighbour)] == state.generation;
-          };
-          // The neighbour to start from: of the face neighbours whose projection ended on a
-          // cubic model, the one whose model is expanded nearest to this voxel's centre (its
-          // footpoint is then mostly the nearest to this voxel's: the shortest step along the
-          // model, the most accurate start, the fewest evaluations); without one, the first of
-          // the other kStartNeighbours with a model; else the first projected neighbour (a Newton
-          // iteration from its footpoint); else none (a seed).
-          int neighbour = -1;
-          std::uint8_t startedFrom = 0;
-          // The slot of kStartNeighbours[k] when it lies in the leaf and was projected, else -1.
-          const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
-          const auto projectedSlot = [&](std::size_t k) {
-            const auto& [dx, dy, dz] = kStartNeighbours[k];
-            if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) return -1;
-            const int slot = offset + 64 * dx + 8 * dy + dz;
-            return projected(slot) ? slot : -1;
-          };
-          double nearestOrigin = std::numeric_limits<double>::infinity();
-          for (std::size_t k = 0; k < kFaceNeighbours; ++k) {
-            const int candidate = projectedSlot(k);
-            if (candidate < 0) continue;
-            const auto& model = state.projections[static_cast<std::size_t>(candidate)].model;
-            if (!model) continue;
-            const double squared = (model->derivatives.position - centre).squaredNorm();
-            if (squared < nearestOrigin) {
-              nearestOrigin = squared;
-              neighbour = candidate;
-              startedFrom = static_cast<std::uint8_t>(k + 1);
-            }
-          }
-          const bool modelledFace = neighbour >= 0;
-          for (std::size_t k = 0; k < kStartNeighbours.size() && !modelledFace; ++k) {
-            const int candidate = projectedSlot(k);
-            if (candidate < 0) continue;
-            const bool modelled =
-                state.projections[static_cast<std::size_t>(candidate)].model.has_value();
-            if (neighbour < 0 || modelled) {
-              neighbour = candidate;
-              startedFrom = static_cast<std::uint8_t>(k + 1);
-            }
-            if (modelled) break;
-          }
-          // The voxel's projection goes straight into its slot (the leaf's earlier voxels, the
-          // neighbour among them, have other slots).
-          const auto at = static_cast<std::size_t>(offset);
-          PseudoManifold::Projection& projection = state.projections[at];
-          if (neighbour >= 0) {
-            // Second-order start: when the neighbour was itself projected from its neighbour by
-            // the same displacement, the first Newton step here misses the footpoint by nearly
-            // what the neighbour's missed it by.
-            const auto from = static_cast<std::size_t>(neighbour);
-            SmoothProjectionOptions options = projectionOptions;
-            if (state.startedFrom[from] == startedFrom) {
-              options.firstStepCorrection = state.projections[from].firstStepMiss;
-            }
-            surface.project(centre, state.projections[from], options, projection);
-            // A surface point (the nearest seed) is nearer than the local minimum found from
-            // the neighbour, or the nearest seed lies on another sheet: that minimum may not be
-            // the closest point (the voxel is near the medial axis); project from the seed too
-            // and keep the nearer.
-            const bool elsewhere = projection.distance > nearest.distance ||
-                                   (nearest.position - projection.position).norm() > sameSheet;
-            if (elsewhere) {
-              PseudoManifold::Projection fromSeed =
-                  surface.project(centre, seedPoints[nearest.index], projectionOptions);
-              if (fromSeed.distance < projection.distance) {
-                projection = std::move(fromSeed);
-                startedFrom = 0;
-              }
-            }
-          } else {
-            projection = surface.project(centre, seedPoints[nearest.index], projectionOptions);
-          }
-          state.startedFrom[at] = startedFrom;
-          state.stamp[at] = state.generation;
-          if (projection.beyond) {
-            // Outside the band (its distance is above the half-width; the band discards it).
-            // Its last iterate still starts its neighbours' projections.
-            Approximant outside;
-            outside.kind = TargetKind::Surface;
-            outside.origin = centre;
-            outside.distance = projection.distance;
-            return outside;
-          }
-          Approximant a = SmoothSurface::approximantOf(centre, projection);
-          if (std::abs(a.k1) > clamp || std::abs(a.k2) > clamp) {
-            a.k1 = std::clamp(a.k1, -clamp, clamp);
-            a.k2 = std::clamp(a.k2, -clamp, clamp);
-            a.flags |= kFlagCurvatureClamped;
-          }
-          return a;
+        return [&voxels, state = &states.local()](const openvdb::Coord& ijk,
+                                                  const Eigen::Vector3d& centre) {
+          return voxels(*state, ijk, centre);
         };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")

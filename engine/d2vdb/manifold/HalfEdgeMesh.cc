@@ -56,6 +56,123 @@ std::string reportSummary(const std::vector<Eigen::Vector3d>& positions,
   throw InputError(message);
 }
 
+/// "N <noun><what>, the first a, b, c": the count of `items` with the singular or plural noun,
+/// then the first kNamedExamples of them by name(item).
+template <typename Item, typename Name>
+std::string namedExamples(const std::vector<Item>& items, const char* singular, const char* plural,
+                          const char* what, const Name& name) {
+  std::string named =
+      std::to_string(items.size()) + (items.size() == 1 ? singular : plural) + what + "the first ";
+  for (std::size_t i = 0; i < std::min(items.size(), kNamedExamples); ++i) {
+    named += (i == 0 ? "" : ", ") + name(items[i]);
+  }
+  return named;
+}
+
+/// InputError unless there are triangles, few enough for 32-bit half-edge indices, every
+/// position is finite and every triangle names three distinct existing vertices.
+void requireIndexedTriangles(const std::vector<Eigen::Vector3d>& positions,
+                             const std::vector<TriangleMesh::Triangle>& triangles) {
+  const std::size_t vertexCount = positions.size();
+  const std::size_t faceCount = triangles.size();
+  if (faceCount == 0) throw InputError("the mesh has no triangles");
+  if (faceCount > (std::numeric_limits<Index>::max() - 3) / 3) {
+    throw InputError("the mesh has too many triangles (" + std::to_string(faceCount) +
+                     ") for 32-bit half-edge indices");
+  }
+  for (std::size_t v = 0; v < vertexCount; ++v) {
+    if (!positions[v].allFinite()) {
+      throw InputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+  }
+  for (std::size_t f = 0; f < faceCount; ++f) {
+    const TriangleMesh::Triangle& t = triangles[f];
+    for (const Index v : t) {
+      if (v >= vertexCount) {
+        throw InputError("triangle " + std::to_string(f) + " references vertex " +
+                         std::to_string(v) + ", but the mesh has " + std::to_string(vertexCount) +
+                         " vertices");
+      }
+    }
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+      throw InputError("triangle " + std::to_string(f) + " repeats a vertex (" +
+                       std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " +
+                       std::to_string(t[2]) + "): a degenerate triangle has no smooth surface");
+    }
+  }
+}
+
+/// A directed edge's key (from, to) and its half-edge.
+using DirectedEdge = std::pair<std::uint64_t, Index>;
+
+/// The directed edges of `mesh`'s half-edges sorted by (from, to); ties (a directed edge used
+/// twice) by half-edge.
+std::vector<DirectedEdge> sortedDirectedEdges(const HalfEdgeMesh& mesh) {
+  std::vector<DirectedEdge> keys(mesh.halfEdgeCount());
+  tbb::parallel_for(std::size_t{0}, keys.size(), [&](std::size_t h) {
+    keys[h] = {directedKey(mesh.from(static_cast<Index>(h)), mesh.to(static_cast<Index>(h))),
+               static_cast<Index>(h)};
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+  return keys;
+}
+
+/// Sets twin[h] for every half-edge h whose directed edge is used once and whose opposite
+/// directed edge exists (`keys` from sortedDirectedEdges). Returns the other edges (smaller
+/// vertex first), sorted, each once.
+std::vector<std::pair<Index, Index>> matchTwins(const HalfEdgeMesh& mesh,
+                                                const std::vector<DirectedEdge>& keys,
+                                                std::vector<Index>& twin) {
+  std::vector<std::pair<Index, Index>> offending;
+  const std::size_t halfEdgeCount = keys.size();
+  for (std::size_t i = 0; i < halfEdgeCount; ++i) {
+    const Index h = keys[i].second;
+    const Index from = mesh.from(h), to = mesh.to(h);
+    const bool repeated = (i > 0 && keys[i - 1].first == keys[i].first) ||
+                          (i + 1 < halfEdgeCount && keys[i + 1].first == keys[i].first);
+    const std::uint64_t wanted = directedKey(to, from);
+    const auto found = std::lower_bound(keys.begin(), keys.end(), std::make_pair(wanted, Index{0}));
+    const bool hasTwin = found != keys.end() && found->first == wanted;
+    if (repeated || !hasTwin) {
+      offending.emplace_back(std::min(from, to), std::max(from, to));
+    } else {
+      twin[h] = found->second;
+    }
+  }
+  std::sort(offending.begin(), offending.end());
+  offending.erase(std::unique(offending.begin(), offending.end()), offending.end());
+  return offending;
+}
+
+/// Walks the fan of outgoing half-edges from `start` (h to twin(prev(h))), writing the k-th
+/// to ring[k] and k to ringIndex[h], for at most `size` half-edges. True when the walk closes
+/// after exactly `size` of them (the vertex's triangles form one fan).
+bool walkRing(const std::vector<Index>& twin, Index start, std::size_t size, Index* ring,
+              std::vector<int>& ringIndex) {
+  std::size_t count = 0;
+  Index h = start;
+  do {
+    if (count == size) break;  // the walk does not close within the fan size
+    ring[count] = h;
+    ringIndex[h] = static_cast<int>(count);
+    ++count;
+    h = twin[HalfEdgeMesh::prev(h)];
+  } while (h != start);
+  return h == start && count == size;
+}
+
+/// Diagonal length of the bounding box of the vertices of nonzero degree.
+double usedBoundingBoxDiagonal(const HalfEdgeMesh& mesh) {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    if (mesh.degree(static_cast<Index>(v)) == 0) continue;
+    low = low.cwiseMin(mesh.position(static_cast<Index>(v)));
+    high = high.cwiseMax(mesh.position(static_cast<Index>(v)));
+  }
+  return (high - low).norm();
+}
+
 }  // namespace
 
 HalfEdgeMesh::HalfEdgeMesh(const TriangleMesh& mesh) {
@@ -72,77 +189,27 @@ HalfEdgeMesh::HalfEdgeMesh(std::vector<Eigen::Vector3d> positions,
 }
 
 void HalfEdgeMesh::build() {
-  const std::size_t vertexCount = positions_.size();
-  const std::size_t faceCount = triangles_.size();
-  if (faceCount == 0) throw InputError("the mesh has no triangles");
-  if (faceCount > (std::numeric_limits<Index>::max() - 3) / 3) {
-    throw InputError("the mesh has too many triangles (" + std::to_string(faceCount) +
-                     ") for 32-bit half-edge indices");
-  }
-  for (std::size_t v = 0; v < vertexCount; ++v) {
-    if (!positions_[v].allFinite()) {
-      throw InputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
-    }
-  }
-  for (std::size_t f = 0; f < faceCount; ++f) {
-    const TriangleMesh::Triangle& t = triangles_[f];
-    for (const Index v : t) {
-      if (v >= vertexCount) {
-        throw InputError("triangle " + std::to_string(f) + " references vertex " +
-                         std::to_string(v) + ", but the mesh has " + std::to_string(vertexCount) +
-                         " vertices");
-      }
-    }
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-      throw InputError("triangle " + std::to_string(f) + " repeats a vertex (" +
-                       std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " +
-                       std::to_string(t[2]) + "): a degenerate triangle has no smooth surface");
-    }
-  }
-
-  // Directed edges sorted by (from, to); ties (a directed edge used twice) by half-edge.
-  const std::size_t halfEdgeCount = 3 * faceCount;
-  std::vector<std::pair<std::uint64_t, Index>> keys(halfEdgeCount);
-  tbb::parallel_for(std::size_t{0}, halfEdgeCount, [&](std::size_t h) {
-    keys[h] = {directedKey(from(static_cast<Index>(h)), to(static_cast<Index>(h))),
-               static_cast<Index>(h)};
-  });
-  tbb::parallel_sort(keys.begin(), keys.end());
+  requireIndexedTriangles(positions_, triangles_);
+  const std::vector<DirectedEdge> keys = sortedDirectedEdges(*this);
 
   // Twins; edges without one or used twice in one direction are named in the error.
-  twin_.assign(halfEdgeCount, kNoTwin);
-  std::vector<std::pair<Index, Index>> offending;
-  for (std::size_t i = 0; i < halfEdgeCount; ++i) {
-    const Index h = keys[i].second;
-    const bool repeated = (i > 0 && keys[i - 1].first == keys[i].first) ||
-                          (i + 1 < halfEdgeCount && keys[i + 1].first == keys[i].first);
-    const std::uint64_t wanted = directedKey(to(h), from(h));
-    const auto found = std::lower_bound(keys.begin(), keys.end(), std::make_pair(wanted, Index{0}));
-    const bool hasTwin = found != keys.end() && found->first == wanted;
-    if (repeated || !hasTwin) {
-      offending.emplace_back(std::min(from(h), to(h)), std::max(from(h), to(h)));
-    } else {
-      twin_[h] = found->second;
-    }
-  }
+  twin_.assign(halfEdgeCount(), kNoTwin);
+  const std::vector<std::pair<Index, Index>> offending = matchTwins(*this, keys, twin_);
   if (!offending.empty()) {
-    std::sort(offending.begin(), offending.end());
-    offending.erase(std::unique(offending.begin(), offending.end()), offending.end());
-    std::string named = std::to_string(offending.size()) +
-                        (offending.size() == 1 ? " edge" : " edges") +
-                        " without exactly one opposite half-edge, the first ";
-    for (std::size_t i = 0; i < std::min(offending.size(), kNamedExamples); ++i) {
-      named += (i == 0 ? "" : ", ") + edgeName(offending[i].first, offending[i].second);
-    }
-    refuse(positions_, triangles_, named);
+    refuse(positions_, triangles_,
+           namedExamples(offending, " edge", " edges", " without exactly one opposite half-edge, ",
+                         [](const std::pair<Index, Index>& edge) {
+                           return edgeName(edge.first, edge.second);
+                         }));
   }
 
   // Vertex rings, counter-clockwise from the outgoing half-edge of smallest index.
+  const std::size_t vertexCount = positions_.size();
   ringStart_.assign(vertexCount + 1, 0);
   for (const auto& key : keys) ++ringStart_[static_cast<std::size_t>(key.first >> 32) + 1];
   for (std::size_t v = 0; v < vertexCount; ++v) ringStart_[v + 1] += ringStart_[v];
-  ring_.assign(halfEdgeCount, 0);
-  ringIndex_.assign(halfEdgeCount, 0);
+  ring_.assign(halfEdgeCount(), 0);
+  ringIndex_.assign(halfEdgeCount(), 0);
   std::vector<Index> badVertices;
   std::vector<Index> lowDegree;
   for (std::size_t v = 0; v < vertexCount; ++v) {
@@ -151,50 +218,26 @@ void HalfEdgeMesh::build() {
     if (begin == end) continue;
     Index start = keys[begin].second;
     for (std::size_t i = begin; i < end; ++i) start = std::min(start, keys[i].second);
-    std::size_t count = 0;
-    Index h = start;
-    do {
-      if (count == end - begin) break;  // the walk does not close within the fan size
-      ring_[begin + count] = h;
-      ringIndex_[h] = static_cast<int>(count);
-      ++count;
-      h = twin_[prev(h)];
-    } while (h != start);
-    if (h != start || count != end - begin) {
+    if (!walkRing(twin_, start, end - begin, ring_.data() + begin, ringIndex_)) {
       badVertices.push_back(static_cast<Index>(v));
-    } else if (count < 3) {
+    } else if (end - begin < 3) {
       lowDegree.push_back(static_cast<Index>(v));
     }
     maxDegree_ = std::max(maxDegree_, static_cast<int>(end - begin));
   }
+  const auto number = [](Index vertex) { return std::to_string(vertex); };
   if (!badVertices.empty()) {
-    std::string named = std::to_string(badVertices.size()) +
-                        (badVertices.size() == 1 ? " vertex" : " vertices") +
-                        " whose triangles form more than one fan, the first ";
-    for (std::size_t i = 0; i < std::min(badVertices.size(), kNamedExamples); ++i) {
-      named += (i == 0 ? "" : ", ") + std::to_string(badVertices[i]);
-    }
-    refuse(positions_, triangles_, named);
+    refuse(positions_, triangles_,
+           namedExamples(badVertices, " vertex", " vertices",
+                         " whose triangles form more than one fan, ", number));
   }
   if (!lowDegree.empty()) {
-    std::string message = std::to_string(lowDegree.size()) +
-                          (lowDegree.size() == 1 ? " vertex has" : " vertices have") +
-                          " fewer than three neighbours (two triangles folded onto each other), "
-                          "the first ";
-    for (std::size_t i = 0; i < std::min(lowDegree.size(), kNamedExamples); ++i) {
-      message += (i == 0 ? "" : ", ") + std::to_string(lowDegree[i]);
-    }
-    throw InputError(message);
+    throw InputError(namedExamples(lowDegree, " vertex has", " vertices have",
+                                   " fewer than three neighbours (two triangles folded onto each "
+                                   "other), ",
+                                   number));
   }
-
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d high = -low;
-  for (std::size_t v = 0; v < vertexCount; ++v) {
-    if (degree(static_cast<Index>(v)) == 0) continue;
-    low = low.cwiseMin(positions_[v]);
-    high = high.cwiseMax(positions_[v]);
-  }
-  diagonal_ = (high - low).norm();
+  diagonal_ = usedBoundingBoxDiagonal(*this);
 }
 
 }  // namespace d2vdb

@@ -320,41 +320,36 @@ __attribute__((target("avx2"))) void fixedPatchWide(const double* controls, doub
 }
 #endif
 
-template <int D, int Order>
-inline void dispatchPatch(const double* controls, double s, double t, double out[10][3]) {
+/// A fixed-bidegree patch function (fixedPatch's arguments).
+using PatchFunction = void (*)(const double*, double, double, double[10][3]);
+
+/// The patch functions of bidegrees 2 + Offsets: fixedPatchWide where Wide, else fixedPatch.
+template <int Order, bool Wide, int... Offsets>
+constexpr std::array<PatchFunction, sizeof...(Offsets)> patchFunctions(
+    std::integer_sequence<int, Offsets...>) {
 #ifdef D2VDB_WIDE_PATCH
-  static const bool wide = __builtin_cpu_supports("avx2");
-  if (wide) return fixedPatchWide<D, Order>(controls, s, t, out);
+  if constexpr (Wide) return {&fixedPatchWide<2 + Offsets, Order>...};
 #endif
-  fixedPatch<D, Order>(controls, s, t, out);
+  return {&fixedPatch<2 + Offsets, Order>...};
 }
 
+/// A patch of bidegree d (2..kMaxBidegree; any other d as kMaxBidegree), controls and out as for
+/// fixedPatch: its fixed-bidegree function, the wide one where the processor has AVX2, by one
+/// indirect call through a table of them.
 template <int Order>
 void patch(int d, const double* controls, double s, double t, double out[10][3]) {
-  switch (d) {
-    case 2:
-      return dispatchPatch<2, Order>(controls, s, t, out);
-    case 3:
-      return dispatchPatch<3, Order>(controls, s, t, out);
-    case 4:
-      return dispatchPatch<4, Order>(controls, s, t, out);
-    case 5:
-      return dispatchPatch<5, Order>(controls, s, t, out);
-    case 6:
-      return dispatchPatch<6, Order>(controls, s, t, out);
-    case 7:
-      return dispatchPatch<7, Order>(controls, s, t, out);
-    case 8:
-      return dispatchPatch<8, Order>(controls, s, t, out);
-    case 9:
-      return dispatchPatch<9, Order>(controls, s, t, out);
-    case 10:
-      return dispatchPatch<10, Order>(controls, s, t, out);
-    case 11:
-      return dispatchPatch<11, Order>(controls, s, t, out);
-    default:
-      return dispatchPatch<12, Order>(controls, s, t, out);
-  }
+  constexpr auto bidegrees = std::make_integer_sequence<int, kMaxBidegree - 1>();
+  const auto index = static_cast<unsigned>(d - 2);
+  const unsigned at = index < kMaxBidegree - 2 ? index : kMaxBidegree - 2;
+#ifdef D2VDB_WIDE_PATCH
+  static constexpr std::array<PatchFunction, kMaxBidegree - 1> wideFunctions =
+      patchFunctions<Order, true>(bidegrees);
+  static const bool wide = __builtin_cpu_supports("avx2");
+  if (wide) return wideFunctions[at](controls, s, t, out);
+#endif
+  static constexpr std::array<PatchFunction, kMaxBidegree - 1> functions =
+      patchFunctions<Order, false>(bidegrees);
+  functions[at](controls, s, t, out);
 }
 
 /// Chart point jets from canonical point jets, with the exact linear map at the centre of a
@@ -420,7 +415,8 @@ SmoothPoint surfaceGeometry(const SmoothDerivatives& x) {
   const double sb = -b;
   const double sc = -c;
   const double mean = 0.5 * (sa + sc);
-  // (No overflow to guard against: hypot's care costs more than the rest of this function.)
+  // sqrt, not std::hypot: squared curvatures do not overflow, and hypot's guard would cost more
+  // than the rest of this function (BENCHMARKS.md, "fewer copies").
   const double halfAcross = 0.5 * (sa - sc);
   const double radius = std::sqrt(halfAcross * halfAcross + sb * sb);
   result.k1 = mean + radius;
@@ -503,6 +499,68 @@ struct PseudoManifold::DegreeFit {
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r);
     const auto& sv = svd.singularValues();
     condition = sv[0] / sv[sv.size() - 1];
+  }
+
+  /// Scratch space of fitChart(), reused from one vertex to the next.
+  struct Scratch {
+    Eigen::MatrixX3d samples;
+    Eigen::MatrixX3d fitted;
+    std::vector<Eigen::Vector3d> bary;
+    std::vector<Eigen::Vector3d> positions;
+  };
+
+  /// Fits the shape function of `vertex` (of this degree) to `source`: the source's points at
+  /// the samples through the chart's polar map, then one product with the pseudo-inverse. Writes
+  /// the control points to `out` in fixedPatch's padded layout (the padding is not written).
+  void fitChart(const HalfEdgeMesh& mesh, const SourceSurface& source, Index vertex,
+                Scratch& scratch, double* out) const {
+    const int count = static_cast<int>(canonical.size());
+    scratch.samples.resize(count, 3);
+    const Eigen::Vector3d centre = mesh.position(vertex);
+    for (int k = 0; k < degree; ++k) sampleSector(mesh, source, vertex, k, centre, scratch);
+    // Fitting offsets from the vertex keeps round-off relative to the chart's size (the fit
+    // reproduces constants, so the offset comes back exactly).
+    // One dot product per coefficient (row-major pseudo-inverse, column samples): no packing of
+    // the large matrix for a three-column product.
+    scratch.fitted.noalias() = pseudoInverse.lazyProduct(scratch.samples);
+    // Coefficient k (d + 1) + j (k: t-index, j: s-index) to row k, column j of the padded
+    // layout.
+    const int m = bidegree + 1;
+    const int width = 2 * pairsPerRow(bidegree);
+    for (int axis = 0; axis < 3; ++axis) {
+      for (int k = 0; k < m; ++k) {
+        for (int j = 0; j < m; ++j) {
+          out[(axis * m + k) * width + j] = scratch.fitted(k * m + j, axis) + centre[axis];
+        }
+      }
+    }
+  }
+
+  /// The rows of scratch.samples of sector k of `vertex`: the source's points there minus
+  /// `centre`, at the samples' barycentric coordinates in the sector's face.
+  void sampleSector(const HalfEdgeMesh& mesh, const SourceSurface& source, Index vertex, int k,
+                    const Eigen::Vector3d& centre, Scratch& scratch) const {
+    const int first = sectorStart[k];
+    const int last = sectorStart[k + 1];
+    if (first == last) return;
+    const Index halfEdge = mesh.ring(vertex, k);
+    const int corner = static_cast<int>(halfEdge % 3);
+    std::vector<Eigen::Vector3d>& bary = scratch.bary;
+    std::vector<Eigen::Vector3d>& positions = scratch.positions;
+    bary.resize(static_cast<std::size_t>(last - first));
+    positions.resize(bary.size());
+    for (int s = first; s < last; ++s) {
+      const Eigen::Vector3d local = detail::cornerBary(canonical[s]);
+      Eigen::Vector3d& b = bary[static_cast<std::size_t>(s - first)];
+      b[corner] = local[0];
+      b[(corner + 1) % 3] = local[1];
+      b[(corner + 2) % 3] = local[2];
+    }
+    source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(), positions.data());
+    for (int s = first; s < last; ++s) {
+      scratch.samples.row(s) =
+          (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
+    }
   }
 };
 
@@ -749,9 +807,10 @@ struct PseudoManifold::Evaluator {
 
 // ------------------------------------------------------------------------------------------------
 
-PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifoldOptions& options,
-                               const ProgressCallback& progress)
-    : mesh_(source.sharedMesh()), atlas_(*mesh_), options_(options), sourceName_(source.name()) {
+namespace {
+
+/// InputError unless the construction parameters lie in their ranges.
+void requireOptions(const PseudoManifoldOptions& options) {
   if (options.maxBidegree < 2 || options.maxBidegree > kMaxBidegree) {
     throw InputError("the shape functions' bidegree cap must lie in 2.." +
                      std::to_string(kMaxBidegree) + ", not " + std::to_string(options.maxBidegree));
@@ -760,16 +819,22 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
     throw InputError("the fitting grid needs 2..8 samples per control point, not " +
                      std::to_string(options.samplesPerControl));
   }
+}
+
+}  // namespace
+
+PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifoldOptions& options,
+                               const ProgressCallback& progress)
+    : mesh_(source.sharedMesh()), atlas_(*mesh_), options_(options), sourceName_(source.name()) {
+  requireOptions(options);
   const HalfEdgeMesh& mesh = *mesh_;
   const std::size_t vertexCount = mesh.vertexCount();
   // One least-squares factorisation per degree present.
   fits_.resize(static_cast<std::size_t>(mesh.maxDegree()) + 1);
-  std::vector<int> degrees;
   for (Index v = 0; v < vertexCount; ++v) {
     const int n = mesh.degree(v);
     if (n > 0 && !fits_[n]) {
       fits_[n] = sharedFit(n, std::min(n + 1, options.maxBidegree), options.samplesPerControl);
-      degrees.push_back(n);
     }
   }
   controlOffset_.assign(vertexCount + 1, 0);
@@ -791,70 +856,24 @@ PseudoManifold::PseudoManifold(const SourceSurface& source, const PseudoManifold
   }
   controls_.assign(controlOffset_[vertexCount], 0.0);
 
-  // Fit every chart: samples of the source through the chart's polar map, then one product with
-  // the degree's pseudo-inverse. Blocks in sequence (for progress), vertices of a block in
-  // parallel; each vertex writes only its own control points.
+  // Fit every chart (DegreeFit::fitChart). Blocks in sequence (for progress), vertices of a block
+  // in parallel; each vertex writes only its own control points.
   const std::size_t blocks =
       std::max<std::size_t>(1, std::min<std::size_t>(100, vertexCount / 256));
   for (std::size_t block = 0; block < blocks; ++block) {
     const std::size_t begin = vertexCount * block / blocks;
     const std::size_t end = vertexCount * (block + 1) / blocks;
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(begin, end, 16),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          Eigen::MatrixX3d samples;
-          Eigen::MatrixX3d fitted;
-          std::vector<Eigen::Vector3d> bary;
-          std::vector<Eigen::Vector3d> positions;
-          for (std::size_t v = range.begin(); v != range.end(); ++v) {
-            const auto vertex = static_cast<Index>(v);
-            const int n = mesh.degree(vertex);
-            if (n == 0) continue;
-            const DegreeFit& fit = *fits_[n];
-            const int count = static_cast<int>(fit.canonical.size());
-            samples.resize(count, 3);
-            const Eigen::Vector3d centre = mesh.position(vertex);
-            for (int k = 0; k < n; ++k) {
-              const int first = fit.sectorStart[k];
-              const int last = fit.sectorStart[k + 1];
-              if (first == last) continue;
-              const Index halfEdge = mesh.ring(vertex, k);
-              const int corner = static_cast<int>(halfEdge % 3);
-              bary.resize(static_cast<std::size_t>(last - first));
-              positions.resize(bary.size());
-              for (int s = first; s < last; ++s) {
-                const Eigen::Vector3d local = detail::cornerBary(fit.canonical[s]);
-                Eigen::Vector3d& b = bary[static_cast<std::size_t>(s - first)];
-                b[corner] = local[0];
-                b[(corner + 1) % 3] = local[1];
-                b[(corner + 2) % 3] = local[2];
-              }
-              source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(),
-                               positions.data());
-              for (int s = first; s < last; ++s) {
-                samples.row(s) =
-                    (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
-              }
-            }
-            // Fitting offsets from the vertex keeps round-off relative to the chart's size (the
-            // fit reproduces constants, so the offset comes back exactly).
-            // One dot product per coefficient (row-major pseudo-inverse, column samples): no
-            // packing of the large matrix for a three-column product.
-            fitted.noalias() = fit.pseudoInverse.lazyProduct(samples);
-            // Coefficient k (d + 1) + j (k: t-index, j: s-index) to row k, column j of the
-            // padded layout; the padding stays 0.
-            double* out = controls_.data() + controlOffset_[v];
-            const int m = fit.bidegree + 1;
-            const int width = 2 * pairsPerRow(fit.bidegree);
-            for (int axis = 0; axis < 3; ++axis) {
-              for (int k = 0; k < m; ++k) {
-                for (int j = 0; j < m; ++j) {
-                  out[(axis * m + k) * width + j] = fitted(k * m + j, axis) + centre[axis];
-                }
-              }
-            }
-          }
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        DegreeFit::Scratch scratch;
+                        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+                          const auto vertex = static_cast<Index>(v);
+                          const int n = mesh.degree(vertex);
+                          if (n == 0) continue;
+                          fits_[n]->fitChart(mesh, source, vertex, scratch,
+                                             controls_.data() + controlOffset_[v]);
+                        }
+                      });
     if (progress) progress("fitting charts", static_cast<double>(block + 1) / blocks);
   }
 }
@@ -1153,338 +1172,482 @@ Jet3<Order> fromDerivatives(const SmoothDerivatives& x) {
   return jet;
 }
 
+/// The jet moved by `step` along its second-order Taylor expansion: position and first
+/// derivatives carried, second derivatives kept (SmoothProjectionOptions::extrapolateLastStep).
+Jet3<2> quadraticTaylor(const Jet3<2>& jet, const Eigen::Vector2d& step) {
+  const double a = step.x(), b = step.y();
+  Jet3<2> moved = jet;
+  moved.v += jet.d[0] * a + jet.d[1] * b +
+             0.5 * (jet.h[0] * (a * a) + 2.0 * jet.h[1] * (a * b) + jet.h[2] * (b * b));
+  moved.d[0] += jet.h[0] * a + jet.h[1] * b;
+  moved.d[1] += jet.h[1] * a + jet.h[2] * b;
+  return moved;
+}
+
+/// One iterate's step on |X - x|^2 / 2 in the chart of the iterate's corner (chart coordinates).
+struct NewtonStep {
+  double radius = 0.0;       ///< of that chart
+  double value = 0.0;        ///< |X - x|^2 / 2 at the iterate
+  Eigen::Vector2d gradient;  ///< of `value`
+  Eigen::Vector2d step;      ///< at most maxStep long
+  double maxStep = 0.0;
+  double length = 0.0;    ///< |step| as clipped, before any first-step correction
+  bool definite = false;  ///< a Newton step (positive definite Hessian), else Gauss-Newton
+  bool clipped = false;   ///< shortened to maxStep
+};
+
+/// Fills newton.gradient, step, maxStep, length, definite and clipped for the iterate `jet` with
+/// residual X - x (newton.radius given): Newton's step where the Hessian is positive definite
+/// (a > 0 and a c - b^2 > 0; the step by the 2 x 2 inverse), else Gauss-Newton's (always a
+/// descent step), kept inside the chart: at most half its radius. False when the step is not
+/// finite (a degenerate point).
+bool newtonStep(const Jet3<2>& jet, const Eigen::Vector3d& residual, NewtonStep& newton) {
+  Eigen::Matrix2d jtj;
+  jtj << jet.d[0].dot(jet.d[0]), jet.d[0].dot(jet.d[1]), jet.d[0].dot(jet.d[1]),
+      jet.d[1].dot(jet.d[1]);
+  newton.gradient = Eigen::Vector2d(jet.d[0].dot(residual), jet.d[1].dot(residual));
+  const Eigen::Vector2d& gradient = newton.gradient;
+  Eigen::Matrix2d hessian = jtj;
+  hessian(0, 0) += jet.h[0].dot(residual);
+  hessian(0, 1) += jet.h[1].dot(residual);
+  hessian(1, 0) += jet.h[1].dot(residual);
+  hessian(1, 1) += jet.h[2].dot(residual);
+  const double determinant = hessian(0, 0) * hessian(1, 1) - hessian(0, 1) * hessian(0, 1);
+  newton.definite = hessian(0, 0) > 0.0 && determinant > 0.0;
+  newton.step =
+      newton.definite
+          ? Eigen::Vector2d(
+                (hessian(0, 1) * gradient.y() - hessian(1, 1) * gradient.x()) / determinant,
+                (hessian(0, 1) * gradient.x() - hessian(0, 0) * gradient.y()) / determinant)
+          : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
+  if (!newton.step.allFinite()) return false;
+  newton.maxStep = 0.5 * newton.radius;
+  newton.clipped = newton.step.norm() > newton.maxStep;
+  if (newton.clipped) newton.step *= newton.maxStep / newton.step.norm();
+  newton.length = newton.step.norm();
+  return true;
+}
+
+/// The length of the next Newton step after one of `length` that Newton's quadratic convergence
+/// predicts: the ratio of this step to the square of the last one (`lastStep`), or a factor
+/// 10 / radius for a first step (lastStep 0).
+double predictedNextStep(double length, double lastStep, double radius) {
+  return lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
+                        : 10.0 * length * length / radius;
+}
+
 }  // namespace
+
+/// One run of projectFrom(): Newton's method as project() describes it. The iteration's state
+/// lives here and each member function is one phase of an iteration; a phase that returns true
+/// has ended the iteration, either with a step to the next iterate (current_) or with the
+/// projection stopped (result converged or beyond). The projection is the hot path of the
+/// smooth-surface field: run(), iterate(), endAt() and keepModel() are forced inline so that a
+/// projection compiles to one function with one loop, its state in that function's frame.
+class PseudoManifold::ProjectionRun {
+ public:
+  /// `result` may hold an earlier projection: every member not written by finish() is reset.
+  ProjectionRun(const PseudoManifold& surface, const Eigen::Vector3d& x, const FacePoint& start,
+                const Projection* nearby, const SmoothProjectionOptions& options,
+                Projection& result)
+      : surface_(surface),
+        mesh_(*surface.mesh_),
+        x_(x),
+        nearby_(nearby),
+        options_(options),
+        result_(result),
+        current_(start),
+        previous_(start),
+        known_(nearby != nullptr),
+        centre_(known_ ? nearby->chartCorner : 0) {
+    result.firstStepMiss.reset();
+    result.model.reset();
+    result.iterations = 0;
+    result.converged = false;
+    result.beyond = false;
+  }
+
+  /// Iterates until the projection stops (at most 60 iterations), then writes the result.
+  __attribute__((always_inline)) void run() {
+    constexpr int kMaxIterations = 60;
+    for (int iteration = 0; iteration < kMaxIterations && !stopped(); ++iteration) {
+      iterate(iteration);
+    }
+    finish();
+  }
+
+ private:
+  /// A Newton step after which quadratic convergence predicts one below this fraction of the
+  /// chart radius is the last.
+  static constexpr double kTolerance = 1e-12;
+
+  bool stopped() const { return result_.converged || result_.beyond; }
+
+  /// One iteration: the iterate's jet and Newton step, then the first phase that applies.
+  __attribute__((always_inline)) void iterate(int iteration) {
+    evaluateIterate();
+    if (finalStep_) {
+      // Evaluated where the converging step ended: the answer (an uphill step cannot happen
+      // here, the step being far below anything the distance could resolve).
+      result_.converged = true;
+      return;
+    }
+    NewtonStep newton;
+    newton.radius = surface_.fitFor(mesh_.degree(chartPoint_.vertex)).map.chartRadius;
+    const Eigen::Vector3d residual = jet_.v - x_;
+    newton.value = 0.5 * residual.squaredNorm();
+    if (undoUphillStep(newton.value)) return;
+    if (!newtonStep(jet_, residual, newton)) {
+      result_.converged = true;  // a degenerate point: stay (the jet there is the answer)
+      return;
+    }
+    if (newton.length <= 1e-12 * newton.radius) {
+      result_.converged = true;  // `current_` and its jet are the answer
+      return;
+    }
+    if (stopBeyond(newton, iteration) || finishOnModel(newton)) return;
+    const bool fromNearby = iteration == 0 && nearby_ != nullptr;
+    if (fromNearby && startFromNearbyModel(newton)) return;
+    prepareFirstStep(newton, fromNearby);
+    takeStep(newton);
+  }
+
+  /// The iterate's jet in the chart of its nearest corner (with third derivatives when wantThird_
+  /// asks for them and the step there was not the last), or the nearby projection's at the start.
+  void evaluateIterate() {
+    haveThird_ = false;
+    if (known_) {
+      jet_ = fromDerivatives<2>(nearby_->derivatives);
+      known_ = false;
+      chartPoint_.vertex = mesh_.from(3 * current_.face + static_cast<Index>(centre_));
+      chartPoint_.p = nearby_->chartPoint;
+    } else {
+      centre_ = nearestCorner(current_.bary);
+      const Index vertex = mesh_.from(3 * current_.face + static_cast<Index>(centre_));
+      // A step taken in the chart of the same vertex: its end is the chart point already.
+      const bool sameChart = stepEnd_ && stepEnd_->vertex == vertex;
+      const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd_->p : nullptr;
+      if (wantThird_ && !finalStep_) {
+        const Jet3<3> full =
+            Evaluator<3>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
+        jet_.v = full.v;
+        for (int i = 0; i < 2; ++i) jet_.d[i] = full.d[i];
+        for (int i = 0; i < 3; ++i) jet_.h[i] = full.h[i];
+        for (int i = 0; i < 4; ++i) third_[i] = full.t[i];
+        haveThird_ = true;
+      } else {
+        jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
+      }
+      chartPoint_.vertex = vertex;
+      ++result_.iterations;
+    }
+    wantThird_ = false;
+    stepEnd_.reset();
+  }
+
+  /// When the last (unchecked) Newton step went uphill, goes back to the iterate before it, to
+  /// search carefully from there (true); else that iterate becomes the one to go back to.
+  bool undoUphillStep(double value) {
+    if (checkLast_ && value > previousValue_) {
+      firstEnd_.reset();
+      careful_ = true;
+      checkLast_ = false;
+      lastStep_ = 0.0;
+      current_ = previous_;
+      return true;
+    }
+    previous_ = current_;
+    previousValue_ = value;
+    return false;
+  }
+
+  /// Stops (beyond) when the distance is certainly above options_.stopBeyond.
+  bool stopBeyond(const NewtonStep& newton, int iteration) {
+    if (!(newton.definite && newton.length < 1e-2 * newton.radius &&
+          2.0 * newton.value > options_.stopBeyond * options_.stopBeyond)) {
+      return false;
+    }
+    // The quadratic model's minimum of |X - x|^2 is 2 value + gradient . step; four times that
+    // decrease is a safe bound this close to the minimum.
+    const double lowest = 2.0 * newton.value + 4.0 * newton.gradient.dot(newton.step);
+    if (!(lowest > options_.stopBeyond * options_.stopBeyond)) return false;
+    // Stopped at an iterate evaluated with third derivatives, or at the nearby footpoint found
+    // on a cubic model: that model starts the neighbours (which may stop beyond on it without
+    // an evaluation).
+    if (haveThird_) {
+      keepModel();
+    } else if (iteration == 0 && nearby_ != nullptr && nearby_->model &&
+               nearby_->model->origin.vertex == chartPoint_.vertex) {
+      result_.model = nearby_->model;
+    }
+    result_.beyond = true;
+    return true;
+  }
+
+  /// options_.cubicFinish at an iterate with third derivatives whose Newton step is short: the
+  /// cubic model's minimum of the distance, by Newton's method on the model from the Newton step
+  /// (the model's first iterate: at the iterate the model has the surface's gradient and
+  /// Hessian), is the answer. Each iteration squares the correction: once a correction c is
+  /// below 1e-7 of the radius the next (about 10 |c|^2 / radius) is below 1e-13 of it.
+  bool finishOnModel(const NewtonStep& newton) {
+    const double radius = newton.radius;
+    if (!(haveThird_ && newton.definite && !newton.clipped &&
+          newton.length <= options_.cubicFinishStep * radius &&
+          (chartPoint_.p + newton.step).norm() < 0.98 * radius)) {
+      return false;
+    }
+    Eigen::Vector2d move = newton.step;
+    Jet3<2> moved;
+    minimiseCubicModel(jet_, third_, x_, radius, 4, move, moved, newton.length);
+    const Eigen::Vector2d p = chartPoint_.p + move;
+    if (!(move.norm() <= 2.0 * newton.length && p.norm() < 0.99 * radius)) return false;
+    keepModel();  // at the iterate, before endAt moves jet and chart point to the minimum
+    endAt(p, moved);
+    result_.converged = true;
+    return true;
+  }
+
+  /// The first step from a nearby projection with a cubic model in this chart
+  /// (options_.startFromModel): from the minimum of the distance to that model. There the
+  /// projection stops beyond the band or converges when the model is certain enough, else the
+  /// minimum is the first step, checked by the next iterate's distance; no plain Newton step, so
+  /// it neither counts as tiny nor feeds the convergence prediction. False when no such minimum
+  /// was found (the iteration goes on as without the model).
+  bool startFromNearbyModel(const NewtonStep& newton) {
+    if (!(options_.cubicFinish && options_.startFromModel && nearby_->model &&
+          nearby_->model->origin.vertex == chartPoint_.vertex)) {
+      return false;
+    }
+    const Projection::CubicModel& model = *nearby_->model;
+    const double radius = newton.radius;
+    Eigen::Vector2d move;
+    Jet3<2> moved;
+    if (!minimumOfNearbyModel(model, newton, move, moved)) return false;
+    const Eigen::Vector2d p = model.origin.p + move;
+    const double modelDistance = (moved.v - x_).norm();
+    // Within 0.15 of the radius of the origin, a margin of 2 % of stopBeyond up to a tenth of the
+    // radius, growing with |move|^4 beyond (to 10 % at 0.15).
+    const double reach = move.norm() / (0.1 * radius);
+    const double margin = 0.02 * std::max(1.0, reach * reach * reach * reach);
+    if (reach <= 1.5 && modelDistance > (1.0 + margin) * options_.stopBeyond) {
+      // Certainly beyond: the model's error is far below the margin (it grows like the margin,
+      // about |move|^4 of the radius times the surface's fourth derivatives).
+      endAt(p, moved);
+      result_.model = model;
+      result_.beyond = true;
+      return true;
+    }
+    if (move.norm() <= options_.cubicFinishStep * radius) {
+      // Within the model's reach of its origin: the answer, as a cubic finish there.
+      endAt(p, moved);
+      result_.model = model;
+      result_.converged = true;
+      return true;
+    }
+    wantThird_ = true;
+    corrected_ = true;
+    checkLast_ = true;
+    lastStep_ = 0.0;
+    stepEnd_ = ChartPoint{chartPoint_.vertex, p};
+    current_ = surface_.atlas_.fromChart(*stepEnd_);
+    return true;
+  }
+
+  /// The minimum of the distance to the nearby projection's cubic `model`, `move` from the
+  /// model's origin (`moved`: the model there), from the Newton step at the nearby footpoint
+  /// (the model's own first iterate there): to a last correction below 1e-3 of the radius
+  /// (leaving about 1e-5 of it, below the model's own error there) where the iteration goes on
+  /// from the result, 1e-7 where it is the answer. False when none was found well inside the
+  /// chart (within 0.98 of its radius, at most half the radius from the origin).
+  bool minimumOfNearbyModel(const Projection::CubicModel& model, const NewtonStep& newton,
+                            Eigen::Vector2d& move, Jet3<2>& moved) const {
+    const double radius = newton.radius;
+    const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
+    move = chartPoint_.p - model.origin.p;
+    if (newton.definite && !newton.clipped) move += newton.step;
+    bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x_, 1e4 * radius, 8, move,
+                                    moved, std::numeric_limits<double>::infinity());
+    if (found && move.norm() <= options_.cubicFinishStep * radius) {
+      found = minimiseCubicModel(modelJet, model.derivatives.ddd, x_, radius, 4, move, moved,
+                                 std::numeric_limits<double>::infinity());
+    }
+    return found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius;
+  }
+
+  /// The first step from a nearby projection (fromNearby) ends near the footpoint: the model
+  /// there is expected to finish (or, beyond the band, to start the neighbours), and where it
+  /// ends is kept for Projection::firstStepMiss. A Newton step that is not tiny takes the
+  /// caller's second-order correction (in the same chart); such a step is checked by the next
+  /// iterate's distance like any other, and being no plain Newton step it neither counts as tiny
+  /// nor feeds the prediction of quadratic convergence.
+  void prepareFirstStep(NewtonStep& newton, bool fromNearby) {
+    wantThird_ = options_.cubicFinish && fromNearby;
+    if (!fromNearby) return;
+    if (!newton.clipped && (chartPoint_.p + newton.step).norm() < 0.99 * newton.radius) {
+      firstEnd_ = ChartPoint{chartPoint_.vertex, chartPoint_.p + newton.step};
+    }
+    if (newton.definite && newton.length >= 1e-4 * newton.radius && options_.firstStepCorrection &&
+        options_.firstStepCorrection->vertex == chartPoint_.vertex) {
+      newton.step += options_.firstStepCorrection->p;
+      if (newton.step.norm() > newton.maxStep) newton.step *= newton.maxStep / newton.step.norm();
+      corrected_ = true;
+    }
+  }
+
+  /// A tiny Newton step (positive definite Hessian) is taken as it is: there the quadratic model
+  /// is exact to far below what comparing distances could resolve. Where Newton's quadratic
+  /// convergence predicts that the next step would be below kTolerance of the radius, this step
+  /// is the last: the answer is where it ends. Until a step has gone uphill, Newton steps up to a
+  /// tenth of the radius are taken too, checked by the next iteration's distance. Other steps
+  /// are halved until the distance falls.
+  void takeStep(NewtonStep& newton) {
+    const bool tiny = newton.definite && !corrected_ && newton.length < 1e-4 * newton.radius;
+    if (tiny) {
+      takeTinyStep(newton);
+    } else if (!careful_ && newton.definite) {
+      takeCheckedStep(newton);
+    } else {
+      takeHalvedStep(newton);
+    }
+  }
+
+  void takeTinyStep(const NewtonStep& newton) {
+    const double length = newton.length;
+    const double radius = newton.radius;
+    const double predicted = predictedNextStep(length, lastStep_, radius);
+    finalStep_ = predicted <= kTolerance * radius;
+    lastStep_ = length;
+    checkLast_ = false;
+    const Eigen::Vector2d p = chartPoint_.p + newton.step;
+    if (finalStep_ && options_.extrapolateLastStep && length <= 1e-6 * radius &&
+        p.norm() < 0.99 * radius) {
+      endAt(p, quadraticTaylor(jet_, newton.step));
+      result_.converged = true;
+      return;
+    }
+    wantThird_ = options_.cubicFinish;
+    current_ = stepTarget(newton.step, radius);
+  }
+
+  /// A Newton step taken unchecked: the next iterate's distance must be lower.
+  void takeCheckedStep(const NewtonStep& newton) {
+    if (options_.cubicFinish && !corrected_) {
+      // Where quadratic convergence predicts a next step the cubic model can take.
+      const double predicted = predictedNextStep(newton.length, lastStep_, newton.radius);
+      wantThird_ = wantThird_ || predicted <= options_.cubicFinishStep * newton.radius;
+    }
+    lastStep_ = corrected_ ? 0.0 : newton.length;
+    corrected_ = false;
+    checkLast_ = true;
+    current_ = stepTarget(newton.step, newton.radius);
+  }
+
+  /// A halved (or Gauss-Newton) step: a plain step, so a tiny one may end the iteration even
+  /// after a corrected first step.
+  void takeHalvedStep(NewtonStep& newton) {
+    lastStep_ = 0.0;
+    checkLast_ = false;
+    corrected_ = false;
+    for (int halving = 0; halving < 40; ++halving) {
+      const FacePoint next = stepTarget(newton.step, newton.radius);
+      if (0.5 * (surface_.position(next) - x_).squaredNorm() < newton.value) {
+        current_ = next;
+        return;
+      }
+      newton.step *= 0.5;
+    }
+    result_.converged = true;  // no step lowers the distance: a minimum to round-off
+  }
+
+  /// The face point at `move` from the iterate's chart point (kept within 0.99 of the radius);
+  /// the chart point becomes stepEnd_.
+  FacePoint stepTarget(const Eigen::Vector2d& move, double radius) {
+    Eigen::Vector2d p = chartPoint_.p + move;
+    if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
+    stepEnd_ = ChartPoint{chartPoint_.vertex, p};
+    return surface_.atlas_.fromChart(*stepEnd_);
+  }
+
+  /// Ends the projection at chart point p of chartPoint_'s vertex with the jet `there`: its face
+  /// point, the corner of that vertex and the jet.
+  __attribute__((always_inline)) void endAt(const Eigen::Vector2d& p, const Jet3<2>& there) {
+    current_ = surface_.atlas_.fromChart({chartPoint_.vertex, p});
+    for (int c = 0; c < 3; ++c) {
+      if (mesh_.from(3 * current_.face + static_cast<Index>(c)) == chartPoint_.vertex) centre_ = c;
+    }
+    jet_ = there;
+    chartPoint_.p = p;
+  }
+
+  /// Keeps the cubic model at the current iterate (jet_ and third_) in the result, built in place.
+  __attribute__((always_inline)) void keepModel() {
+    Projection::CubicModel& model = result_.model.emplace();
+    model.origin = chartPoint_;
+    model.derivatives.position = jet_.v;
+    for (int i = 0; i < 2; ++i) model.derivatives.d[i] = jet_.d[i];
+    for (int i = 0; i < 3; ++i) model.derivatives.dd[i] = jet_.h[i];
+    for (int i = 0; i < 4; ++i) model.derivatives.ddd[i] = third_[i];
+  }
+
+  /// Evaluates where an unfinished iteration ended and writes the result.
+  void finish() {
+    if (!stopped()) {
+      centre_ = nearestCorner(current_.bary);
+      jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p);
+      ++result_.iterations;
+    }
+    if (result_.converged && firstEnd_ && firstEnd_->vertex == chartPoint_.vertex) {
+      result_.firstStepMiss = ChartPoint{chartPoint_.vertex, chartPoint_.p - firstEnd_->p};
+    }
+    result_.point = current_;
+    result_.chartPoint = chartPoint_.p;
+    result_.position = jet_.v;
+    result_.distance = (jet_.v - x_).norm();
+    result_.derivatives = toDerivatives(jet_);
+    result_.chartCorner = centre_;
+    if (result_.beyond) {
+      result_.geometry = SmoothPoint{};
+      result_.geometry.position = jet_.v;  // stopped: no differential geometry
+    } else {
+      result_.geometry = surfaceGeometry(result_.derivatives);
+    }
+  }
+
+  const PseudoManifold& surface_;
+  const HalfEdgeMesh& mesh_;
+  const Eigen::Vector3d& x_;
+  const Projection* nearby_;  ///< the projection that ended at the start, if given
+  const SmoothProjectionOptions& options_;
+  Projection& result_;
+
+  FacePoint current_;   ///< the iterate
+  FacePoint previous_;  ///< the iterate to go back to when an unchecked step goes uphill
+  double previousValue_ = std::numeric_limits<double>::infinity();  ///< |X - x|^2 / 2 there
+  bool careful_ = false;    ///< set once an unchecked step went uphill
+  bool checkLast_ = false;  ///< the last step was taken unchecked and must lower the distance
+  bool finalStep_ = false;  ///< the last step was predicted to converge: evaluate there and stop
+  double lastStep_ =
+      0.0;       ///< length of the last Newton step taken in the quadratic regime, 0: none
+  bool known_;   ///< the derivatives at current_ are the nearby projection's
+  Jet3<2> jet_;  ///< the derivatives at current_
+  int centre_;   ///< the corner of current_'s face whose chart jet_ is taken in
+  ChartPoint chartPoint_;  ///< current_ in that chart
+  /// Where the first Newton step from nearby_ ended (for Projection::firstStepMiss).
+  std::optional<ChartPoint> firstEnd_;
+  bool corrected_ = false;  ///< the first step included options_.firstStepCorrection
+  /// Where the last step taken ended, in the chart it was taken in (current_ is its face point).
+  std::optional<ChartPoint> stepEnd_;
+  /// Evaluate current_ with third derivatives (options_.cubicFinish: the step there is expected
+  /// to end near the footpoint); third_ holds them when haveThird_.
+  bool wantThird_ = false;
+  bool haveThird_ = false;
+  Eigen::Vector3d third_[4];
+};
 
 void PseudoManifold::projectFrom(const Eigen::Vector3d& x, const FacePoint& start,
                                  const Projection* nearby, const SmoothProjectionOptions& options,
                                  Projection& result) const {
-  constexpr double tolerance = 1e-12;
-  const bool extrapolate = options.extrapolateLastStep;
-  const Evaluator<2> evaluator{*this};
-  const Evaluator<3> thirdEvaluator{*this};
-  // Every member of `result` not written below on every path starts as in a new Projection.
-  result.firstStepMiss.reset();
-  result.model.reset();
-  result.iterations = 0;
-  result.converged = false;
-  result.beyond = false;
-  FacePoint current = start;
-  FacePoint previous = start;
-  double previousValue = std::numeric_limits<double>::infinity();
-  bool careful = false;    // set once an unchecked step went uphill
-  bool checkLast = false;  // the last step was taken unchecked and must lower the distance
-  bool finalStep = false;  // the last step was predicted to converge: evaluate there and stop
-  double lastStep = 0.0;   // length of the last Newton step taken in the quadratic regime, 0: none
-  // The derivatives at `current` when already known (the given start), else evaluated.
-  bool known = nearby != nullptr;
-  Jet3<2> jet;
-  int centre = known ? nearby->chartCorner : 0;
-  ChartPoint chartPoint;  // `current` in the chart of its corner `centre`
-  // Ends the projection at chart point p of chartPoint's vertex with the jet `there`: its face
-  // point, the corner of that vertex and the jet.
-  const auto endAt = [&](const Eigen::Vector2d& p, const Jet3<2>& there) {
-    current = atlas_.fromChart({chartPoint.vertex, p});
-    for (int c = 0; c < 3; ++c) {
-      if (mesh_->from(3 * current.face + static_cast<Index>(c)) == chartPoint.vertex) centre = c;
-    }
-    jet = there;
-    chartPoint.p = p;
-  };
-  // Where the first Newton step from `nearby` ended (for Projection::firstStepMiss).
-  std::optional<ChartPoint> firstEnd;
-  // The first step included options.firstStepCorrection.
-  bool corrected = false;
-  // Where the last step taken ended, in the chart it was taken in (`current` is its face point).
-  std::optional<ChartPoint> stepEnd;
-  // Evaluate `current` with third derivatives (options.cubicFinish: the step there is expected to
-  // end near the footpoint); `third` holds them when haveThird.
-  bool wantThird = false;
-  bool haveThird = false;
-  Eigen::Vector3d third[4];
-  // Keeps the cubic model at the current iterate (jet and third) in the result, built in place.
-  const auto keepModel = [&] {
-    Projection::CubicModel& model = result.model.emplace();
-    model.origin = chartPoint;
-    model.derivatives.position = jet.v;
-    for (int i = 0; i < 2; ++i) model.derivatives.d[i] = jet.d[i];
-    for (int i = 0; i < 3; ++i) model.derivatives.dd[i] = jet.h[i];
-    for (int i = 0; i < 4; ++i) model.derivatives.ddd[i] = third[i];
-  };
-  constexpr int kMaxIterations = 60;
-  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
-    haveThird = false;
-    if (known) {
-      jet = fromDerivatives<2>(nearby->derivatives);
-      known = false;
-      chartPoint.vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
-      chartPoint.p = nearby->chartPoint;
-    } else {
-      centre = nearestCorner(current.bary);
-      const Index vertex = mesh_->from(3 * current.face + static_cast<Index>(centre));
-      // A step taken in the chart of the same vertex: its end is the chart point already.
-      const bool sameChart = stepEnd && stepEnd->vertex == vertex;
-      const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd->p : nullptr;
-      if (wantThird && !finalStep) {
-        const Jet3<3> full = thirdEvaluator.chart(current, centre, &chartPoint.p, knownPoint);
-        jet.v = full.v;
-        for (int i = 0; i < 2; ++i) jet.d[i] = full.d[i];
-        for (int i = 0; i < 3; ++i) jet.h[i] = full.h[i];
-        for (int i = 0; i < 4; ++i) third[i] = full.t[i];
-        haveThird = true;
-      } else {
-        jet = evaluator.chart(current, centre, &chartPoint.p, knownPoint);
-      }
-      chartPoint.vertex = vertex;
-      ++result.iterations;
-    }
-    wantThird = false;
-    stepEnd.reset();
-    if (finalStep) {
-      // Evaluated where the converging step ended: the answer (an uphill step cannot happen
-      // here, the step being far below anything the distance could resolve).
-      result.converged = true;
-      break;
-    }
-    const double radius = fitFor(mesh_->degree(chartPoint.vertex)).map.chartRadius;
-    const Eigen::Vector3d residual = jet.v - x;
-    const double value = 0.5 * residual.squaredNorm();
-    if (checkLast && value > previousValue) {
-      // The last (unchecked) Newton step went uphill: go back and search carefully from there.
-      firstEnd.reset();
-      careful = true;
-      checkLast = false;
-      lastStep = 0.0;
-      current = previous;
-      continue;
-    }
-    previous = current;
-    previousValue = value;
-    Eigen::Matrix2d jtj;
-    jtj << jet.d[0].dot(jet.d[0]), jet.d[0].dot(jet.d[1]), jet.d[0].dot(jet.d[1]),
-        jet.d[1].dot(jet.d[1]);
-    const Eigen::Vector2d gradient(jet.d[0].dot(residual), jet.d[1].dot(residual));
-    Eigen::Matrix2d hessian = jtj;
-    hessian(0, 0) += jet.h[0].dot(residual);
-    hessian(0, 1) += jet.h[1].dot(residual);
-    hessian(1, 0) += jet.h[1].dot(residual);
-    hessian(1, 1) += jet.h[2].dot(residual);
-    // Newton where the Hessian is positive definite (a > 0 and a c - b^2 > 0; the step by the
-    // 2 x 2 inverse), else Gauss-Newton (always a descent step).
-    Eigen::Vector2d step;
-    const double determinant = hessian(0, 0) * hessian(1, 1) - hessian(0, 1) * hessian(0, 1);
-    const bool definite = hessian(0, 0) > 0.0 && determinant > 0.0;
-    step = definite
-               ? Eigen::Vector2d(
-                     (hessian(0, 1) * gradient.y() - hessian(1, 1) * gradient.x()) / determinant,
-                     (hessian(0, 1) * gradient.x() - hessian(0, 0) * gradient.y()) / determinant)
-               : Eigen::Vector2d(-jtj.ldlt().solve(gradient));
-    if (!step.allFinite()) {
-      result.converged = true;  // a degenerate point: stay (the jet there is the answer)
-      break;
-    }
-    // Keep steps inside the chart: at most half its radius, and never past 0.99 of it.
-    const double maxStep = 0.5 * radius;
-    const bool clipped = step.norm() > maxStep;
-    if (clipped) step *= maxStep / step.norm();
-    const double length = step.norm();
-    if (length <= 1e-12 * radius) {
-      result.converged = true;  // `current` and its jet are the answer
-      break;
-    }
-    if (definite && length < 1e-2 * radius &&
-        2.0 * value > options.stopBeyond * options.stopBeyond) {
-      // The quadratic model's minimum of |X - x|^2 is 2 value + gradient . step; four times
-      // that decrease is a safe bound this close to the minimum.
-      const double lowest = 2.0 * value + 4.0 * gradient.dot(step);
-      if (lowest > options.stopBeyond * options.stopBeyond) {
-        // Stopped at an iterate evaluated with third derivatives, or at the nearby footpoint
-        // found on a cubic model: that model starts the neighbours (which may stop beyond on it
-        // without an evaluation).
-        if (haveThird) {
-          keepModel();
-        } else if (iteration == 0 && nearby != nullptr && nearby->model &&
-                   nearby->model->origin.vertex == chartPoint.vertex) {
-          result.model = nearby->model;
-        }
-        result.beyond = true;
-        break;
-      }
-    }
-    if (haveThird && definite && !clipped && length <= options.cubicFinishStep * radius &&
-        (chartPoint.p + step).norm() < 0.98 * radius) {
-      // The cubic model's minimum of the distance, by Newton's method on the model from the
-      // Newton step (the model's first iterate: at the iterate the model has the surface's
-      // gradient and Hessian). Each iteration squares the correction: once a correction c is
-      // below 1e-7 of the radius the next (about 10 |c|^2 / radius) is below 1e-13 of it.
-      Eigen::Vector2d move = step;
-      Jet3<2> moved;
-      minimiseCubicModel(jet, third, x, radius, 4, move, moved, length);
-      const Eigen::Vector2d p = chartPoint.p + move;
-      if (move.norm() <= 2.0 * length && p.norm() < 0.99 * radius) {
-        keepModel();  // at the iterate, before endAt moves jet and chart point to the minimum
-        endAt(p, moved);
-        result.converged = true;
-        break;
-      }
-    }
-    // The first step from a nearby projection: a Newton step that is not tiny takes the
-    // caller's second-order correction (in the same chart); such a step is checked by the next
-    // iterate's distance like any other, and being no plain Newton step it neither counts as
-    // tiny nor feeds the prediction of quadratic convergence.
-    const bool fromNearby = iteration == 0 && nearby != nullptr;
-    if (fromNearby && options.cubicFinish && options.startFromModel && nearby->model &&
-        nearby->model->origin.vertex == chartPoint.vertex) {
-      // Start from the minimum of the distance to the nearby projection's cubic model.
-      const Projection::CubicModel& model = *nearby->model;
-      const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
-      // From the Newton step at the nearby footpoint (the model's own first iterate there);
-      // to a last correction below 1e-3 of the radius (leaving about 1e-5 of it, below the
-      // model's own error there) where the iteration goes on from the result, 1e-7 where it is
-      // the answer.
-      Eigen::Vector2d move = chartPoint.p - model.origin.p;
-      if (definite && !clipped) move += step;
-      Jet3<2> moved;
-      bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, 1e4 * radius, 8, move,
-                                      moved, std::numeric_limits<double>::infinity());
-      if (found && move.norm() <= options.cubicFinishStep * radius) {
-        found = minimiseCubicModel(modelJet, model.derivatives.ddd, x, radius, 4, move, moved,
-                                   std::numeric_limits<double>::infinity());
-      }
-      if (found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius) {
-        const Eigen::Vector2d p = model.origin.p + move;
-        const double modelDistance = (moved.v - x).norm();
-        // Within 0.15 of the radius of the origin, a margin of 2 % of stopBeyond up to a tenth
-        // of the radius, growing with |move|^4 beyond (to 10 % at 0.15).
-        const double reach = move.norm() / (0.1 * radius);
-        const double margin = 0.02 * std::max(1.0, reach * reach * reach * reach);
-        if (reach <= 1.5 && modelDistance > (1.0 + margin) * options.stopBeyond) {
-          // Certainly beyond: the model's error is far below the margin (it grows like the
-          // margin, about |move|^4 of the radius times the surface's fourth derivatives).
-          endAt(p, moved);
-          result.model = model;
-          result.beyond = true;
-          break;
-        }
-        if (move.norm() <= options.cubicFinishStep * radius) {
-          // Within the model's reach of its origin: the answer, as a cubic finish there.
-          endAt(p, moved);
-          result.model = model;
-          result.converged = true;
-          break;
-        }
-        // The model's minimum as the first step, checked by the next iterate's distance; no
-        // plain Newton step, so it neither counts as tiny nor feeds the convergence prediction.
-        wantThird = true;
-        corrected = true;
-        checkLast = true;
-        lastStep = 0.0;
-        stepEnd = ChartPoint{chartPoint.vertex, p};
-        current = atlas_.fromChart(*stepEnd);
-        continue;
-      }
-    }
-    // The first step from a nearby projection ends near the footpoint: the model there is
-    // expected to finish (or, beyond the band, to start the neighbours).
-    wantThird = options.cubicFinish && fromNearby;
-    if (fromNearby && !clipped && (chartPoint.p + step).norm() < 0.99 * radius) {
-      firstEnd = ChartPoint{chartPoint.vertex, chartPoint.p + step};
-    }
-    if (fromNearby && definite && length >= 1e-4 * radius && options.firstStepCorrection &&
-        options.firstStepCorrection->vertex == chartPoint.vertex) {
-      step += options.firstStepCorrection->p;
-      if (step.norm() > maxStep) step *= maxStep / step.norm();
-      corrected = true;
-    }
-    const auto target = [&](const Eigen::Vector2d& move) {
-      Eigen::Vector2d p = chartPoint.p + move;
-      if (p.norm() >= 0.99 * radius) p *= 0.99 * radius / p.norm();
-      stepEnd = ChartPoint{chartPoint.vertex, p};
-      return atlas_.fromChart(*stepEnd);
-    };
-    // A tiny Newton step (positive definite Hessian) is taken as it is: there the quadratic
-    // model is exact to far below what comparing distances could resolve. Where Newton's
-    // quadratic convergence (the ratio of this step to the square of the last one, or a factor
-    // 10 / radius for a first step) predicts that the next step would be below 1e-12 of the
-    // radius, this step is the last: the answer is where it ends. Until a step has gone uphill,
-    // Newton steps up to a tenth of the radius are taken too, checked by the next iteration's
-    // distance. Other steps are halved until the distance falls.
-    const bool tiny = definite && !corrected && length < 1e-4 * radius;
-    if (tiny) {
-      const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
-                                              : 10.0 * length * length / radius;
-      finalStep = predicted <= tolerance * radius;
-      lastStep = length;
-      checkLast = false;
-      const Eigen::Vector2d p = chartPoint.p + step;
-      if (finalStep && extrapolate && length <= 1e-6 * radius && p.norm() < 0.99 * radius) {
-        // Taylor expansion of the jet along the step.
-        const double a = step.x(), b = step.y();
-        Jet3<2> moved = jet;
-        moved.v += jet.d[0] * a + jet.d[1] * b +
-                   0.5 * (jet.h[0] * (a * a) + 2.0 * jet.h[1] * (a * b) + jet.h[2] * (b * b));
-        moved.d[0] += jet.h[0] * a + jet.h[1] * b;
-        moved.d[1] += jet.h[1] * a + jet.h[2] * b;
-        endAt(p, moved);
-        result.converged = true;
-        break;
-      }
-      wantThird = options.cubicFinish;
-      current = target(step);
-      continue;
-    }
-    if (!careful && definite) {
-      if (options.cubicFinish && !corrected) {
-        // Where quadratic convergence predicts a next step the cubic model can take.
-        const double predicted = lastStep > 0.0 ? length * length * length / (lastStep * lastStep)
-                                                : 10.0 * length * length / radius;
-        wantThird = wantThird || predicted <= options.cubicFinishStep * radius;
-      }
-      lastStep = corrected ? 0.0 : length;
-      corrected = false;
-      checkLast = true;
-      current = target(step);
-      continue;
-    }
-    // A halved (or Gauss-Newton) step: a plain step, so a tiny one may end the iteration even
-    // after a corrected first step.
-    lastStep = 0.0;
-    checkLast = false;
-    corrected = false;
-    bool accepted = false;
-    for (int halving = 0; halving < 40 && !accepted; ++halving) {
-      const FacePoint next = target(step);
-      if (0.5 * (position(next) - x).squaredNorm() < value) {
-        current = next;
-        accepted = true;
-      } else {
-        step *= 0.5;
-      }
-    }
-    if (!accepted) {
-      result.converged = true;  // no step lowers the distance: a minimum to round-off
-      break;
-    }
-  }
-  if (!result.converged && !result.beyond) {
-    centre = nearestCorner(current.bary);
-    jet = evaluator.chart(current, centre, &chartPoint.p);
-    ++result.iterations;
-  }
-  if (result.converged && firstEnd && firstEnd->vertex == chartPoint.vertex) {
-    result.firstStepMiss = ChartPoint{chartPoint.vertex, chartPoint.p - firstEnd->p};
-  }
-  result.point = current;
-  result.chartPoint = chartPoint.p;
-  result.position = jet.v;
-  result.distance = (jet.v - x).norm();
-  result.derivatives = toDerivatives(jet);
-  result.chartCorner = centre;
-  if (result.beyond) {
-    result.geometry = SmoothPoint{};
-    result.geometry.position = jet.v;  // stopped: no differential geometry
-  } else {
-    result.geometry = surfaceGeometry(result.derivatives);
-  }
+  ProjectionRun(*this, x, start, nearby, options, result).run();
 }
 
 std::size_t PseudoManifold::memoryBytes() const {

@@ -280,6 +280,8 @@ class PseudoManifold {
   struct DegreeFit;
   template <int Order>
   struct Evaluator;
+  /// One projectFrom(): the state and phases of its Newton iteration.
+  class ProjectionRun;
 
   const DegreeFit& fitFor(int degree) const;
   /// project() from `start`; when `nearby` is given it is a projection that ended at start,
