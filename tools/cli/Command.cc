@@ -24,30 +24,41 @@ ProgressCallback makeProgressPrinter(const GlobalOptions& options) {
   if (options.quiet) return {};
   struct State {
     std::mutex mutex;
-    Stopwatch clock;
-    std::string stage;
-    int lastPercent = -1;
-    bool visible = false;
+    Stopwatch clock;           // since the printer was made: nothing shows in the first second
+    std::string stage;         // the stage last reported
+    int percent = -1;          // the highest percentage reported for it
+    bool shown = false;        // a line of this stage was printed
+    bool lineOpen = false;     // terminal: the stage's line waits for its end
+    double lastPrint = -1e30;  // clock.seconds() of the last line printed
     bool terminal = ::isatty(STDERR_FILENO) != 0;
   };
+  // A terminal redraws the stage's one line at most ten times a second; a log gets a line when
+  // a stage shows, then at most one every ten seconds, and its end.
+  constexpr double kTerminalInterval = 0.1, kLogInterval = 10.0;
   auto state = std::make_shared<State>();
   return [state](std::string_view stage, double fraction) {
     const std::lock_guard<std::mutex> lock(state->mutex);
-    // Steps shorter than a second stay silent, their completion included.
-    if (!state->visible && state->clock.seconds() < 1.0) return;
-    const int percent = static_cast<int>(std::floor(100.0 * std::clamp(fraction, 0.0, 1.0)));
-    const bool newStage = stage != state->stage;
-    // Without a terminal, print one line per 10% so logs stay short.
-    const int step = state->terminal ? 1 : 10;
-    if (!newStage && percent / step == state->lastPercent / step) return;
-    if (newStage && state->visible && state->terminal) std::cerr << '\n';
-    state->stage = std::string(stage);
-    state->lastPercent = percent;
-    state->visible = true;
+    if (stage != state->stage) {
+      if (state->lineOpen) std::cerr << '\n';
+      state->stage = std::string(stage);
+      state->percent = -1;
+      state->shown = state->lineOpen = false;
+    }
+    // Within a stage the percentage never goes back.
+    const int percent = std::max(
+        state->percent, static_cast<int>(std::floor(100.0 * std::clamp(fraction, 0.0, 1.0))));
+    if (percent == state->percent) return;
+    state->percent = percent;
+    const double now = state->clock.seconds();
+    if (now < 1.0) return;  // steps shorter than a second stay silent, their end included
+    const bool done = percent >= 100;
+    const double interval = state->terminal ? kTerminalInterval : kLogInterval;
+    if (state->shown && !done && now - state->lastPrint < interval) return;
+    state->lastPrint = now;
+    state->shown = true;
     if (state->terminal) {
-      std::cerr << '\r' << stage << ": " << percent << "%" << (percent >= 100 ? "\n" : "")
-                << std::flush;
-      if (percent >= 100) state->visible = false;
+      std::cerr << '\r' << stage << ": " << percent << '%' << (done ? "\n" : "") << std::flush;
+      state->lineOpen = !done;
     } else {
       std::cerr << stage << ": " << percent << "%\n";
     }
@@ -69,7 +80,7 @@ void CommandContext::status(std::string_view message) const {
 }
 
 ProgressCallback CommandContext::progress() const {
-  return makeProgressPrinter(options_);
+  return progress_;
 }
 
 const CommandRegistry::Entry* CommandRegistry::chosen() const {

@@ -52,23 +52,31 @@ struct Report {
 /// stderr unless --quiet). A summary's text is printed as given; lines end with '\n'.
 void printReport(const Report& report, const GlobalOptions& options);
 
+/// A ProgressCallback that shows progress on stderr once the work has run for a second (never with
+/// --quiet): one line per stage, its percentage never decreasing; on a terminal the line is
+/// redrawn in place at most ten times a second, in a log a stage gets a line when it shows, then
+/// at most one every ten seconds, and one at its end.
+ProgressCallback makeProgressPrinter(const GlobalOptions& options);
+
 /// What a sub-command's run function may use besides its arguments.
 class CommandContext {
  public:
   CommandContext(const GlobalOptions& options, const CLI::App& command)
-      : options_(options), command_(command) {}
+      : options_(options), command_(command), progress_(makeProgressPrinter(options)) {}
 
   const GlobalOptions& options() const { return options_; }
   /// How often option `name` (e.g. "--voxel-size") was given on the command line.
   std::size_t count(const std::string& name) const { return command_.count(name); }
   /// Prints a status line to stderr unless --quiet.
   void status(std::string_view message) const;
-  /// A progress printer (see makeProgressPrinter()).
+  /// The command's one progress printer (see makeProgressPrinter()), shared by all its stages so
+  /// that their lines follow one another.
   ProgressCallback progress() const;
 
  private:
   const GlobalOptions& options_;
   const CLI::App& command_;
+  ProgressCallback progress_;
 };
 
 /// One sub-command: its name, help text, the advice printed when it runs out of memory (the
@@ -127,10 +135,6 @@ void status(const GlobalOptions& options, std::string_view message);
 
 /// Prints a warning to stderr (even with --quiet: warnings are not progress).
 void warning(std::string_view message);
-
-/// A ProgressCallback that draws a progress line on stderr once an operation has run for more than
-/// a second (and never with --quiet). Stage changes start a new line.
-ProgressCallback makeProgressPrinter(const GlobalOptions& options);
 
 /// Wall-clock stopwatch in seconds.
 class Stopwatch {
