@@ -193,27 +193,9 @@ bool hasInsideValue(const openvdb::FloatGrid& grid) {
   return false;
 }
 
-}  // namespace
-
-const char* signMethodName(SignMethod method) {
-  switch (method) {
-    case SignMethod::closestFeature:
-      return "closest feature";
-    case SignMethod::windingNumber:
-      return "winding number";
-    case SignMethod::none:
-      break;
-  }
-  return "none";
-}
-
-LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& options,
-                              const ProgressCallback& progress) {
-  validateOptions(options);
-  validateGeometry(mesh);
-  LevelSetResult result;
-  result.meshReport = validateMesh(mesh);  // throws InputError for out-of-range indices
-
+/// The voxel size (world units) the options ask for, after checking that the mesh has extent,
+/// that the band fits the voxel budget and that the mesh stays inside OpenVDB's index range.
+double checkedVoxelSize(const TriangleMesh& mesh, const LevelSetOptions& options) {
   const BoundingBox bounds = boundingBox(mesh);
   const double longestSide = bounds.extent().maxCoeff();
   if (!(longestSide > 0.0)) {
@@ -243,33 +225,112 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
             << "larger voxel size or move the mesh closer to the origin";
     throw InputError(message.str());
   }
+  return voxelSize;
+}
+
+/// The mesh as OpenVDB's conversion takes it: vertices in index space, corner indices.
+struct IndexSpaceMesh {
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+};
+
+IndexSpaceMesh toIndexSpace(const TriangleMesh& mesh, const openvdb::math::Transform& transform) {
+  IndexSpaceMesh result;
+  std::vector<openvdb::Vec3s>& indexPoints = result.points;
+  indexPoints.resize(mesh.positions.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Eigen::Vector3f& p = mesh.positions[i];
+                        indexPoints[i] = openvdb::Vec3s(transform.worldToIndex(
+                            openvdb::Vec3d(double(p.x()), double(p.y()), double(p.z()))));
+                      }
+                    });
+  result.triangles.resize(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const TriangleMesh::Triangle& t = mesh.triangles[i];
+    result.triangles[i] = openvdb::Vec3I(t[0], t[1], t[2]);
+  }
+  return result;
+}
+
+/// The warnings about how the signs of a signed level set were decided (result.signs, from
+/// exact signs or, without them, OpenVDB's sweep) and whether the field has an inside at all.
+void addSignWarnings(const TriangleMesh& mesh, bool exactSigns, LevelSetResult& result) {
+  const SignReport& signs = result.signs;
+  if (!exactSigns && !result.meshReport.closed) {
+    result.warnings.push_back(
+        "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
+        "); the sign comes from OpenVDB's exterior sweep, which bridges holes up to about 3 "
+        "voxels across: check the result, or use unsigned distance for open surfaces");
+  }
+  if (exactSigns && !signs.watertight) {
+    result.warnings.push_back(
+        "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
+        "); inside is where its generalised winding number is at least 1/2, which closes its " +
+        std::to_string(signs.holesClosed) +
+        " holes smoothly: check the result, or use unsigned distance for open surfaces");
+  }
+  if (signs.selfIntersecting) {
+    result.warnings.push_back(
+        std::string("the mesh ") + (signs.watertight ? "" : "(with its holes closed) ") +
+        "intersects or touches itself; inside is where its winding number is at least 1/2 "
+        "(the union of overlapping parts), evaluated at every voxel near the surface (slower)");
+  }
+  if (signs.reorientedTriangles > 0) {
+    result.warnings.push_back(
+        std::to_string(signs.reorientedTriangles) + " of " + std::to_string(mesh.triangles.size()) +
+        " triangles were wound against their neighbours (or the mesh inside out) and were "
+        "reversed for the inside/outside decision");
+  }
+  if (signs.correctedVoxels > 0) {
+    result.warnings.push_back(
+        std::to_string(signs.correctedVoxels) +
+        " band voxels had the wrong sign from OpenVDB's mesh conversion and were corrected (" +
+        signMethodName(signs.method) + ")");
+  }
+  if (result.grid->activeVoxelCount() > 0 && !hasInsideValue(*result.grid)) {
+    result.warnings.push_back(
+        "no voxel of the signed field is inside the mesh: the surface encloses no volume (a "
+        "sheet or a shell with large holes), or the voxels are too coarse for it; use a smaller "
+        "voxel size, repair the mesh, or use unsigned distance");
+  }
+}
+
+}  // namespace
+
+const char* signMethodName(SignMethod method) {
+  switch (method) {
+    case SignMethod::closestFeature:
+      return "closest feature";
+    case SignMethod::windingNumber:
+      return "winding number";
+    case SignMethod::none:
+      break;
+  }
+  return "none";
+}
+
+LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& options,
+                              const ProgressCallback& progress) {
+  validateOptions(options);
+  validateGeometry(mesh);
+  LevelSetResult result;
+  result.meshReport = validateMesh(mesh);  // throws InputError for out-of-range indices
+  const double voxelSize = checkedVoxelSize(mesh, options);
 
   ensureOpenVdbInitialized();
   if (progress) progress(kStage, 0.0);
 
   const openvdb::math::Transform::Ptr transform =
       openvdb::math::Transform::createLinearTransform(voxelSize);
-  std::vector<openvdb::Vec3s> indexPoints(mesh.positions.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size()),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const Eigen::Vector3f& p = mesh.positions[i];
-                        indexPoints[i] = openvdb::Vec3s(transform->worldToIndex(
-                            openvdb::Vec3d(double(p.x()), double(p.y()), double(p.z()))));
-                      }
-                    });
-  std::vector<openvdb::Vec3I> triangles(mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const TriangleMesh::Triangle& t = mesh.triangles[i];
-    triangles[i] = openvdb::Vec3I(t[0], t[1], t[2]);
-  }
-
+  const IndexSpaceMesh indexMesh = toIndexSpace(mesh, *transform);
   const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(
-      indexPoints, triangles);
+      indexMesh.points, indexMesh.triangles);
   const float bandWidth = static_cast<float>(options.halfWidth);
   const bool exactSigns = !options.unsignedDistance && options.exactSigns;
   std::optional<ExactSigns> signs;
-  if (exactSigns) signs.emplace(indexPoints, triangles);
+  if (exactSigns) signs.emplace(indexMesh.points, indexMesh.triangles);
   ProgressInterrupter interrupter(progress, exactSigns ? kConversionShare : 1.0);
   const int flags = options.unsignedDistance ? openvdb::tools::UNSIGNED_DISTANCE_FIELD
                                              : (signs ? signs->conversionFlags() : 0);
@@ -293,45 +354,7 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
       detail::renormalizeBand(*result.grid);
       if (bandWidth < 4.0f) detail::trimBand(*result.grid);
     }
-    const SignReport& signs = result.signs;
-    if (!exactSigns && !result.meshReport.closed) {
-      result.warnings.push_back(
-          "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
-          "); the sign comes from OpenVDB's exterior sweep, which bridges holes up to about 3 "
-          "voxels across: check the result, or use unsigned distance for open surfaces");
-    }
-    if (exactSigns && !signs.watertight) {
-      result.warnings.push_back(
-          "the mesh is not closed (" + joinLines(result.meshReport.problems()) +
-          "); inside is where its generalised winding number is at least 1/2, which closes its " +
-          std::to_string(signs.holesClosed) +
-          " holes smoothly: check the result, or use unsigned distance for open surfaces");
-    }
-    if (signs.selfIntersecting) {
-      result.warnings.push_back(
-          std::string("the mesh ") + (signs.watertight ? "" : "(with its holes closed) ") +
-          "intersects or touches itself; inside is where its winding number is at least 1/2 "
-          "(the union of overlapping parts), evaluated at every voxel near the surface (slower)");
-    }
-    if (signs.reorientedTriangles > 0) {
-      result.warnings.push_back(
-          std::to_string(signs.reorientedTriangles) + " of " +
-          std::to_string(mesh.triangles.size()) +
-          " triangles were wound against their neighbours (or the mesh inside out) and were "
-          "reversed for the inside/outside decision");
-    }
-    if (signs.correctedVoxels > 0) {
-      result.warnings.push_back(
-          std::to_string(signs.correctedVoxels) +
-          " band voxels had the wrong sign from OpenVDB's mesh conversion and were corrected (" +
-          signMethodName(signs.method) + ")");
-    }
-    if (result.grid->activeVoxelCount() > 0 && !hasInsideValue(*result.grid)) {
-      result.warnings.push_back(
-          "no voxel of the signed field is inside the mesh: the surface encloses no volume (a "
-          "sheet or a shell with large holes), or the voxels are too coarse for it; use a smaller "
-          "voxel size, repair the mesh, or use unsigned distance");
-    }
+    addSignWarnings(mesh, exactSigns, result);
   }
   if (result.meshReport.closed && !result.meshReport.problems().empty()) {
     result.warnings.push_back("mesh problems that do not affect the distance field: " +

@@ -53,18 +53,182 @@ struct Companions {
   openvdb::FloatGrid::Ptr scalar0, scalar1;
 };
 
-}  // namespace
-
-openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
-  const openvdb::FloatGrid& band = *field.distanceGrid();
-  const TargetKind kind = field.kind();
-  // A shallow copy: shares the tree, owns its metadata.
-  auto distanceGrid = openvdb::ConstPtrCast<openvdb::FloatGrid>(field.distanceGrid())->copy();
-  if (distanceGrid->getName().empty()) {
-    distanceGrid->setName(kind == TargetKind::Surface ? "surface" : "unsigned_distance");
+/// The float grid carrying the field metadata, or null.
+openvdb::FloatGrid::Ptr fieldDistanceGrid(const openvdb::GridPtrVec& grids) {
+  for (const auto& grid : grids) {
+    auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+    if (floatGrid && (*floatGrid)[kFieldKindMetadata]) return floatGrid;
   }
-  setFieldMetadata(*distanceGrid, field);
+  return nullptr;
+}
 
+/// The first float level set of `grids`, or null.
+openvdb::FloatGrid::Ptr firstLevelSet(const openvdb::GridPtrVec& grids) {
+  for (const auto& grid : grids) {
+    auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+    if (floatGrid && floatGrid->getGridClass() == openvdb::GRID_LEVEL_SET) return floatGrid;
+  }
+  return nullptr;
+}
+
+/// What a stored field's metadata says.
+struct StoredField {
+  std::string kindName;
+  TargetKind kind = TargetKind::Surface;
+  std::string estimator;
+  Eigen::AlignedBox3d domain;
+};
+
+/// The target kind named `kindName` in a stored field; InputError for an unknown name.
+TargetKind storedKind(const std::string& kindName, const std::string& source) {
+  if (kindName == "surface") return TargetKind::Surface;
+  if (kindName == "curve") return TargetKind::Curve;
+  if (kindName == "points") return TargetKind::Points;
+  throw InputError(source + ": unknown field kind '" + kindName + "'");
+}
+
+/// Reads and checks the field metadata of `distance` (format version, kind, estimator, working
+/// domain) and that its band is a non-empty set of voxels. InputError naming `source` otherwise.
+StoredField readStoredField(const openvdb::FloatGrid& distance, const std::string& source) {
+  StoredField stored;
+  int version = 0;
+  try {
+    stored.kindName = distance.metaValue<std::string>(kFieldKindMetadata);
+    version = distance.metaValue<openvdb::Int32>(kFieldVersionMetadata);
+  } catch (const openvdb::Exception&) {
+    throw InputError(source + ": the field's metadata (" + std::string(kFieldVersionMetadata) +
+                     ") is missing or has the wrong type");
+  }
+  if (version != kFieldFormatVersion) {
+    throw InputError(source + ": field format version " + std::to_string(version) +
+                     " is not supported (this d2vdb reads version " +
+                     std::to_string(kFieldFormatVersion) + ")");
+  }
+  stored.kind = storedKind(stored.kindName, source);
+  try {
+    stored.estimator = distance.metaValue<std::string>(kFieldEstimatorMetadata);
+    const openvdb::Vec3d lo = distance.metaValue<openvdb::Vec3d>(kFieldDomainMinMetadata);
+    const openvdb::Vec3d hi = distance.metaValue<openvdb::Vec3d>(kFieldDomainMaxMetadata);
+    stored.domain = Eigen::AlignedBox3d(Eigen::Vector3d(lo.x(), lo.y(), lo.z()),
+                                        Eigen::Vector3d(hi.x(), hi.y(), hi.z()));
+  } catch (const openvdb::Exception&) {
+    throw InputError(source + ": the field's estimator or domain metadata is missing");
+  }
+  const Eigen::AlignedBox3d& domain = stored.domain;
+  if (domain.isEmpty() || !domain.min().allFinite() || !domain.max().allFinite()) {
+    throw InputError(source + ": the field's working domain metadata is not a finite box");
+  }
+  if (distance.activeVoxelCount() == 0) throw InputError(source + ": the field's band is empty");
+  if (distance.tree().hasActiveTiles()) {
+    throw InputError(source +
+                     ": the field's distance grid has active tiles (not a field d2vdb "
+                     "wrote)");
+  }
+  return stored;
+}
+
+/// The companion grid `name` of a stored `kindName` field, of type GridT, with the distance
+/// grid's active voxels and transform; InputError naming `source` otherwise.
+template <typename GridT>
+typename GridT::Ptr storedCompanion(const openvdb::GridPtrVec& grids, const std::string& name,
+                                    const openvdb::FloatGrid& distance, const std::string& kindName,
+                                    const std::string& source) {
+  openvdb::GridBase::Ptr grid;
+  for (const auto& candidate : grids) {
+    if (candidate && candidate->getName() == name) {
+      grid = candidate;
+      break;
+    }
+  }
+  if (!grid) {
+    throw InputError(source + ": the " + kindName + " field's companion grid '" + name +
+                     "' is missing");
+  }
+  auto typed = openvdb::gridPtrCast<GridT>(grid);
+  if (!typed) {
+    throw InputError(source + ": the companion grid '" + name + "' holds " + grid->valueType() +
+                     " values, expected " + GridT::gridType());
+  }
+  if (!typed->tree().hasSameTopology(distance.tree())) {
+    throw InputError(source + ": the companion grid '" + name +
+                     "' does not share the distance grid's active voxels");
+  }
+  if (typed->transform() != distance.transform()) {
+    throw InputError(source + ": the companion grid '" + name +
+                     "' has a different transform from the distance grid");
+  }
+  return typed;
+}
+
+/// The companion grids a stored field of `stored.kind` must have (see fieldToGrids()).
+Companions storedCompanions(const openvdb::GridPtrVec& grids, const openvdb::FloatGrid& distance,
+                            const StoredField& stored, const std::string& source) {
+  const auto vectors = [&](const std::string& name) {
+    return storedCompanion<openvdb::Vec3SGrid>(grids, name, distance, stored.kindName, source);
+  };
+  const auto scalars = [&](const std::string& name) {
+    return storedCompanion<openvdb::FloatGrid>(grids, name, distance, stored.kindName, source);
+  };
+  Companions c;
+  c.flags = storedCompanion<openvdb::Int32Grid>(grids, "flags", distance, stored.kindName, source);
+  if (stored.kind == TargetKind::Surface) {
+    c.vector0 = vectors("normal");
+    c.scalar0 = scalars("k1");
+    c.scalar1 = scalars("k2");
+    c.vector1 = vectors("e1");
+  } else if (stored.kind == TargetKind::Curve) {
+    c.vector0 = vectors("direction");
+    c.vector1 = vectors("tangent");
+    c.scalar0 = scalars("curvature");
+    c.vector2 = vectors("principal_normal");
+  } else {
+    c.vector0 = vectors("direction");
+  }
+  return c;
+}
+
+/// A factory of per-worker functions that read each voxel's approximant from the companion grids
+/// at the same coordinates (each with its own accessors). `c` and `source` must outlive it.
+auto storedApproximants(const Companions& c, const openvdb::FloatGrid::Ptr& distance,
+                        TargetKind kind, const std::string& source) {
+  return [&c, distance, kind, &source]() -> FieldBand::VoxelApproximant {
+    const auto vectorReader = [](const openvdb::Vec3SGrid::Ptr& grid) {
+      return grid ? std::optional<openvdb::Vec3SGrid::ConstAccessor>(grid->getConstAccessor())
+                  : std::nullopt;
+    };
+    const auto scalarReader = [](const openvdb::FloatGrid::Ptr& grid) {
+      return grid ? std::optional<openvdb::FloatGrid::ConstAccessor>(grid->getConstAccessor())
+                  : std::nullopt;
+    };
+    return
+        [d = distance->getConstAccessor(), flags = c.flags->getConstAccessor(),
+         v0 = c.vector0->getConstAccessor(), v1 = vectorReader(c.vector1),
+         v2 = vectorReader(c.vector2), f0 = scalarReader(c.scalar0), f1 = scalarReader(c.scalar1),
+         kind, &source](const openvdb::Coord& ijk, const Eigen::Vector3d&) {
+          Approximant a;
+          a.kind = kind;
+          a.distance = d.getValue(ijk);
+          a.flags = static_cast<std::uint16_t>(flags.getValue(ijk));
+          a.normal = fromVec(v0.getValue(ijk));
+          if (v1) a.tangent = fromVec(v1->getValue(ijk));
+          if (v2) a.principalNormal = fromVec(v2->getValue(ijk));
+          if (f0) a.k1 = f0->getValue(ijk);
+          if (f1) a.k2 = f1->getValue(ijk);
+          if (!std::isfinite(a.distance) || !(std::abs(a.normal.norm() - 1.0) < 1e-3) ||
+              !a.tangent.allFinite() || !std::isfinite(a.k1) || !std::isfinite(a.k2) ||
+              !a.principalNormal.allFinite()) {
+            throw InputError(source +
+                             ": the field's companion grids hold non-finite values or normals "
+                             "that are not unit vectors");
+          }
+          return a;
+        };
+  };
+}
+
+/// Empty companion grids (zero values, the band's active voxels) for a field of `kind` with
+/// distance grid `band`.
+Companions newCompanions(const openvdb::FloatGrid& band, TargetKind kind) {
   const auto vectorGrid = [&](const std::string& name) {
     auto grid = companionGrid<openvdb::Vec3SGrid>(band, name);
     grid->setVectorType(openvdb::VEC_INVARIANT);
@@ -85,7 +249,12 @@ openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
   } else {
     c.vector0 = vectorGrid("direction");
   }
+  return c;
+}
 
+/// Writes every band voxel's approximant into the companion grids.
+void fillCompanions(const ApproximantField& field, const Companions& c) {
+  const TargetKind kind = field.kind();
   // Leaf by leaf of the flags grid; every other companion's leaf is the one with the same origin.
   std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
   leaves.reserve(c.flags->tree().leafCount());
@@ -124,6 +293,21 @@ openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
           }
         }
       });
+}
+
+}  // namespace
+
+openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
+  const TargetKind kind = field.kind();
+  // A shallow copy: shares the tree, owns its metadata.
+  auto distanceGrid = openvdb::ConstPtrCast<openvdb::FloatGrid>(field.distanceGrid())->copy();
+  if (distanceGrid->getName().empty()) {
+    distanceGrid->setName(kind == TargetKind::Surface ? "surface" : "unsigned_distance");
+  }
+  setFieldMetadata(*distanceGrid, field);
+
+  const Companions c = newCompanions(*field.distanceGrid(), kind);
+  fillCompanions(field, c);
 
   openvdb::GridPtrVec grids{distanceGrid};
   for (const openvdb::GridBase::Ptr& grid :
@@ -139,154 +323,24 @@ openvdb::GridPtrVec fieldToGrids(const ApproximantField& field) {
 ApproximantField fieldFromGrids(const openvdb::GridPtrVec& grids, const std::string& source,
                                 const ApproximantFieldOptions& options,
                                 const ProgressCallback& progress) {
-  // The distance grid: the float grid carrying the field metadata.
-  openvdb::FloatGrid::Ptr distance;
-  for (const auto& grid : grids) {
-    auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
-    if (floatGrid && (*floatGrid)[kFieldKindMetadata]) {
-      distance = floatGrid;
-      break;
-    }
-  }
+  const openvdb::FloatGrid::Ptr distance = fieldDistanceGrid(grids);
   if (!distance) {
     // A level set alone (e.g. from another tool): compute the approximants now.
-    for (const auto& grid : grids) {
-      auto floatGrid = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
-      if (floatGrid && floatGrid->getGridClass() == openvdb::GRID_LEVEL_SET) {
-        return ApproximantField::fromLevelSet(floatGrid, options, progress);
-      }
+    if (openvdb::FloatGrid::Ptr levelSet = firstLevelSet(grids)) {
+      return ApproximantField::fromLevelSet(levelSet, options, progress);
     }
     throw InputError(source + " holds neither an approximant field nor a float level set");
   }
-  std::string kindName;
-  int version = 0;
-  try {
-    kindName = distance->metaValue<std::string>(kFieldKindMetadata);
-    version = distance->metaValue<openvdb::Int32>(kFieldVersionMetadata);
-  } catch (const openvdb::Exception&) {
-    throw InputError(source + ": the field's metadata (" + std::string(kFieldVersionMetadata) +
-                     ") is missing or has the wrong type");
-  }
-  if (version != kFieldFormatVersion) {
-    throw InputError(source + ": field format version " + std::to_string(version) +
-                     " is not supported (this d2vdb reads version " +
-                     std::to_string(kFieldFormatVersion) + ")");
-  }
-  TargetKind kind = TargetKind::Surface;
-  if (kindName == "surface") {
-    kind = TargetKind::Surface;
-  } else if (kindName == "curve") {
-    kind = TargetKind::Curve;
-  } else if (kindName == "points") {
-    kind = TargetKind::Points;
-  } else {
-    throw InputError(source + ": unknown field kind '" + kindName + "'");
-  }
-  std::string estimator;
-  Eigen::AlignedBox3d domain;
-  try {
-    estimator = distance->metaValue<std::string>(kFieldEstimatorMetadata);
-    const openvdb::Vec3d lo = distance->metaValue<openvdb::Vec3d>(kFieldDomainMinMetadata);
-    const openvdb::Vec3d hi = distance->metaValue<openvdb::Vec3d>(kFieldDomainMaxMetadata);
-    domain = Eigen::AlignedBox3d(Eigen::Vector3d(lo.x(), lo.y(), lo.z()),
-                                 Eigen::Vector3d(hi.x(), hi.y(), hi.z()));
-  } catch (const openvdb::Exception&) {
-    throw InputError(source + ": the field's estimator or domain metadata is missing");
-  }
-  if (domain.isEmpty() || !domain.min().allFinite() || !domain.max().allFinite()) {
-    throw InputError(source + ": the field's working domain metadata is not a finite box");
-  }
-  if (distance->activeVoxelCount() == 0) throw InputError(source + ": the field's band is empty");
-  if (distance->tree().hasActiveTiles()) {
-    throw InputError(source +
-                     ": the field's distance grid has active tiles (not a field d2vdb "
-                     "wrote)");
-  }
-  const auto findNamed = [&](const std::string& name) -> openvdb::GridBase::Ptr {
-    for (const auto& grid : grids) {
-      if (grid && grid->getName() == name) return grid;
-    }
-    return nullptr;
-  };
-  const auto companion = [&](const std::string& name, auto typeTag) {
-    using GridT = typename decltype(typeTag)::element_type;
-    const auto grid = findNamed(name);
-    if (!grid) {
-      throw InputError(source + ": the " + kindName + " field's companion grid '" + name +
-                       "' is missing");
-    }
-    auto typed = openvdb::gridPtrCast<GridT>(grid);
-    if (!typed) {
-      throw InputError(source + ": the companion grid '" + name + "' holds " + grid->valueType() +
-                       " values, expected " + GridT::gridType());
-    }
-    if (!typed->tree().hasSameTopology(distance->tree())) {
-      throw InputError(source + ": the companion grid '" + name +
-                       "' does not share the distance grid's active voxels");
-    }
-    if (typed->transform() != distance->transform()) {
-      throw InputError(source + ": the companion grid '" + name +
-                       "' has a different transform from the distance grid");
-    }
-    return typed;
-  };
-  Companions c;
-  c.flags = companion("flags", openvdb::Int32Grid::Ptr());
-  if (kind == TargetKind::Surface) {
-    c.vector0 = companion("normal", openvdb::Vec3SGrid::Ptr());
-    c.scalar0 = companion("k1", openvdb::FloatGrid::Ptr());
-    c.scalar1 = companion("k2", openvdb::FloatGrid::Ptr());
-    c.vector1 = companion("e1", openvdb::Vec3SGrid::Ptr());
-  } else if (kind == TargetKind::Curve) {
-    c.vector0 = companion("direction", openvdb::Vec3SGrid::Ptr());
-    c.vector1 = companion("tangent", openvdb::Vec3SGrid::Ptr());
-    c.scalar0 = companion("curvature", openvdb::FloatGrid::Ptr());
-    c.vector2 = companion("principal_normal", openvdb::Vec3SGrid::Ptr());
-  } else {
-    c.vector0 = companion("direction", openvdb::Vec3SGrid::Ptr());
-  }
-
-  // Each voxel's approximant from the companion grids at the same coordinates (per-worker
-  // accessors).
-  const auto readers = [&c, distance, kind, &source]() -> FieldBand::VoxelApproximant {
-    const auto vectorReader = [](const openvdb::Vec3SGrid::Ptr& grid) {
-      return grid ? std::optional<openvdb::Vec3SGrid::ConstAccessor>(grid->getConstAccessor())
-                  : std::nullopt;
-    };
-    const auto scalarReader = [](const openvdb::FloatGrid::Ptr& grid) {
-      return grid ? std::optional<openvdb::FloatGrid::ConstAccessor>(grid->getConstAccessor())
-                  : std::nullopt;
-    };
-    return
-        [d = distance->getConstAccessor(), flags = c.flags->getConstAccessor(),
-         v0 = c.vector0->getConstAccessor(), v1 = vectorReader(c.vector1),
-         v2 = vectorReader(c.vector2), f0 = scalarReader(c.scalar0), f1 = scalarReader(c.scalar1),
-         kind, &source](const openvdb::Coord& ijk, const Eigen::Vector3d&) {
-          Approximant a;
-          a.kind = kind;
-          a.distance = d.getValue(ijk);
-          a.flags = static_cast<std::uint16_t>(flags.getValue(ijk));
-          a.normal = fromVec(v0.getValue(ijk));
-          if (v1) a.tangent = fromVec(v1->getValue(ijk));
-          if (v2) a.principalNormal = fromVec(v2->getValue(ijk));
-          if (f0) a.k1 = f0->getValue(ijk);
-          if (f1) a.k2 = f1->getValue(ijk);
-          if (!std::isfinite(a.distance) || !(std::abs(a.normal.norm() - 1.0) < 1e-3) ||
-              !a.tangent.allFinite() || !std::isfinite(a.k1) || !std::isfinite(a.k2) ||
-              !a.principalNormal.allFinite()) {
-            throw InputError(source +
-                             ": the field's companion grids hold non-finite values or normals "
-                             "that are not unit vectors");
-          }
-          return a;
-        };
-  };
-  FieldBand band = FieldBand::activeVoxelsOf(kind, distance);
-  band.setApproximantsPerWorker(readers).setEstimator(estimator).setLabel(source).setTargetBounds(
-      domain);
-  ApproximantFieldOptions stored = options;
-  stored.domain = domain;  // the stored field's working domain, exactly
-  return ApproximantField::fromBand(band, stored, progress);
+  const StoredField stored = readStoredField(*distance, source);
+  const Companions c = storedCompanions(grids, *distance, stored, source);
+  FieldBand band = FieldBand::activeVoxelsOf(stored.kind, distance);
+  band.setApproximantsPerWorker(storedApproximants(c, distance, stored.kind, source))
+      .setEstimator(stored.estimator)
+      .setLabel(source)
+      .setTargetBounds(stored.domain);
+  ApproximantFieldOptions fieldOptions = options;
+  fieldOptions.domain = stored.domain;  // the stored field's working domain, exactly
+  return ApproximantField::fromBand(band, fieldOptions, progress);
 }
 
 }  // namespace d2vdb

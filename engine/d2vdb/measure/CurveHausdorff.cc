@@ -396,57 +396,76 @@ std::string formatBracket(double low, double high) {
   return text.str();
 }
 
-OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProjector& to,
-                                  const HausdorffOptions& options) {
-  Eigen::AlignedBox3d both = from.bounds();
-  both.extend(to.bounds());
-  const double size = both.diagonal().norm();
-  const Problem problem{from, to, options.relativeTolerance * size};
+/// The subdivision search of one directed distance h(from -> to) (see oneSidedHausdorff() in the
+/// header), level by level: every item of a level is processed in parallel against the lower
+/// bound the previous levels reached, then reduced in item order, so the result does not depend
+/// on the thread count.
+class OneSidedSearch {
+ public:
+  OneSidedSearch(const CurveProjector& from, const CurveProjector& to,
+                 const HausdorffOptions& options)
+      : from_(from),
+        to_(to),
+        options_(options),
+        problem_{from, to, options.relativeTolerance * pairSize(from, to)},
+        segmentCount_(static_cast<int>(from.segments().size())) {}
 
-  const int segmentCount = static_cast<int>(from.segments().size());
-  const CandidateList allTargets;  // null: every segment of `to`
-
-  // End-point cases: d at every knot of `from` (segment starts, plus the end of the last).
-  std::vector<Sample> knotSamples(static_cast<std::size_t>(segmentCount) + 1);
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, segmentCount + 1), [&](const tbb::blocked_range<int>& range) {
-        for (int k = range.begin(); k != range.end(); ++k) {
-          const int segment = std::min(k, segmentCount - 1);
-          knotSamples[static_cast<std::size_t>(k)] =
-              sampleAt(problem, segment, k < segmentCount ? 0.0 : 1.0, allTargets, std::nullopt);
-        }
-      });
-  Sample best;
-  const auto consider = [&best](const Sample& sample) {
-    if (sample.squaredDistance > best.squaredDistance) best = sample;
-  };
-  for (const Sample& sample : knotSamples) consider(sample);
-
-  std::vector<WorkItem> items;
-  for (int segment = 0; segment < segmentCount; ++segment) {
-    WorkItem item;
-    item.segment = segment;
-    item.hint = knotSamples[static_cast<std::size_t>(segment)].nearest.location;
-    item.startFoot = item.hint;
-    item.endFoot = knotSamples[static_cast<std::size_t>(segment) + 1].nearest.location;
-    item.candidates = allTargets;
-    items.push_back(std::move(item));
+  OneSidedHausdorff run() {
+    std::vector<WorkItem> items = initialItems();
+    while (!items.empty()) items = processLevel(items);
+    finish();
+    return std::move(result_);
   }
 
-  OneSidedHausdorff result;
-  double settledBound = -kInfinity;  // largest upper bound of the items settled so far
-  bool stoppedByDepth = false;
-  bool stoppedByBudget = false;
-  while (!items.empty()) {
+ private:
+  static double pairSize(const CurveProjector& from, const CurveProjector& to) {
+    Eigen::AlignedBox3d both = from.bounds();
+    both.extend(to.bounds());
+    return both.diagonal().norm();
+  }
+
+  void consider(const Sample& sample) {
+    if (sample.squaredDistance > best_.squaredDistance) best_ = sample;
+  }
+
+  /// The end-point cases, d at every knot of `from` (segment starts, plus the end of the last),
+  /// and one item per knot span with the knots' feet.
+  std::vector<WorkItem> initialItems() {
+    const CandidateList allTargets;  // null: every segment of `to`
+    std::vector<Sample> knotSamples(static_cast<std::size_t>(segmentCount_) + 1);
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, segmentCount_ + 1), [&](const tbb::blocked_range<int>& range) {
+          for (int k = range.begin(); k != range.end(); ++k) {
+            const int segment = std::min(k, segmentCount_ - 1);
+            knotSamples[static_cast<std::size_t>(k)] = sampleAt(
+                problem_, segment, k < segmentCount_ ? 0.0 : 1.0, allTargets, std::nullopt);
+          }
+        });
+    for (const Sample& sample : knotSamples) consider(sample);
+    std::vector<WorkItem> items;
+    for (int segment = 0; segment < segmentCount_; ++segment) {
+      WorkItem item;
+      item.segment = segment;
+      item.hint = knotSamples[static_cast<std::size_t>(segment)].nearest.location;
+      item.startFoot = item.hint;
+      item.endFoot = knotSamples[static_cast<std::size_t>(segment) + 1].nearest.location;
+      item.candidates = allTargets;
+      items.push_back(std::move(item));
+    }
+    return items;
+  }
+
+  /// Processes one level of items and returns the next (empty when the search ends).
+  std::vector<WorkItem> processLevel(const std::vector<WorkItem>& items) {
     std::vector<ItemOutcome> outcomes(items.size());
-    const double lowerBefore = best.squaredDistance;
+    const double lowerBefore = best_.squaredDistance;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, items.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          outcomes[i] = processItem(problem, items[i], lowerBefore);
+                          outcomes[i] = processItem(problem_, items[i], lowerBefore);
                         }
                       });
-    result.intervalsExamined += items.size();
+    result_.intervalsExamined += items.size();
     // Fixed-order reduction: the best lower bound of this level.
     for (const ItemOutcome& outcome : outcomes) {
       consider(outcome.centre);
@@ -454,12 +473,22 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
       consider(outcome.bisector);
     }
     for (const WorkItem& item : items)
-      result.deepestLevel = std::max(result.deepestLevel, item.depth);
-    const double lower = std::sqrt(std::max(0.0, best.squaredDistance));
-    const double settleBelow = (lower + problem.tolerance) * (lower + problem.tolerance);
+      result_.deepestLevel = std::max(result_.deepestLevel, item.depth);
+    const std::vector<Sample> splitPoints = splitPointsOf(items, outcomes);
+    const std::vector<std::size_t> toSplit = itemsToSplit(items, outcomes, splitPoints);
+    if (result_.intervalsExamined + 2 * toSplit.size() > options_.maxIntervals) {
+      for (const std::size_t i : toSplit)
+        settledBound_ = std::max(settledBound_, outcomes[i].upperBound);
+      stoppedByBudget_ = !toSplit.empty();
+      return {};
+    }
+    return children(items, outcomes, splitPoints, toSplit);
+  }
 
-    // Where to halve each item: at a bisector point found inside it (each side then follows one
-    // branch of the nearest-point map, so its bound converges quadratically), else the middle.
+  /// Where to halve each item: at a bisector point found inside it (each side then follows one
+  /// branch of the nearest-point map, so its bound converges quadratically), else the middle.
+  static std::vector<Sample> splitPointsOf(const std::vector<WorkItem>& items,
+                                           const std::vector<ItemOutcome>& outcomes) {
     std::vector<Sample> splitPoints(items.size());
     for (std::size_t i = 0; i < items.size(); ++i) {
       const WorkItem& item = items[i];
@@ -471,38 +500,49 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
         splitPoints[i] = bisector;
       }
     }
+    return splitPoints;
+  }
 
+  /// The items that neither are eliminated (cannot beat the best) nor settle within the
+  /// tolerance nor stop at the depth bound, in item order; records the settled bounds.
+  std::vector<std::size_t> itemsToSplit(const std::vector<WorkItem>& items,
+                                        const std::vector<ItemOutcome>& outcomes,
+                                        const std::vector<Sample>& splitPoints) {
+    const double lower = std::sqrt(std::max(0.0, best_.squaredDistance));
+    const double settleBelow = (lower + problem_.tolerance) * (lower + problem_.tolerance);
     std::vector<std::size_t> toSplit;
     for (std::size_t i = 0; i < items.size(); ++i) {
       const double bound = outcomes[i].upperBound;
-      if (bound <= best.squaredDistance) continue;  // eliminated: cannot beat the best
-      if (bound <= settleBelow) {                   // settled within the tolerance
-        settledBound = std::max(settledBound, bound);
+      if (bound <= best_.squaredDistance) continue;  // eliminated: cannot beat the best
+      if (bound <= settleBelow) {                    // settled within the tolerance
+        settledBound_ = std::max(settledBound_, bound);
         continue;
       }
       const WorkItem& item = items[i];
       const double middle = splitPoints[i].fromLocal;
-      if (item.depth >= options.maxDepth || !(middle > item.start && middle < item.end)) {
-        settledBound = std::max(settledBound, bound);
-        stoppedByDepth = true;
+      if (item.depth >= options_.maxDepth || !(middle > item.start && middle < item.end)) {
+        settledBound_ = std::max(settledBound_, bound);
+        stoppedByDepth_ = true;
         continue;
       }
       toSplit.push_back(i);
     }
-    if (result.intervalsExamined + 2 * toSplit.size() > options.maxIntervals) {
-      for (const std::size_t i : toSplit)
-        settledBound = std::max(settledBound, outcomes[i].upperBound);
-      stoppedByBudget = !toSplit.empty();
-      break;
-    }
+    return toSplit;
+  }
+
+  /// The two halves of every item in `toSplit`, in order, with their filtered candidates.
+  std::vector<WorkItem> children(const std::vector<WorkItem>& items,
+                                 const std::vector<ItemOutcome>& outcomes,
+                                 const std::vector<Sample>& splitPoints,
+                                 const std::vector<std::size_t>& toSplit) const {
     std::vector<WorkItem> next(2 * toSplit.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, toSplit.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t k = range.begin(); k != range.end(); ++k) {
                           const WorkItem& parent = items[toSplit[k]];
                           const ItemOutcome& outcome = outcomes[toSplit[k]];
-                          const CandidateList candidates =
-                              filterCandidates(problem, parent, outcome.upperBound, outcome.centre);
+                          const CandidateList candidates = filterCandidates(
+                              problem_, parent, outcome.upperBound, outcome.centre);
                           const Sample& split = splitPoints[toSplit[k]];
                           const double middle = split.fromLocal;
                           for (int side = 0; side < 2; ++side) {
@@ -520,58 +560,75 @@ OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProject
                           }
                         }
                       });
-    items = std::move(next);
+    return next;
   }
 
-  const CurveProjector::Segment& fromSegment =
-      from.segments()[static_cast<std::size_t>(best.fromSegment)];
-  result.fromParameter = fromSegment.interval.at(best.fromLocal);
-  result.fromPoint = fromSegment.curve.evaluate(best.fromLocal);
-  result.toParameter = best.nearest.parameter;
-  result.toPoint = best.nearest.point;
-  result.distance = (result.fromPoint - result.toPoint).norm();
-  result.lowerBound = result.distance;
-  result.upperBound = std::max(result.distance, std::sqrt(std::max(0.0, settledBound)));
-  result.converged = !stoppedByDepth && !stoppedByBudget;
-  if (stoppedByDepth) {
-    result.warnings.push_back("Hausdorff subdivision reached the depth bound " +
-                              std::to_string(options.maxDepth) +
-                              " before the tolerance; certified bracket " +
-                              formatBracket(result.lowerBound, result.upperBound));
-  }
-  if (stoppedByBudget) {
-    result.warnings.push_back("Hausdorff subdivision reached the bound of " +
-                              std::to_string(options.maxIntervals) +
-                              " intervals before the tolerance; certified bracket " +
-                              formatBracket(result.lowerBound, result.upperBound));
+  /// The result from the best sample and the settled bounds, with its warnings and case.
+  void finish() {
+    OneSidedHausdorff& result = result_;
+    const CurveProjector::Segment& fromSegment =
+        from_.segments()[static_cast<std::size_t>(best_.fromSegment)];
+    result.fromParameter = fromSegment.interval.at(best_.fromLocal);
+    result.fromPoint = fromSegment.curve.evaluate(best_.fromLocal);
+    result.toParameter = best_.nearest.parameter;
+    result.toPoint = best_.nearest.point;
+    result.distance = (result.fromPoint - result.toPoint).norm();
+    result.lowerBound = result.distance;
+    result.upperBound = std::max(result.distance, std::sqrt(std::max(0.0, settledBound_)));
+    result.converged = !stoppedByDepth_ && !stoppedByBudget_;
+    if (stoppedByDepth_) {
+      result.warnings.push_back("Hausdorff subdivision reached the depth bound " +
+                                std::to_string(options_.maxDepth) +
+                                " before the tolerance; certified bracket " +
+                                formatBracket(result.lowerBound, result.upperBound));
+    }
+    if (stoppedByBudget_) {
+      result.warnings.push_back("Hausdorff subdivision reached the bound of " +
+                                std::to_string(options_.maxIntervals) +
+                                " intervals before the tolerance; certified bracket " +
+                                formatBracket(result.lowerBound, result.upperBound));
+    }
+    result.pairCase = pairCase();
   }
 
-  // Which of Chen et al.'s four cases the pair is.
-  const bool fromEnd = isCorner(from, best.fromSegment, best.fromLocal);
-  const bool toEnd =
-      isCorner(to, best.nearest.location.segment, best.nearest.location.segmentParameter);
-  // An interior point of `from` with two or more nearest points is a bisector point (case 4),
-  // whether those points are interior points or ends of `to`.
-  std::ptrdiff_t nearestCount = 1;
-  if (!fromEnd) {
-    const double tie = 1e3 * problem.tolerance + 1e-9 * result.distance;
-    const PointProjection projection = to.project(result.fromPoint, result.distance + tie);
-    nearestCount = std::count_if(projection.extrema.begin(), projection.extrema.end(),
-                                 [&](const CurveExtremum& extremum) {
-                                   return extremum.kind != ExtremumKind::Maximum &&
-                                          extremum.distance <= projection.distance + tie;
-                                 });
+  /// Which of Chen et al.'s four cases the best pair is.
+  HausdorffCase pairCase() const {
+    const bool fromEnd = isCorner(from_, best_.fromSegment, best_.fromLocal);
+    const bool toEnd =
+        isCorner(to_, best_.nearest.location.segment, best_.nearest.location.segmentParameter);
+    // An interior point of `from` with two or more nearest points is a bisector point (case 4),
+    // whether those points are interior points or ends of `to`.
+    std::ptrdiff_t nearestCount = 1;
+    if (!fromEnd) {
+      const double tie = 1e3 * problem_.tolerance + 1e-9 * result_.distance;
+      const PointProjection projection = to_.project(result_.fromPoint, result_.distance + tie);
+      nearestCount = std::count_if(projection.extrema.begin(), projection.extrema.end(),
+                                   [&](const CurveExtremum& extremum) {
+                                     return extremum.kind != ExtremumKind::Maximum &&
+                                            extremum.distance <= projection.distance + tie;
+                                   });
+    }
+    if (fromEnd && toEnd) return HausdorffCase::EndPoints;
+    if (nearestCount >= 2) return HausdorffCase::Bisector;
+    if (fromEnd || toEnd) return HausdorffCase::EndPointAndInterior;
+    return HausdorffCase::MutuallyOrthogonal;
   }
-  if (fromEnd && toEnd) {
-    result.pairCase = HausdorffCase::EndPoints;
-  } else if (nearestCount >= 2) {
-    result.pairCase = HausdorffCase::Bisector;
-  } else if (fromEnd || toEnd) {
-    result.pairCase = HausdorffCase::EndPointAndInterior;
-  } else {
-    result.pairCase = HausdorffCase::MutuallyOrthogonal;
-  }
-  return result;
+
+  const CurveProjector& from_;
+  const CurveProjector& to_;
+  const HausdorffOptions& options_;
+  const Problem problem_;
+  const int segmentCount_;
+  Sample best_;                       ///< the largest exact d^2 found so far (the lower bound)
+  double settledBound_ = -kInfinity;  ///< largest upper bound of the items settled so far
+  bool stoppedByDepth_ = false;
+  bool stoppedByBudget_ = false;
+  OneSidedHausdorff result_;
+};
+
+OneSidedHausdorff computeOneSided(const CurveProjector& from, const CurveProjector& to,
+                                  const HausdorffOptions& options) {
+  return OneSidedSearch(from, to, options).run();
 }
 
 void validate(const HausdorffOptions& options) {

@@ -161,6 +161,131 @@ class Topology {
   std::vector<std::size_t> cursor_;
 };
 
+/// Counts the vertices some triangle references (unreferencedVertexCount in `report`) and returns
+/// how many there are; `scale` becomes the squared bounding-box diagonal of those vertices.
+std::size_t countReferencedVertices(const TriangleMesh& mesh, MeshReport& report, double& scale) {
+  std::vector<bool> referenced(mesh.positions.size(), false);
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  std::size_t referencedCount = 0;
+  for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
+    for (const Index v : triangle) {
+      if (referenced[v]) continue;
+      referenced[v] = true;
+      ++referencedCount;
+      low = low.cwiseMin(mesh.positions[v].cast<double>());
+      high = high.cwiseMax(mesh.positions[v].cast<double>());
+    }
+  }
+  report.unreferencedVertexCount = mesh.positions.size() - referencedCount;
+  scale = referencedCount > 0 ? (high - low).squaredNorm() : 0.0;
+  return referencedCount;
+}
+
+/// Counts the degenerate triangles (a repeated index, or area at most 1e-12 of `scale`) and
+/// returns which have a repeated index (`collapsedCount` of them): those have no proper edges and
+/// are left out of the topology.
+std::vector<bool> findDegenerateTriangles(const TriangleMesh& mesh, double scale,
+                                          MeshReport& report, std::size_t& collapsedCount) {
+  std::vector<bool> collapsed(mesh.triangles.size(), false);
+  collapsedCount = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const TriangleMesh::Triangle& triangle = mesh.triangles[t];
+    if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[2] == triangle[0]) {
+      collapsed[t] = true;
+      ++collapsedCount;
+      ++report.degenerateTriangleCount;
+      continue;
+    }
+    const Eigen::Vector3d a = mesh.positions[triangle[0]].cast<double>();
+    const Eigen::Vector3d b = mesh.positions[triangle[1]].cast<double>();
+    const Eigen::Vector3d c = mesh.positions[triangle[2]].cast<double>();
+    if ((b - a).cross(c - a).norm() <= 1e-12 * scale) ++report.degenerateTriangleCount;
+  }
+  return collapsed;
+}
+
+/// The edge table: every half-edge of the triangles not `collapsed` keyed by its undirected edge,
+/// sorted so equal edges are adjacent (and by half-edge within them).
+std::vector<HalfEdgeKey> sortedHalfEdges(const TriangleMesh& mesh,
+                                         const std::vector<bool>& collapsed,
+                                         std::size_t collapsedCount) {
+  const std::size_t triangleCount = mesh.triangles.size();
+  std::vector<HalfEdgeKey> keys;
+  keys.reserve(3 * (triangleCount - collapsedCount));
+  for (std::size_t t = 0; t < triangleCount; ++t) {
+    if (collapsed[t]) continue;
+    for (std::size_t side = 0; side < 3; ++side) {
+      const std::uint64_t a = mesh.triangles[t][side];
+      const std::uint64_t b = mesh.triangles[t][(side + 1) % 3];
+      const std::uint64_t edge = a < b ? (a << 32) | b : (b << 32) | a;
+      keys.push_back({edge, 3 * t + side});
+    }
+  }
+  tbb::parallel_sort(keys.begin(), keys.end(), [](const HalfEdgeKey& x, const HalfEdgeKey& y) {
+    return x.edge < y.edge || (x.edge == y.edge && x.halfEdge < y.halfEdge);
+  });
+  return keys;
+}
+
+/// Edge-connected triangles and, per vertex, corners joined across the edges at that vertex (its
+/// fans). Corner c = 3 * t + k is vertex k of triangle t.
+struct Connectivity {
+  explicit Connectivity(std::size_t triangleCount)
+      : triangleSets(triangleCount), cornerSets(3 * triangleCount) {}
+  DisjointSets triangleSets;
+  DisjointSets cornerSets;
+};
+
+/// One undirected edge, the half-edges keys[begin..end): counts it by its number of users, fills
+/// the mate table, and joins its triangles and the corners at its two ends.
+void addEdge(const std::vector<HalfEdgeKey>& keys, std::size_t begin, std::size_t end,
+             Topology& topology, Connectivity& connectivity, MeshReport& report) {
+  const std::size_t users = end - begin;
+  ++report.edgeCount;
+  const std::size_t first = keys[begin].halfEdge;
+  if (users == 1) {
+    ++report.boundaryEdgeCount;
+    topology.mate(first) = kBoundary;
+  } else if (users == 2) {
+    const std::size_t second = keys[begin + 1].halfEdge;
+    topology.mate(first) = second;
+    topology.mate(second) = first;
+    if (topology.from(first) == topology.from(second)) ++report.inconsistentlyOrientedEdgeCount;
+  } else {
+    ++report.nonManifoldEdgeCount;
+    for (std::size_t i = begin; i < end; ++i) topology.mate(keys[i].halfEdge) = kNonManifold;
+  }
+  const std::size_t firstFrom = topology.from(first);
+  for (std::size_t i = begin + 1; i < end; ++i) {
+    const std::size_t halfEdge = keys[i].halfEdge;
+    connectivity.triangleSets.unite(first / 3, halfEdge / 3);
+    const std::size_t fromCorner = halfEdge;
+    const std::size_t toCorner = halfEdge - halfEdge % 3 + (halfEdge % 3 + 1) % 3;
+    const std::size_t firstFromCorner = first;
+    const std::size_t firstToCorner = first - first % 3 + (first % 3 + 1) % 3;
+    const bool sameDirection = topology.from(halfEdge) == firstFrom;
+    connectivity.cornerSets.unite(firstFromCorner, sameDirection ? fromCorner : toCorner);
+    connectivity.cornerSets.unite(firstToCorner, sameDirection ? toCorner : fromCorner);
+  }
+}
+
+/// Counts the connected components and the vertices with more than one fan.
+void countComponentsAndFans(const TriangleMesh& mesh, const std::vector<bool>& collapsed,
+                            const Connectivity& connectivity, MeshReport& report) {
+  std::vector<std::uint32_t> fansAtVertex(mesh.positions.size(), 0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (collapsed[t]) continue;
+    if (connectivity.triangleSets.isRoot(t)) ++report.connectedComponentCount;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (connectivity.cornerSets.isRoot(3 * t + k)) ++fansAtVertex[mesh.triangles[t][k]];
+    }
+  }
+  for (const std::uint32_t fans : fansAtVertex) {
+    if (fans > 1) ++report.nonManifoldVertexCount;
+  }
+}
+
 }  // namespace
 
 std::string MeshReport::problems() const {
@@ -192,117 +317,30 @@ std::string MeshReport::problems() const {
 
 MeshReport validateMesh(const TriangleMesh& mesh) {
   detail::checkTriangleIndices(mesh, "cannot validate the mesh");
-  const std::size_t vertexCount = mesh.positions.size();
   const std::size_t triangleCount = mesh.triangles.size();
   MeshReport report;
-  report.vertexCount = vertexCount;
+  report.vertexCount = mesh.positions.size();
   report.triangleCount = triangleCount;
 
-  // Referenced vertices and the mesh scale (squared bounding-box diagonal of those vertices).
-  std::vector<bool> referenced(vertexCount, false);
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d high = -low;
-  std::size_t referencedCount = 0;
-  for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
-    for (const Index v : triangle) {
-      if (referenced[v]) continue;
-      referenced[v] = true;
-      ++referencedCount;
-      low = low.cwiseMin(mesh.positions[v].cast<double>());
-      high = high.cwiseMax(mesh.positions[v].cast<double>());
-    }
-  }
-  report.unreferencedVertexCount = vertexCount - referencedCount;
-  const double scale = referencedCount > 0 ? (high - low).squaredNorm() : 0.0;
-
-  // Degenerate triangles; those with a repeated index have no proper edges and are left out of
-  // the topology below.
-  std::vector<bool> collapsed(triangleCount, false);
+  double scale = 0.0;
+  const std::size_t referencedCount = countReferencedVertices(mesh, report, scale);
   std::size_t collapsedCount = 0;
-  for (std::size_t t = 0; t < triangleCount; ++t) {
-    const TriangleMesh::Triangle& triangle = mesh.triangles[t];
-    if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[2] == triangle[0]) {
-      collapsed[t] = true;
-      ++collapsedCount;
-      ++report.degenerateTriangleCount;
-      continue;
-    }
-    const Eigen::Vector3d a = mesh.positions[triangle[0]].cast<double>();
-    const Eigen::Vector3d b = mesh.positions[triangle[1]].cast<double>();
-    const Eigen::Vector3d c = mesh.positions[triangle[2]].cast<double>();
-    if ((b - a).cross(c - a).norm() <= 1e-12 * scale) ++report.degenerateTriangleCount;
-  }
-
-  // The edge table: every half-edge keyed by its undirected edge, sorted so equal edges are
-  // adjacent.
-  std::vector<HalfEdgeKey> keys;
-  keys.reserve(3 * (triangleCount - collapsedCount));
-  for (std::size_t t = 0; t < triangleCount; ++t) {
-    if (collapsed[t]) continue;
-    for (std::size_t side = 0; side < 3; ++side) {
-      const std::uint64_t a = mesh.triangles[t][side];
-      const std::uint64_t b = mesh.triangles[t][(side + 1) % 3];
-      const std::uint64_t edge = a < b ? (a << 32) | b : (b << 32) | a;
-      keys.push_back({edge, 3 * t + side});
-    }
-  }
-  tbb::parallel_sort(keys.begin(), keys.end(), [](const HalfEdgeKey& x, const HalfEdgeKey& y) {
-    return x.edge < y.edge || (x.edge == y.edge && x.halfEdge < y.halfEdge);
-  });
+  const std::vector<bool> collapsed = findDegenerateTriangles(mesh, scale, report, collapsedCount);
+  const std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh, collapsed, collapsedCount);
 
   Topology topology(mesh);
   for (std::size_t t = 0; t < triangleCount; ++t) {
     if (!collapsed[t]) continue;
     for (std::size_t side = 0; side < 3; ++side) topology.mate(3 * t + side) = kNotAnEdge;
   }
-  DisjointSets triangleSets(triangleCount);
-  // Corner c = 3 * t + k is vertex k of triangle t; corners of one vertex joined across the edges
-  // at that vertex form its fans.
-  DisjointSets cornerSets(3 * triangleCount);
+  Connectivity connectivity(triangleCount);
   for (std::size_t begin = 0; begin < keys.size();) {
     std::size_t end = begin + 1;
     while (end < keys.size() && keys[end].edge == keys[begin].edge) ++end;
-    const std::size_t users = end - begin;
-    ++report.edgeCount;
-    const std::size_t first = keys[begin].halfEdge;
-    if (users == 1) {
-      ++report.boundaryEdgeCount;
-      topology.mate(first) = kBoundary;
-    } else if (users == 2) {
-      const std::size_t second = keys[begin + 1].halfEdge;
-      topology.mate(first) = second;
-      topology.mate(second) = first;
-      if (topology.from(first) == topology.from(second)) ++report.inconsistentlyOrientedEdgeCount;
-    } else {
-      ++report.nonManifoldEdgeCount;
-      for (std::size_t i = begin; i < end; ++i) topology.mate(keys[i].halfEdge) = kNonManifold;
-    }
-    const std::size_t firstFrom = topology.from(first);
-    for (std::size_t i = begin + 1; i < end; ++i) {
-      const std::size_t halfEdge = keys[i].halfEdge;
-      triangleSets.unite(first / 3, halfEdge / 3);
-      const std::size_t fromCorner = halfEdge;
-      const std::size_t toCorner = halfEdge - halfEdge % 3 + (halfEdge % 3 + 1) % 3;
-      const std::size_t firstFromCorner = first;
-      const std::size_t firstToCorner = first - first % 3 + (first % 3 + 1) % 3;
-      const bool sameDirection = topology.from(halfEdge) == firstFrom;
-      cornerSets.unite(firstFromCorner, sameDirection ? fromCorner : toCorner);
-      cornerSets.unite(firstToCorner, sameDirection ? toCorner : fromCorner);
-    }
+    addEdge(keys, begin, end, topology, connectivity, report);
     begin = end;
   }
-
-  std::vector<std::uint32_t> fansAtVertex(vertexCount, 0);
-  for (std::size_t t = 0; t < triangleCount; ++t) {
-    if (collapsed[t]) continue;
-    if (triangleSets.isRoot(t)) ++report.connectedComponentCount;
-    for (std::size_t k = 0; k < 3; ++k) {
-      if (cornerSets.isRoot(3 * t + k)) ++fansAtVertex[mesh.triangles[t][k]];
-    }
-  }
-  for (const std::uint32_t fans : fansAtVertex) {
-    if (fans > 1) ++report.nonManifoldVertexCount;
-  }
+  countComponentsAndFans(mesh, collapsed, connectivity, report);
 
   report.boundaryLoopCount = topology.countBoundaryLoops();
   report.eulerCharacteristic = static_cast<long>(referencedCount) -

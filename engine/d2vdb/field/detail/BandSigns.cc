@@ -41,6 +41,10 @@ constexpr std::uint8_t kLinkable = 8;  ///< near, and far enough to link with fa
 constexpr std::uint8_t kFinal = 16;    ///< inside/outside decided
 constexpr std::uint8_t kInside = 32;   ///< (with kFinal) inside
 constexpr std::uint8_t kKeep = 64;     ///< on M: keeps OpenVDB's sign
+/// A near voxel far enough from M + S to pass its W on to the far voxels beside it.
+constexpr std::uint8_t kSeed = kActive | kNear | kKnown | kLinkable;
+/// W of a group whose seeds disagree: each of its voxels gets its own winding number.
+constexpr std::int16_t kPerVoxel = std::numeric_limits<std::int16_t>::min();
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr std::uint16_t kNoLabel = std::numeric_limits<std::uint16_t>::max();
@@ -256,7 +260,6 @@ LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& st
         // Seeds: near 6-neighbours far enough from the surface that none passes between.
         const int b = PaddedBlock::index(x, y, z);
         for (const int step : {-kStepX, kStepX, -kStepY, kStepY, -1, 1}) {
-          constexpr std::uint8_t kSeed = kActive | kNear | kKnown | kLinkable;
           if ((block.state[b + step] & kSeed) == kSeed) {
             groups.seeds[label].add(block.winding[b + step]);
           }
@@ -311,11 +314,6 @@ Mask neighboursOf(const std::vector<Mask>& masks, const LeafTable& table, std::s
   return out;
 }
 
-/// Without caps, inside is W >= 1 and constant wherever W is. Checks, with bit operations on
-/// every leaf, that OpenVDB's sign is already right on every far voxel: it agrees across every
-/// far-far link and with every linked near voxel, and every far voxel is reachable from a linked
-/// near voxel through far-far links. Then each group of far voxels has one sign, which is its
-/// seeds' W. False when a check fails (the caller then groups the far voxels explicitly).
 /// What the near pass of one leaf found (one bit per voxel in the masks).
 struct LeafSummary {
   Mask far{};          ///< active voxels not near M + S
@@ -328,6 +326,76 @@ struct LeafSummary {
   std::size_t queries = 0;
 };
 
+/// Grows `reached` inside one leaf along 6-adjacency through the voxels of `far`, until it stops.
+void growWithinLeaf(Mask& reached, const Mask& far) {
+  for (bool growing = true; growing;) {
+    Mask n{};
+    for (int x = 0; x < kDim; ++x) {
+      const std::uint64_t w = reached[x];
+      n[x] = ((w << 1) & ~kLowZ) | ((w >> 1) & ~kHighZ) | (w << 8) | (w >> 8);
+      if (x > 0) n[x] |= reached[x - 1];
+      if (x < kDim - 1) n[x] |= reached[x + 1];
+    }
+    growing = false;
+    for (int x = 0; x < kDim; ++x) {
+      const std::uint64_t grown = reached[x] | (n[x] & far[x]);
+      growing = growing || grown != reached[x];
+      reached[x] = grown;
+    }
+  }
+}
+
+/// One round of the reachability search for leaf i: what its neighbours reached in the previous
+/// round, then grown inside the leaf, into `next`. True when leaf i reached more than before.
+bool reachRound(const LeafTable& table, const std::vector<Mask>& far,
+                const std::vector<Mask>& reached, std::size_t i, Mask& next) {
+  Mask r = reached[i];
+  if (isEmpty(far[i])) {
+    next = r;
+    return false;
+  }
+  const Mask across = neighboursOf(reached, table, i);
+  for (int x = 0; x < kDim; ++x) r[x] |= across[x] & far[i][x];
+  growWithinLeaf(r, far[i]);
+  bool more = false;
+  for (int x = 0; x < kDim; ++x) more = more || r[x] != reached[i][x];
+  next = r;
+  return more;
+}
+
+/// Whether every voxel of `far` is reachable through far-far links from a far voxel next to one
+/// of `seeds`: grown in rounds (each leaf in parallel from the previous round's state, so the
+/// result does not depend on the schedule) until nothing changes.
+bool allFarReachable(const LeafTable& table, const std::vector<Mask>& far,
+                     const std::vector<Mask>& seeds) {
+  const std::size_t leafCount = table.size();
+  std::vector<Mask> reached(leafCount);
+  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+    const Mask n = neighboursOf(seeds, table, i);
+    for (int x = 0; x < kDim; ++x) reached[i][x] = n[x] & far[i][x];
+  });
+  std::vector<Mask> next(leafCount);
+  for (bool changed = true; changed;) {
+    std::atomic<bool> grew{false};
+    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
+      if (reachRound(table, far, reached, i, next[i])) grew.store(true, std::memory_order_relaxed);
+    });
+    reached.swap(next);
+    changed = grew.load();
+  }
+  for (std::size_t i = 0; i < leafCount; ++i) {
+    for (int x = 0; x < kDim; ++x) {
+      if ((far[i][x] & ~reached[i][x]) != 0) return false;
+    }
+  }
+  return true;
+}
+
+/// Without caps, inside is W >= 1 and constant wherever W is. Checks, with bit operations on
+/// every leaf, that OpenVDB's sign is already right on every far voxel: it agrees across every
+/// far-far link and with every linked near voxel, and every far voxel is reachable from a linked
+/// near voxel through far-far links. Then each group of far voxels has one sign, which is its
+/// seeds' W. False when a check fails (the caller then groups the far voxels explicitly).
 bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& summaries) {
   const std::size_t leafCount = table.size();
   std::vector<Mask> far(leafCount), farIn(leafCount), inSide(leafCount), outSide(leafCount),
@@ -354,55 +422,379 @@ bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& su
     if (clash != 0) consistent.store(false, std::memory_order_relaxed);
   });
   if (!consistent.load()) return false;
-  // Reachability from the seeds, in rounds until nothing changes.
-  std::vector<Mask> reached(leafCount);
-  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    const Mask n = neighboursOf(seeds, table, i);
-    for (int x = 0; x < kDim; ++x) reached[i][x] = n[x] & far[i][x];
-  });
-  std::vector<Mask> next(leafCount);
-  for (bool changed = true; changed;) {
-    std::atomic<bool> grew{false};
-    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-      Mask r = reached[i];
-      if (isEmpty(far[i])) {
-        next[i] = r;
-        return;
-      }
-      // Take what the neighbours reached in the previous round, then grow inside the leaf until
-      // it stops.
-      const Mask across = neighboursOf(reached, table, i);
-      for (int x = 0; x < kDim; ++x) r[x] |= across[x] & far[i][x];
-      for (bool growing = true; growing;) {
-        Mask n{};
-        for (int x = 0; x < kDim; ++x) {
-          const std::uint64_t w = r[x];
-          n[x] = ((w << 1) & ~kLowZ) | ((w >> 1) & ~kHighZ) | (w << 8) | (w >> 8);
-          if (x > 0) n[x] |= r[x - 1];
-          if (x < kDim - 1) n[x] |= r[x + 1];
-        }
-        growing = false;
-        for (int x = 0; x < kDim; ++x) {
-          const std::uint64_t grown = r[x] | (n[x] & far[i][x]);
-          growing = growing || grown != r[x];
-          r[x] = grown;
-        }
-      }
-      bool more = false;
-      for (int x = 0; x < kDim; ++x) more = more || r[x] != reached[i][x];
-      next[i] = r;
-      if (more) grew.store(true, std::memory_order_relaxed);
-    });
-    reached.swap(next);
-    changed = grew.load();
-  }
+  return allFarReachable(table, far, seeds);
+}
+
+/// Voxel coordinates as a point in index space.
+Eigen::Vector3d pointOf(const openvdb::Coord& ijk) {
+  return Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z());
+}
+
+/// The far voxels of the whole band in groups: each leaf's local groups, numbered consecutively
+/// (leaf i's from base[i]), joined across the leaves' faces in `sets`.
+struct FarGroups {
+  std::vector<LocalGroups> local;
+  std::vector<std::uint32_t> base;  ///< leafCount + 1 entries; the last is the number of groups
+  DisjointSets sets;
+};
+
+FarGroups joinFarGroups(const LeafTable& table, const std::vector<States>& states,
+                        const std::vector<Windings>& windings) {
+  const std::size_t leafCount = table.size();
+  std::vector<LocalGroups> local(leafCount);
+  tbb::parallel_for(std::size_t{0}, leafCount,
+                    [&](std::size_t i) { local[i] = groupFarVoxels(table, states, windings, i); });
+  std::vector<std::uint32_t> base(leafCount + 1, 0);
   for (std::size_t i = 0; i < leafCount; ++i) {
-    for (int x = 0; x < kDim; ++x) {
-      if ((far[i][x] & ~reached[i][x]) != 0) return false;
+    base[i + 1] = base[i] + static_cast<std::uint32_t>(local[i].representative.size());
+  }
+  const std::uint32_t total = base[leafCount];
+  FarGroups groups{std::move(local), std::move(base), DisjointSets(total)};
+  for (std::size_t i = 0; i < leafCount; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::uint32_t j = table.neighbour(i, 2 * axis + 1);
+      if (j == kNone) continue;
+      for (int u = 0; u < kDim; ++u) {
+        for (int v = 0; v < kDim; ++v) {
+          const std::uint16_t a = groups.local[i].label[faceOffset(axis, kDim - 1, u, v)];
+          const std::uint16_t b = groups.local[j].label[faceOffset(axis, 0, u, v)];
+          if (a != kNoLabel && b != kNoLabel) {
+            groups.sets.unite(groups.base[i] + a, groups.base[j] + b);
+          }
+        }
+      }
     }
   }
-  return true;
+  return groups;
 }
+
+/// One run of correctBandSigns() over a band with at least one leaf: the per-voxel states and W
+/// and the per-leaf summaries its phases fill in, in this order: near voxels (closest feature,
+/// then their own winding numbers), far voxels (the bit check, else groups), then the rewrite of
+/// the flipped voxels and their neighbours.
+class BandSignCorrection {
+ public:
+  BandSignCorrection(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
+                     const BandSignInputs& inputs, const LeafTable& table)
+      : grid_(grid),
+        table_(table),
+        mesh_(*inputs.mesh),
+        closed_(*inputs.closed),
+        caps_(inputs.caps),
+        sides_(inputs.sides),
+        decideBySides_(inputs.embedded && inputs.sides && !inputs.sides->empty()),
+        leafCount_(table.size()),
+        voxelSize_(grid.voxelSize()[0]),
+        // Near voxels have values up to sqrt(0.7) voxel, or sqrt(0.75) where meshToVolume pushed
+        // a voxel with no inside neighbour out of the surface layer.
+        nearValueLimit_(static_cast<float>(0.867 * voxelSize_)),
+        meshTriangles_(static_cast<std::int64_t>(mesh_.meshTriangleCount)),
+        closestLeaves_(leafCount_),
+        states_(leafCount_),
+        windings_(leafCount_),
+        summaries_(leafCount_) {
+    for (std::size_t i = 0; i < leafCount_; ++i) {
+      closestLeaves_[i] = closest.tree().probeConstLeaf(table_.leaf(i).origin());
+    }
+  }
+
+  BandSignReport run() {
+    BandSignReport report;
+    // Near voxels: exact closest point on M + S, then W from its side where that is decisive.
+    // Without caps, inside is W >= 1 and is compared with OpenVDB's sign right away.
+    tbb::parallel_for(std::size_t{0}, leafCount_, [this](std::size_t i) { classifyLeaf(i); });
+    // Near voxels the closest feature did not decide: their own winding number.
+    tbb::parallel_for(std::size_t{0}, leafCount_, [this](std::size_t i) { settleUndecided(i); });
+    // Far voxels. Without caps OpenVDB's sign is usually right there, which bit operations can
+    // check; otherwise: groups, their seeds, one winding number for a group without any.
+    const bool farVerified = !caps_ && farSignsVerified(table_, summaries_);
+    if (!farVerified) decideFarVoxels(report);
+    for (const LeafSummary& summary : summaries_) {
+      report.nearVoxels += summary.near;
+      report.windingNumberQueries += summary.queries;
+    }
+    const std::vector<openvdb::Coord> affected = affectedVoxels(report);
+    if (report.correctedVoxels == 0) return report;
+    rewrite(affected);
+    const float background = grid_.background();
+    openvdb::tools::signedFloodFillWithValues(grid_.tree(), background, -background);
+    return report;
+  }
+
+ private:
+  /// Closest point on M's recorded triangle t (index into mesh.triangles), or none.
+  NearestTriangle closestOnMesh(std::int64_t t, const Eigen::Vector3d& p) const {
+    NearestTriangle nearest;
+    if (t < 0 || t >= meshTriangles_) return nearest;
+    const TriangleIndices& tri = mesh_.triangles[static_cast<std::size_t>(t)];
+    nearest.triangle = static_cast<std::uint32_t>(t);
+    nearest.closest =
+        closestPointOnTriangle(p, mesh_.points[tri[0]], mesh_.points[tri[1]], mesh_.points[tri[2]]);
+    nearest.squaredDistance = (nearest.closest.point - p).squaredNorm();
+    return nearest;
+  }
+
+  /// W of M + S at p, certified.
+  std::int16_t windingAt(const Eigen::Vector3d& p) const {
+    return static_cast<std::int16_t>(std::clamp<long>(closed_.integerValue(p), -32000, 32000));
+  }
+
+  /// Records W at a near voxel; without caps also its final side, a flip, and a seed bit.
+  void settle(std::size_t i, openvdb::Index o, std::int16_t w, float value) {
+    std::uint8_t& s = states_[i][o];
+    windings_[i][o] = w;
+    s |= kKnown;
+    if (caps_) return;
+    const bool inside = w >= 1;
+    s |= kFinal | (inside ? kInside : 0);
+    LeafSummary& summary = summaries_[i];
+    if (inside != (value < 0.0f)) {
+      summary.flipped.push_back(table_.leaf(i).offsetToGlobalCoord(o));
+    }
+    if ((s & kSeed) == kSeed) {
+      (inside ? summary.seedInside : summary.seedOutside)[o >> 6] |= std::uint64_t{1} << (o & 63);
+    }
+  }
+
+  /// The near pass over the active voxels of leaf i.
+  void classifyLeaf(std::size_t i) {
+    States& state = states_[i];
+    state.fill(0);
+    LeafSummary& summary = summaries_[i];
+    const IndexLeaf* indices = closestLeaves_[i];
+    for (auto voxel = table_.leaf(i).cbeginValueOn(); voxel; ++voxel) {
+      classifyVoxel(i, voxel.pos(), *voxel, voxel.getCoord(), indices, state, summary);
+    }
+  }
+
+  /// Voxel o of leaf i (value `value`, coordinates ijk): on M, far, or near M + S.
+  void classifyVoxel(std::size_t i, openvdb::Index o, float value, const openvdb::Coord& ijk,
+                     const IndexLeaf* indices, States& state, LeafSummary& summary) {
+    const Eigen::Vector3d p = pointOf(ijk);
+    // meshToVolume's values (before renormalisation) are distances to actual triangles, so a
+    // larger one proves the voxel is not near M without looking at the triangle.
+    NearestTriangle nearest;
+    if (std::abs(value) <= nearValueLimit_) {
+      nearest = closestOnMesh(indices ? indices->getValue(o) : -1, p);
+    }
+    const bool nearMesh = nearest.squaredDistance <= kNearLimit2;
+    if (nearMesh && std::sqrt(nearest.squaredDistance) <= kOnSurface) {
+      state[o] = kActive | kNear | kFinal | kKeep | (value < 0.0f ? kInside : 0);
+      ++summary.near;
+      return;
+    }
+    if (!nearMesh) nearest = NearestTriangle{};
+    if (caps_) preferNearerCap(nearMesh, p, nearest);
+    if (!(nearest.squaredDistance <= kNearLimit2)) {
+      state[o] = kActive;
+      const std::uint64_t bit = std::uint64_t{1} << (o & 63);
+      summary.far[o >> 6] |= bit;
+      if (value < 0.0f) summary.farInside[o >> 6] |= bit;
+      return;
+    }
+    classifyNearVoxel(i, o, value, ijk, p, nearest, state[o], summary);
+  }
+
+  /// Replaces `nearest` (on M, or none) by the nearest cap triangle when that is the closest
+  /// feature of M + S within the near zone.
+  void preferNearerCap(bool nearMesh, const Eigen::Vector3d& p, NearestTriangle& nearest) const {
+    NearestTriangle onCap = nearestTriangle(caps_->hierarchy(), mesh_.points, mesh_.caps, p);
+    // Off M's near zone the distance to M is only known to exceed kFarBound: a cap point is then
+    // the closest point of M + S only if it is nearer than that.
+    const double capLimit2 = nearMesh ? kNearLimit2 : kFarBound * kFarBound;
+    if (onCap.squaredDistance <= capLimit2 && onCap.squaredDistance < nearest.squaredDistance) {
+      onCap.triangle += mesh_.meshTriangleCount;
+      nearest = onCap;
+    }
+  }
+
+  /// A voxel within sqrt(0.7) voxel of M + S, not on M, with its closest feature `nearest`: on a
+  /// cap, by the winding numbers' difference; else by its closest feature's side where that
+  /// decides, or left for its own winding number.
+  void classifyNearVoxel(std::size_t i, openvdb::Index o, float value, const openvdb::Coord& ijk,
+                         const Eigen::Vector3d& p, const NearestTriangle& nearest,
+                         std::uint8_t& state, LeafSummary& summary) {
+    std::uint8_t s = kActive | kNear;
+    ++summary.near;
+    const double distance = std::sqrt(nearest.squaredDistance);
+    if (distance > kLinkDistance) s |= kLinkable;
+    if (distance <= kOnSurface) {
+      // On a cap, off M: W and w_S both jump here, but their difference w does not.
+      const double w = closed_.exact(p) - caps_->exact(p);
+      state = s | kFinal | (w >= 0.5 ? kInside : 0);
+      if ((w >= 0.5) != (value < 0.0f)) summary.flipped.push_back(ijk);
+      return;
+    }
+    state = s;
+    if (decideBySides_) {
+      const ComponentSides& component = (*sides_)[mesh_.component[nearest.triangle]];
+      const SurfaceSide side = mesh_.side(nearest.triangle, nearest.closest, p);
+      if (side != SurfaceSide::unknown && component.known) {
+        settle(i, o, side == SurfaceSide::back ? component.back : component.front, value);
+        return;
+      }
+    }
+    summary.undecided.push_back(o);
+  }
+
+  void settleUndecided(std::size_t i) {
+    LeafSummary& summary = summaries_[i];
+    for (const openvdb::Index o : summary.undecided) {
+      settle(i, o, windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o))),
+             table_.leaf(i).getValue(o));
+      ++summary.queries;
+    }
+  }
+
+  /// W and the side of every far voxel through the groups they form.
+  void decideFarVoxels(BandSignReport& report) {
+    FarGroups groups = joinFarGroups(table_, states_, windings_);
+    const std::vector<std::int16_t> groupWinding = windingsOfGroups(groups, report);
+    assignGroupWindings(groups, groupWinding);
+    report.capQueries = decideFarSides();
+  }
+
+  /// Per group root: its seeds' W when they agree, kPerVoxel when they do not, or one winding
+  /// number at its representative voxel when it has no seeds. Counts the groups and conflicts.
+  std::vector<std::int16_t> windingsOfGroups(FarGroups& groups, BandSignReport& report) const {
+    const std::vector<std::uint32_t>& base = groups.base;
+    const std::uint32_t total = base[leafCount_];
+    std::vector<Seeds> seeds(total);
+    for (std::size_t i = 0; i < leafCount_; ++i) {
+      for (std::uint32_t g = 0; g < groups.local[i].seeds.size(); ++g) {
+        seeds[groups.sets.find(base[i] + g)].add(groups.local[i].seeds[g]);
+      }
+    }
+    std::vector<std::int16_t> groupWinding(total, 0);
+    std::vector<std::uint32_t> seedless;
+    for (std::uint32_t id = 0; id < total; ++id) {
+      if (groups.sets.find(id) != id) continue;
+      ++report.farComponents;
+      if (seeds[id].empty()) {
+        seedless.push_back(id);
+      } else if (seeds[id].low != seeds[id].high) {
+        groupWinding[id] = kPerVoxel;
+        ++report.conflicts;
+      } else {
+        groupWinding[id] = seeds[id].low;
+      }
+    }
+    tbb::parallel_for(std::size_t{0}, seedless.size(), [&](std::size_t n) {
+      const std::uint32_t id = seedless[n];
+      const auto i =
+          static_cast<std::size_t>(std::upper_bound(base.begin(), base.end(), id) - base.begin()) -
+          1;
+      const openvdb::Index o = groups.local[i].representative[id - base[i]];
+      groupWinding[id] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
+    });
+    report.windingNumberQueries += seedless.size();
+    return groupWinding;
+  }
+
+  /// Every far voxel takes its group's W (its own winding number in a conflicting group).
+  void assignGroupWindings(FarGroups& groups, const std::vector<std::int16_t>& groupWinding) {
+    tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
+      const LocalGroups& local = groups.local[i];
+      for (openvdb::Index o = 0; o < kVoxels; ++o) {
+        if (local.label[o] == kNoLabel) continue;
+        const std::int16_t w = groupWinding[groups.sets.find(groups.base[i] + local.label[o])];
+        if (w == kPerVoxel) {
+          windings_[i][o] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
+          ++summaries_[i].queries;
+        } else {
+          windings_[i][o] = w;
+        }
+        states_[i][o] |= kKnown;
+      }
+    });
+  }
+
+  /// Inside for every voxel not final yet: W - w_S >= 1/2 (W >= 1 without caps), compared with
+  /// OpenVDB's sign. Returns the number of cap winding numbers evaluated.
+  std::size_t decideFarSides() {
+    std::vector<std::size_t> capQueries(leafCount_, 0);
+    tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
+      States& state = states_[i];
+      const FloatLeaf& leaf = table_.leaf(i);
+      for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+        std::uint8_t& s = state[voxel.pos()];
+        if (s & kFinal) continue;
+        const double w = windings_[i][voxel.pos()];
+        bool inside = w >= 1.0;
+        if (caps_) {
+          const double wS =
+              caps_->decide(pointOf(voxel.getCoord()), [w](const WindingNumberField::Estimate& e) {
+                return std::abs(w - e.value - 0.5) > e.errorBound;
+              });
+          inside = w - wS >= 0.5;
+          ++capQueries[i];
+        }
+        s |= kFinal | (inside ? kInside : 0);
+        if (inside != (*voxel < 0.0f)) summaries_[i].flipped.push_back(voxel.getCoord());
+      }
+    });
+    return std::accumulate(capQueries.begin(), capQueries.end(), std::size_t{0});
+  }
+
+  /// The flipped voxels and their 26-neighbours, sorted and unique; counts the flips.
+  std::vector<openvdb::Coord> affectedVoxels(BandSignReport& report) const {
+    std::vector<openvdb::Coord> affected;
+    for (const LeafSummary& summary : summaries_) {
+      report.correctedVoxels += summary.flipped.size();
+      for (const openvdb::Coord& ijk : summary.flipped) {
+        for (int dx = -1; dx <= 1; ++dx)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz) affected.push_back(ijk.offsetBy(dx, dy, dz));
+      }
+    }
+    if (report.correctedVoxels == 0) return affected;
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    return affected;
+  }
+
+  /// Flipped voxels change sign; they and the near voxels around them take the exact distance to
+  /// M (meshToVolume pushes surface voxels without an inside neighbour out to sqrt(3)/2 voxel,
+  /// which a corrected neighbour makes wrong).
+  void rewrite(const std::vector<openvdb::Coord>& affected) {
+    tbb::parallel_for(std::size_t{0}, affected.size(), [&](std::size_t n) {
+      const openvdb::Coord& ijk = affected[n];
+      const std::uint32_t i = table_.find(ijk & ~(kDim - 1));
+      if (i == kNone) return;
+      FloatLeaf& leaf = table_.leaf(i);
+      const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
+      if (!leaf.isValueOn(o)) return;
+      float magnitude = std::abs(leaf.getValue(o));
+      if (magnitude <= nearValueLimit_) {
+        const NearestTriangle nearest =
+            closestOnMesh(closestLeaves_[i] ? closestLeaves_[i]->getValue(o) : -1, pointOf(ijk));
+        if (nearest.squaredDistance <= kNearLimit2) {
+          magnitude = static_cast<float>(std::sqrt(nearest.squaredDistance) * voxelSize_);
+        }
+      }
+      // Far voxels left final by the bit check keep OpenVDB's sign.
+      const std::uint8_t s = states_[i][o];
+      const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
+      leaf.setValueOnly(o, inside ? -magnitude : magnitude);
+    });
+  }
+
+  openvdb::FloatGrid& grid_;
+  const LeafTable& table_;
+  const InsideOutsideMesh& mesh_;
+  const WindingNumberField& closed_;
+  const WindingNumberField* caps_;            ///< null without caps
+  const std::vector<ComponentSides>* sides_;  ///< used only when decideBySides_
+  const bool decideBySides_;                  ///< embedded, with the components' sides
+  const std::size_t leafCount_;
+  const double voxelSize_;
+  const float nearValueLimit_;
+  const std::int64_t meshTriangles_;
+  std::vector<const IndexLeaf*> closestLeaves_;  ///< per leaf, the same leaf of `closest`
+  std::vector<States> states_;
+  std::vector<Windings> windings_;
+  std::vector<LeafSummary> summaries_;
+};
 
 }  // namespace
 
@@ -451,280 +843,10 @@ std::vector<ComponentSides> componentSides(const InsideOutsideMesh& mesh,
 
 BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
                                 const BandSignInputs& inputs) {
-  BandSignReport report;
-  const InsideOutsideMesh& mesh = *inputs.mesh;
-  const WindingNumberField& closed = *inputs.closed;
-  const WindingNumberField* caps = inputs.caps;
   const LeafTable table(grid.tree());
-  const std::size_t leafCount = table.size();
-  if (leafCount == 0) return report;
-  const double voxelSize = grid.voxelSize()[0];
-  const float background = grid.background();
-  // Near voxels have values up to sqrt(0.7) voxel, or sqrt(0.75) where meshToVolume pushed a
-  // voxel with no inside neighbour out of the surface layer.
-  const auto nearValueLimit = static_cast<float>(0.867 * voxelSize);
-  const auto meshTriangles = static_cast<std::int64_t>(mesh.meshTriangleCount);
-
-  std::vector<const IndexLeaf*> closestLeaves(leafCount);
-  for (std::size_t i = 0; i < leafCount; ++i) {
-    closestLeaves[i] = closest.tree().probeConstLeaf(table.leaf(i).origin());
-  }
-  const auto pointOf = [](const openvdb::Coord& ijk) {
-    return Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z());
-  };
-  /// Closest point on M's recorded triangle t (index into mesh.triangles), or none.
-  const auto closestOnMesh = [&](std::int64_t t, const Eigen::Vector3d& p) {
-    NearestTriangle nearest;
-    if (t < 0 || t >= meshTriangles) return nearest;
-    const TriangleIndices& tri = mesh.triangles[static_cast<std::size_t>(t)];
-    nearest.triangle = static_cast<std::uint32_t>(t);
-    nearest.closest =
-        closestPointOnTriangle(p, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
-    nearest.squaredDistance = (nearest.closest.point - p).squaredNorm();
-    return nearest;
-  };
-  /// W of M + S at p, certified.
-  const auto windingAt = [&](const Eigen::Vector3d& p) {
-    return static_cast<std::int16_t>(std::clamp<long>(closed.integerValue(p), -32000, 32000));
-  };
-
-  const std::vector<ComponentSides> noSides;
-  const std::vector<ComponentSides>& sides = inputs.sides ? *inputs.sides : noSides;
-
-  // Near voxels: exact closest point on M + S, then W from its side where that is decisive.
-  // Without caps, inside is W >= 1 and is compared with OpenVDB's sign right away.
-  std::vector<States> states(leafCount);
-  std::vector<Windings> windings(leafCount);
-  std::vector<LeafSummary> summaries(leafCount);
-  constexpr std::uint8_t kSeed = kActive | kNear | kKnown | kLinkable;
-  /// Records W at a near voxel; without caps also its final side, a flip, and a seed bit.
-  const auto settle = [&](std::size_t i, openvdb::Index o, std::int16_t w, float value) {
-    std::uint8_t& s = states[i][o];
-    windings[i][o] = w;
-    s |= kKnown;
-    if (caps) return;
-    const bool inside = w >= 1;
-    s |= kFinal | (inside ? kInside : 0);
-    LeafSummary& summary = summaries[i];
-    if (inside != (value < 0.0f)) {
-      summary.flipped.push_back(table.leaf(i).offsetToGlobalCoord(o));
-    }
-    if ((s & kSeed) == kSeed) {
-      (inside ? summary.seedInside : summary.seedOutside)[o >> 6] |= std::uint64_t{1} << (o & 63);
-    }
-  };
-  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    States& state = states[i];
-    state.fill(0);
-    LeafSummary& summary = summaries[i];
-    const FloatLeaf& leaf = table.leaf(i);
-    const IndexLeaf* indices = closestLeaves[i];
-    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      const openvdb::Index o = voxel.pos();
-      const float value = *voxel;
-      const Eigen::Vector3d p = pointOf(voxel.getCoord());
-      // meshToVolume's values (before renormalisation) are distances to actual triangles, so a
-      // larger one proves the voxel is not near M without looking at the triangle.
-      NearestTriangle nearest;
-      if (std::abs(value) <= nearValueLimit) {
-        nearest = closestOnMesh(indices ? indices->getValue(o) : -1, p);
-      }
-      const bool nearMesh = nearest.squaredDistance <= kNearLimit2;
-      if (nearMesh && std::sqrt(nearest.squaredDistance) <= kOnSurface) {
-        state[o] = kActive | kNear | kFinal | kKeep | (value < 0.0f ? kInside : 0);
-        ++summary.near;
-        continue;
-      }
-      if (!nearMesh) nearest = NearestTriangle{};
-      if (caps) {
-        NearestTriangle onCap = nearestTriangle(caps->hierarchy(), mesh.points, mesh.caps, p);
-        // Off M's near zone the distance to M is only known to exceed kFarBound: a cap point
-        // is then the closest point of M + S only if it is nearer than that.
-        const double capLimit2 = nearMesh ? kNearLimit2 : kFarBound * kFarBound;
-        if (onCap.squaredDistance <= capLimit2 && onCap.squaredDistance < nearest.squaredDistance) {
-          onCap.triangle += mesh.meshTriangleCount;
-          nearest = onCap;
-        }
-      }
-      if (!(nearest.squaredDistance <= kNearLimit2)) {
-        state[o] = kActive;
-        const std::uint64_t bit = std::uint64_t{1} << (o & 63);
-        summary.far[o >> 6] |= bit;
-        if (value < 0.0f) summary.farInside[o >> 6] |= bit;
-        continue;
-      }
-      std::uint8_t s = kActive | kNear;
-      ++summary.near;
-      const double distance = std::sqrt(nearest.squaredDistance);
-      if (distance > kLinkDistance) s |= kLinkable;
-      if (distance <= kOnSurface) {
-        // On a cap, off M: W and w_S both jump here, but their difference w does not.
-        const double w = closed.exact(p) - caps->exact(p);
-        state[o] = s | kFinal | (w >= 0.5 ? kInside : 0);
-        if ((w >= 0.5) != (value < 0.0f)) summary.flipped.push_back(voxel.getCoord());
-        continue;
-      }
-      state[o] = s;
-      if (inputs.embedded && !sides.empty()) {
-        const ComponentSides& component = sides[mesh.component[nearest.triangle]];
-        const SurfaceSide side = mesh.side(nearest.triangle, nearest.closest, p);
-        if (side != SurfaceSide::unknown && component.known) {
-          settle(i, o, side == SurfaceSide::back ? component.back : component.front, value);
-          continue;
-        }
-      }
-      summary.undecided.push_back(o);
-    }
-  });
-
-  // Near voxels the closest feature did not decide: their own winding number.
-  tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    LeafSummary& summary = summaries[i];
-    for (const openvdb::Index o : summary.undecided) {
-      settle(i, o, windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o))),
-             table.leaf(i).getValue(o));
-      ++summary.queries;
-    }
-  });
-
-  // Far voxels. Without caps OpenVDB's sign is usually right there, which bit operations can
-  // check; otherwise: groups, their seeds, one winding number for a group without any.
-  const bool farVerified = !caps && farSignsVerified(table, summaries);
-  if (!farVerified) {
-    std::vector<LocalGroups> groups(leafCount);
-    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-      groups[i] = groupFarVoxels(table, states, windings, i);
-    });
-    std::vector<std::uint32_t> base(leafCount + 1, 0);
-    for (std::size_t i = 0; i < leafCount; ++i) {
-      base[i + 1] = base[i] + static_cast<std::uint32_t>(groups[i].representative.size());
-    }
-    DisjointSets sets(base[leafCount]);
-    for (std::size_t i = 0; i < leafCount; ++i) {
-      for (int axis = 0; axis < 3; ++axis) {
-        const std::uint32_t j = table.neighbour(i, 2 * axis + 1);
-        if (j == kNone) continue;
-        for (int u = 0; u < kDim; ++u) {
-          for (int v = 0; v < kDim; ++v) {
-            const std::uint16_t a = groups[i].label[faceOffset(axis, kDim - 1, u, v)];
-            const std::uint16_t b = groups[j].label[faceOffset(axis, 0, u, v)];
-            if (a != kNoLabel && b != kNoLabel) sets.unite(base[i] + a, base[j] + b);
-          }
-        }
-      }
-    }
-    const std::uint32_t total = base[leafCount];
-    std::vector<Seeds> seeds(total);
-    for (std::size_t i = 0; i < leafCount; ++i) {
-      for (std::uint32_t g = 0; g < groups[i].seeds.size(); ++g) {
-        seeds[sets.find(base[i] + g)].add(groups[i].seeds[g]);
-      }
-    }
-    constexpr std::int16_t kPerVoxel = std::numeric_limits<std::int16_t>::min();
-    std::vector<std::int16_t> groupWinding(total, 0);
-    std::vector<std::uint32_t> seedless;
-    for (std::uint32_t id = 0; id < total; ++id) {
-      if (sets.find(id) != id) continue;
-      ++report.farComponents;
-      if (seeds[id].empty()) {
-        seedless.push_back(id);
-      } else if (seeds[id].low != seeds[id].high) {
-        groupWinding[id] = kPerVoxel;
-        ++report.conflicts;
-      } else {
-        groupWinding[id] = seeds[id].low;
-      }
-    }
-    tbb::parallel_for(std::size_t{0}, seedless.size(), [&](std::size_t n) {
-      const std::uint32_t id = seedless[n];
-      const auto i =
-          static_cast<std::size_t>(std::upper_bound(base.begin(), base.end(), id) - base.begin()) -
-          1;
-      const openvdb::Index o = groups[i].representative[id - base[i]];
-      groupWinding[id] = windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o)));
-    });
-    report.windingNumberQueries += seedless.size();
-    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-      for (openvdb::Index o = 0; o < kVoxels; ++o) {
-        if (groups[i].label[o] == kNoLabel) continue;
-        const std::int16_t w = groupWinding[sets.find(base[i] + groups[i].label[o])];
-        if (w == kPerVoxel) {
-          windings[i][o] = windingAt(pointOf(table.leaf(i).offsetToGlobalCoord(o)));
-          ++summaries[i].queries;
-        } else {
-          windings[i][o] = w;
-        }
-        states[i][o] |= kKnown;
-      }
-    });
-
-    // Inside: W - w_S >= 1/2 (W >= 1 without caps), compared with OpenVDB's sign.
-    std::vector<std::size_t> capQueries(leafCount, 0);
-    tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-      States& state = states[i];
-      const FloatLeaf& leaf = table.leaf(i);
-      for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-        std::uint8_t& s = state[voxel.pos()];
-        if (s & kFinal) continue;
-        const double w = windings[i][voxel.pos()];
-        bool inside = w >= 1.0;
-        if (caps) {
-          const double wS =
-              caps->decide(pointOf(voxel.getCoord()), [w](const WindingNumberField::Estimate& e) {
-                return std::abs(w - e.value - 0.5) > e.errorBound;
-              });
-          inside = w - wS >= 0.5;
-          ++capQueries[i];
-        }
-        s |= kFinal | (inside ? kInside : 0);
-        if (inside != (*voxel < 0.0f)) summaries[i].flipped.push_back(voxel.getCoord());
-      }
-    });
-    report.capQueries = std::accumulate(capQueries.begin(), capQueries.end(), std::size_t{0});
-  }
-  for (const LeafSummary& summary : summaries) {
-    report.nearVoxels += summary.near;
-    report.windingNumberQueries += summary.queries;
-  }
-
-  std::vector<openvdb::Coord> affected;
-  for (const LeafSummary& summary : summaries) {
-    report.correctedVoxels += summary.flipped.size();
-    for (const openvdb::Coord& ijk : summary.flipped) {
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) affected.push_back(ijk.offsetBy(dx, dy, dz));
-    }
-  }
-  if (report.correctedVoxels == 0) return report;
-  std::sort(affected.begin(), affected.end());
-  affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-
-  // Flipped voxels change sign; they and the near voxels around them take the exact distance to
-  // M (meshToVolume pushes surface voxels without an inside neighbour out to sqrt(3)/2 voxel,
-  // which a corrected neighbour makes wrong).
-  tbb::parallel_for(std::size_t{0}, affected.size(), [&](std::size_t n) {
-    const openvdb::Coord& ijk = affected[n];
-    const std::uint32_t i = table.find(ijk & ~(kDim - 1));
-    if (i == kNone) return;
-    FloatLeaf& leaf = table.leaf(i);
-    const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
-    if (!leaf.isValueOn(o)) return;
-    float magnitude = std::abs(leaf.getValue(o));
-    if (magnitude <= nearValueLimit) {
-      const NearestTriangle nearest =
-          closestOnMesh(closestLeaves[i] ? closestLeaves[i]->getValue(o) : -1, pointOf(ijk));
-      if (nearest.squaredDistance <= kNearLimit2) {
-        magnitude = static_cast<float>(std::sqrt(nearest.squaredDistance) * voxelSize);
-      }
-    }
-    // Far voxels left final by the bit check keep OpenVDB's sign.
-    const std::uint8_t s = states[i][o];
-    const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
-    leaf.setValueOnly(o, inside ? -magnitude : magnitude);
-  });
-  openvdb::tools::signedFloodFillWithValues(grid.tree(), background, -background);
-  return report;
+  if (table.size() == 0) return BandSignReport{};
+  BandSignCorrection correction(grid, closest, inputs, table);
+  return correction.run();
 }
 
 }  // namespace d2vdb::detail

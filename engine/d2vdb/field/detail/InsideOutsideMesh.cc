@@ -101,6 +101,28 @@ void reverseHalfEdges(std::vector<HalfEdgeKey>& keys, const std::vector<std::uin
   }
 }
 
+/// Whether the triangles, with those marked in `flip` reversed, are inside out: a negative signed
+/// volume about the centre of their bounding box.
+bool insideOut(const std::vector<Eigen::Vector3d>& p, const std::vector<TriangleIndices>& triangles,
+               const std::vector<std::uint8_t>& flip) {
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (const TriangleIndices& tri : triangles) {
+    for (const std::uint32_t corner : tri) {
+      low = low.cwiseMin(p[corner]);
+      high = high.cwiseMax(p[corner]);
+    }
+  }
+  const Eigen::Vector3d centre = 0.5 * (low + high);
+  double volume = 0.0;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const TriangleIndices& tri = triangles[t];
+    const double det = (p[tri[0]] - centre).dot((p[tri[1]] - centre).cross(p[tri[2]] - centre));
+    volume += flip[t] ? -det : det;
+  }
+  return volume < 0.0;
+}
+
 /// Reverses triangles so that edges shared by two triangles are traversed once each way (see
 /// the header). `keys` are sortedHalfEdges(triangles) before and after. Returns the number of
 /// reversed triangles.
@@ -149,23 +171,8 @@ std::size_t repairOrientation(const std::vector<Eigen::Vector3d>& p,
   for (std::uint32_t t = 0; t < count; ++t) {
     if (flippedArea[component[t]] > keptArea[component[t]]) flip[t] ^= 1;
   }
-  // An inside-out mesh (negative signed volume about its box centre) is turned right side out.
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d high = -low;
-  for (const TriangleIndices& tri : triangles) {
-    for (const std::uint32_t corner : tri) {
-      low = low.cwiseMin(p[corner]);
-      high = high.cwiseMax(p[corner]);
-    }
-  }
-  const Eigen::Vector3d centre = 0.5 * (low + high);
-  double volume = 0.0;
-  for (std::uint32_t t = 0; t < count; ++t) {
-    const TriangleIndices& tri = triangles[t];
-    const double det = (p[tri[0]] - centre).dot((p[tri[1]] - centre).cross(p[tri[2]] - centre));
-    volume += flip[t] ? -det : det;
-  }
-  if (volume < 0.0) {
+  // An inside-out mesh is turned right side out.
+  if (insideOut(p, triangles, flip)) {
     for (std::uint8_t& f : flip) f ^= 1;
   }
   std::size_t reversed = 0;
@@ -222,6 +229,183 @@ std::vector<std::vector<std::uint32_t>> boundaryLoops(const std::vector<HalfEdge
   return loops;
 }
 
+/// Closes the holes of M: a cone from each boundary loop's mean vertex; triangle (apex, b, a) for
+/// the boundary edge a -> b, so that the cap traverses the loop the other way. `keys` are M's
+/// sorted half-edges before, those of M + S after. `meshIsEmpty`: M has no triangles.
+void closeHoles(InsideOutsideMesh& mesh, std::vector<HalfEdgeKey>& keys, bool meshIsEmpty) {
+  const std::vector<std::vector<std::uint32_t>> loops =
+      boundaryLoops(keys, mesh.points.size(), mesh.boundaryEdges);
+  mesh.watertight = !meshIsEmpty && loops.empty();
+  mesh.capLoops = loops.size();
+  for (const std::vector<std::uint32_t>& loop : loops) {
+    Eigen::Vector3d apex = Eigen::Vector3d::Zero();
+    for (const std::uint32_t v : loop) apex += mesh.points[v];
+    apex /= static_cast<double>(loop.size());
+    const auto apexIndex = static_cast<std::uint32_t>(mesh.points.size());
+    mesh.points.push_back(apex);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const std::uint32_t a = loop[i];
+      const std::uint32_t b = loop[(i + 1) % loop.size()];
+      mesh.caps.push_back({apexIndex, b, a});
+    }
+  }
+  mesh.triangles.insert(mesh.triangles.end(), mesh.caps.begin(), mesh.caps.end());
+  if (!mesh.caps.empty()) keys = sortedHalfEdges(mesh.triangles);
+}
+
+/// Marks the triangles of M + S with a repeated corner or |cross| <= 1e-10 * longest edge^2.
+void markDegenerate(InsideOutsideMesh& mesh) {
+  const std::vector<Eigen::Vector3d>& p = mesh.points;
+  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
+  mesh.degenerate.assign(triangleCount, false);
+  for (std::uint32_t t = 0; t < triangleCount; ++t) {
+    const TriangleIndices& tri = mesh.triangles[t];
+    bool flat = repeatsCorner(tri);
+    if (!flat) {
+      const Eigen::Vector3d ab = p[tri[1]] - p[tri[0]];
+      const Eigen::Vector3d ac = p[tri[2]] - p[tri[0]];
+      const Eigen::Vector3d bc = p[tri[2]] - p[tri[1]];
+      const double longest2 = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
+      flat = !(ab.cross(ac).norm() > 1e-10 * longest2);
+    }
+    if (flat) {
+      mesh.degenerate[t] = true;
+      ++mesh.degenerateTriangles;
+    }
+  }
+}
+
+/// Mates: edges of M + S shared by exactly two triangles traversed once each way. `keys` are the
+/// sorted half-edges of M + S.
+void pairMates(InsideOutsideMesh& mesh, const std::vector<HalfEdgeKey>& keys) {
+  mesh.mate.assign(3 * mesh.triangles.size(), kNoMate);
+  for (std::size_t i = 0; i < keys.size();) {
+    std::size_t j = i + 1;
+    while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
+    if (j - i == 2 && keys[i].forward != keys[i + 1].forward) {
+      mesh.mate[keys[i].halfEdge] = keys[i + 1].halfEdge;
+      mesh.mate[keys[i + 1].halfEdge] = keys[i].halfEdge;
+    }
+    i = j;
+  }
+}
+
+/// Components across mates, numbered in the order of their first triangles.
+void labelComponents(InsideOutsideMesh& mesh) {
+  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
+  mesh.component.assign(triangleCount, kNoMate);
+  std::deque<std::uint32_t> queue;
+  for (std::uint32_t root = 0; root < triangleCount; ++root) {
+    if (mesh.component[root] != kNoMate) continue;
+    const std::uint32_t id = mesh.componentCount++;
+    mesh.component[root] = id;
+    queue.push_back(root);
+    while (!queue.empty()) {
+      const std::uint32_t t = queue.front();
+      queue.pop_front();
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t other = mesh.mate[3 * t + k];
+        if (other == kNoMate || mesh.component[other / 3] != kNoMate) continue;
+        mesh.component[other / 3] = id;
+        queue.push_back(other / 3);
+      }
+    }
+  }
+}
+
+/// Unit face normals; zero for a degenerate triangle.
+void computeFaceNormals(InsideOutsideMesh& mesh) {
+  const std::vector<Eigen::Vector3d>& p = mesh.points;
+  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
+  mesh.faceNormal.assign(triangleCount, Eigen::Vector3d::Zero());
+  for (std::uint32_t t = 0; t < triangleCount; ++t) {
+    if (mesh.degenerate[t]) continue;
+    const TriangleIndices& tri = mesh.triangles[t];
+    mesh.faceNormal[t] = (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]).normalized();
+  }
+}
+
+/// The corners of M + S grouped by vertex: those of vertex v are corners[start[v]..start[v + 1]),
+/// each as the half-edge 3 t + k leaving v in its triangle, in triangle order.
+struct VertexCorners {
+  std::vector<std::uint32_t> start;
+  std::vector<std::uint32_t> corners;
+};
+
+VertexCorners cornersByVertex(const InsideOutsideMesh& mesh) {
+  const std::size_t vertexCount = mesh.points.size();
+  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
+  VertexCorners result;
+  std::vector<std::uint32_t>& start = result.start;
+  start.assign(vertexCount + 1, 0);
+  for (const TriangleIndices& tri : mesh.triangles) {
+    for (const std::uint32_t corner : tri) ++start[corner + 1];
+  }
+  for (std::size_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
+  result.corners.resize(start.back());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t t = 0; t < triangleCount; ++t) {
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      result.corners[fill[mesh.triangles[t][k]]++] = 3 * t + k;
+    }
+  }
+  return result;
+}
+
+/// Sets `normal` to the angle-weighted pseudonormal of the vertex whose `degree` corners start
+/// at `corners`, unless its triangles do not form one closed fan or touch a degenerate triangle
+/// (then `normal` is left alone).
+void setClosedFanNormal(const InsideOutsideMesh& mesh, const std::uint32_t* corners,
+                        std::uint32_t degree, Eigen::Vector3d& normal) {
+  const std::vector<Eigen::Vector3d>& p = mesh.points;
+  bool usable = true;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::uint32_t i = 0; i < degree; ++i) {
+    const std::uint32_t t = corners[i] / 3;
+    const std::uint32_t k = corners[i] % 3;
+    if (mesh.degenerate[t]) {
+      usable = false;
+      break;
+    }
+    const TriangleIndices& tri = mesh.triangles[t];
+    const Eigen::Vector3d e1 = (p[tri[(k + 1) % 3]] - p[tri[k]]).normalized();
+    const Eigen::Vector3d e2 = (p[tri[(k + 2) % 3]] - p[tri[k]]).normalized();
+    sum += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * mesh.faceNormal[t];
+  }
+  // One closed fan: walking across the mates from the first corner returns to it after visiting
+  // every incident triangle.
+  const std::uint32_t first = corners[0];  // leaves v in its triangle
+  std::uint32_t halfEdge = first;
+  std::uint32_t steps = 0;
+  while (usable && steps <= degree) {
+    const std::uint32_t other = mesh.mate[halfEdge];
+    if (other == kNoMate) {
+      usable = false;
+      break;
+    }
+    // `other` arrives at v; the next half-edge of its triangle leaves v.
+    halfEdge = 3 * (other / 3) + (other % 3 + 1) % 3;
+    ++steps;
+    if (halfEdge == first) break;
+  }
+  if (usable && steps == degree && halfEdge == first) normal = sum;
+}
+
+/// Vertex pseudonormals: incident corners by vertex, then the fan walk through the mates.
+void computeVertexNormals(InsideOutsideMesh& mesh) {
+  const std::size_t vertexCount = mesh.points.size();
+  const VertexCorners incident = cornersByVertex(mesh);
+  mesh.vertexNormal.assign(vertexCount, Eigen::Vector3d::Zero());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertexCount), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      const std::uint32_t degree = incident.start[v + 1] - incident.start[v];
+      if (degree == 0) continue;
+      setClosedFanNormal(mesh, incident.corners.data() + incident.start[v], degree,
+                         mesh.vertexNormal[v]);
+    }
+  });
+}
+
 }  // namespace
 
 SurfaceSide InsideOutsideMesh::side(std::uint32_t triangle, const TriangleClosestPoint& closest,
@@ -265,144 +449,12 @@ InsideOutsideMesh prepareInsideOutsideMesh(std::vector<Eigen::Vector3d> points,
   // M's half-edges sorted by edge, kept up to date through the repair and extended by the caps'.
   std::vector<HalfEdgeKey> keys = sortedHalfEdges(mesh.triangles);
   mesh.reorientedTriangles = repairOrientation(mesh.points, mesh.triangles, keys);
-
-  // Close the holes: a cone from each boundary loop's mean vertex; triangle (apex, b, a) for the
-  // boundary edge a -> b, so that the cap traverses the loop the other way.
-  {
-    const std::vector<std::vector<std::uint32_t>> loops =
-        boundaryLoops(keys, mesh.points.size(), mesh.boundaryEdges);
-    mesh.watertight = !input.empty() && loops.empty();
-    mesh.capLoops = loops.size();
-    for (const std::vector<std::uint32_t>& loop : loops) {
-      Eigen::Vector3d apex = Eigen::Vector3d::Zero();
-      for (const std::uint32_t v : loop) apex += mesh.points[v];
-      apex /= static_cast<double>(loop.size());
-      const auto apexIndex = static_cast<std::uint32_t>(mesh.points.size());
-      mesh.points.push_back(apex);
-      for (std::size_t i = 0; i < loop.size(); ++i) {
-        const std::uint32_t a = loop[i];
-        const std::uint32_t b = loop[(i + 1) % loop.size()];
-        mesh.caps.push_back({apexIndex, b, a});
-      }
-    }
-    mesh.triangles.insert(mesh.triangles.end(), mesh.caps.begin(), mesh.caps.end());
-    if (!mesh.caps.empty()) keys = sortedHalfEdges(mesh.triangles);
-  }
-  const std::vector<Eigen::Vector3d>& p = mesh.points;
-  const auto triangleCount = static_cast<std::uint32_t>(mesh.triangles.size());
-
-  // Degenerate triangles.
-  mesh.degenerate.assign(triangleCount, false);
-  for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    const TriangleIndices& tri = mesh.triangles[t];
-    bool flat = repeatsCorner(tri);
-    if (!flat) {
-      const Eigen::Vector3d ab = p[tri[1]] - p[tri[0]];
-      const Eigen::Vector3d ac = p[tri[2]] - p[tri[0]];
-      const Eigen::Vector3d bc = p[tri[2]] - p[tri[1]];
-      const double longest2 = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
-      flat = !(ab.cross(ac).norm() > 1e-10 * longest2);
-    }
-    if (flat) {
-      mesh.degenerate[t] = true;
-      ++mesh.degenerateTriangles;
-    }
-  }
-
-  // Mates: edges of M + S shared by exactly two triangles traversed once each way.
-  mesh.mate.assign(3 * std::size_t{triangleCount}, kNoMate);
-  {
-    for (std::size_t i = 0; i < keys.size();) {
-      std::size_t j = i + 1;
-      while (j < keys.size() && keys[j].edge == keys[i].edge) ++j;
-      if (j - i == 2 && keys[i].forward != keys[i + 1].forward) {
-        mesh.mate[keys[i].halfEdge] = keys[i + 1].halfEdge;
-        mesh.mate[keys[i + 1].halfEdge] = keys[i].halfEdge;
-      }
-      i = j;
-    }
-  }
-
-  // Components across mates.
-  mesh.component.assign(triangleCount, kNoMate);
-  std::deque<std::uint32_t> queue;
-  for (std::uint32_t root = 0; root < triangleCount; ++root) {
-    if (mesh.component[root] != kNoMate) continue;
-    const std::uint32_t id = mesh.componentCount++;
-    mesh.component[root] = id;
-    queue.push_back(root);
-    while (!queue.empty()) {
-      const std::uint32_t t = queue.front();
-      queue.pop_front();
-      for (std::uint32_t k = 0; k < 3; ++k) {
-        const std::uint32_t other = mesh.mate[3 * t + k];
-        if (other == kNoMate || mesh.component[other / 3] != kNoMate) continue;
-        mesh.component[other / 3] = id;
-        queue.push_back(other / 3);
-      }
-    }
-  }
-
-  // Face normals.
-  mesh.faceNormal.assign(triangleCount, Eigen::Vector3d::Zero());
-  for (std::uint32_t t = 0; t < triangleCount; ++t) {
-    if (mesh.degenerate[t]) continue;
-    const TriangleIndices& tri = mesh.triangles[t];
-    mesh.faceNormal[t] = (p[tri[1]] - p[tri[0]]).cross(p[tri[2]] - p[tri[0]]).normalized();
-  }
-
-  // Vertex pseudonormals: incident corners by vertex, then the fan walk through the mates.
-  const std::size_t vertexCount = p.size();
-  std::vector<std::uint32_t> start(vertexCount + 1, 0);
-  for (const TriangleIndices& tri : mesh.triangles) {
-    for (const std::uint32_t corner : tri) ++start[corner + 1];
-  }
-  for (std::size_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> corners(start.back());  // 3 t + k with corner k at the vertex
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t t = 0; t < triangleCount; ++t) {
-      for (std::uint32_t k = 0; k < 3; ++k) corners[fill[mesh.triangles[t][k]]++] = 3 * t + k;
-    }
-  }
-  mesh.vertexNormal.assign(vertexCount, Eigen::Vector3d::Zero());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertexCount), [&](const auto& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const std::uint32_t degree = start[v + 1] - start[v];
-      if (degree == 0) continue;
-      bool usable = true;
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
-        const std::uint32_t t = corners[i] / 3;
-        const std::uint32_t k = corners[i] % 3;
-        if (mesh.degenerate[t]) {
-          usable = false;
-          break;
-        }
-        const TriangleIndices& tri = mesh.triangles[t];
-        const Eigen::Vector3d e1 = (p[tri[(k + 1) % 3]] - p[tri[k]]).normalized();
-        const Eigen::Vector3d e2 = (p[tri[(k + 2) % 3]] - p[tri[k]]).normalized();
-        sum += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * mesh.faceNormal[t];
-      }
-      // One closed fan: walking across the mates from the first corner returns to it after
-      // visiting every incident triangle.
-      const std::uint32_t first = corners[start[v]];  // leaves v in its triangle
-      std::uint32_t halfEdge = first;
-      std::uint32_t steps = 0;
-      while (usable && steps <= degree) {
-        const std::uint32_t other = mesh.mate[halfEdge];
-        if (other == kNoMate) {
-          usable = false;
-          break;
-        }
-        // `other` arrives at v; the next half-edge of its triangle leaves v.
-        halfEdge = 3 * (other / 3) + (other % 3 + 1) % 3;
-        ++steps;
-        if (halfEdge == first) break;
-      }
-      if (usable && steps == degree && halfEdge == first) mesh.vertexNormal[v] = sum;
-    }
-  });
+  closeHoles(mesh, keys, input.empty());
+  markDegenerate(mesh);
+  pairMates(mesh, keys);
+  labelComponents(mesh);
+  computeFaceNormals(mesh);
+  computeVertexNormals(mesh);
   return mesh;
 }
 
