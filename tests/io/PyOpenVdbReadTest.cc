@@ -36,7 +36,7 @@ struct GridDump {
   std::uint64_t activeVoxels = 0;
   std::map<std::array<int, 3>, std::vector<double>> values;
 };
-using FileDump = std::vector<std::pair<std::string, GridDump>>;
+using FileDump = std::map<std::string, GridDump>;  // by grid name (pyopenvdb reorders them)
 
 // What pyopenvdb reads (tests/io/pyopenvdb_dump.py); fails the test when it cannot read the file.
 FileDump readWithPyOpenVdb(const std::filesystem::path& file) {
@@ -51,6 +51,7 @@ FileDump readWithPyOpenVdb(const std::filesystem::path& file) {
   message << errors.rdbuf();
   EXPECT_EQ(status, 0) << file << ": " << message.str();
   FileDump dump;
+  GridDump* current = nullptr;
   std::ifstream in(out);
   std::string line;
   while (std::getline(in, line)) {
@@ -59,14 +60,15 @@ FileDump readWithPyOpenVdb(const std::filesystem::path& file) {
       std::string keyword, name;
       GridDump grid;
       fields >> keyword >> name >> grid.valueType >> grid.activeVoxels;
-      dump.emplace_back(name, grid);
+      current = &dump[name];
+      *current = grid;
       continue;
     }
     std::array<int, 3> ijk{};
     fields >> ijk[0] >> ijk[1] >> ijk[2];
     std::vector<double> values;
     for (double v = 0; fields >> v;) values.push_back(v);
-    if (!dump.empty()) dump.back().second.values[ijk] = values;
+    if (current != nullptr) current->values[ijk] = values;
   }
   return dump;
 }
@@ -106,7 +108,7 @@ FileDump readWithD2vdb(const std::filesystem::path& file) {
             *grid, "bool", [](bool v) { return std::vector<double>{v ? 1.0 : 0.0}; }, entry);
     EXPECT_TRUE(known) << file << ": grid '" << grid->getName() << "' has type "
                        << grid->valueType() << ", which pyopenvdb 10 cannot read";
-    dump.emplace_back(grid->getName(), entry);
+    dump[grid->getName()] = entry;
   }
   return dump;
 }
@@ -119,15 +121,15 @@ class PyOpenVdbReadTest : public test::ScratchDirectoryTest {
     const FileDump ours = readWithD2vdb(file);
     const FileDump theirs = readWithPyOpenVdb(file);
     ASSERT_EQ(theirs.size(), ours.size());
-    for (std::size_t g = 0; g < ours.size(); ++g) {
-      SCOPED_TRACE("grid " + ours[g].first);
-      EXPECT_EQ(theirs[g].first, ours[g].first);
-      EXPECT_EQ(theirs[g].second.valueType, ours[g].second.valueType);
-      EXPECT_EQ(theirs[g].second.activeVoxels, ours[g].second.activeVoxels);
-      EXPECT_GT(ours[g].second.values.size(), 0u);
-      EXPECT_TRUE(theirs[g].second.values == ours[g].second.values)
-          << theirs[g].second.values.size() << " values read by pyopenvdb, "
-          << ours[g].second.values.size() << " by d2vdb, or some differ";
+    for (const auto& [name, grid] : ours) {
+      SCOPED_TRACE("grid " + name);
+      ASSERT_EQ(theirs.count(name), 1u);
+      const GridDump& seen = theirs.at(name);
+      EXPECT_EQ(seen.valueType, grid.valueType);
+      EXPECT_EQ(seen.activeVoxels, grid.activeVoxels);
+      EXPECT_GT(grid.values.size(), 0u);
+      EXPECT_TRUE(seen.values == grid.values) << seen.values.size() << " values read by pyopenvdb, "
+                                              << grid.values.size() << " by d2vdb, or some differ";
     }
   }
 
