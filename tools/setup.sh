@@ -22,6 +22,8 @@ packages=(g++ cmake ninja-build pkg-config
           libopenvdb-dev libboost-iostreams-dev libtbb-dev libeigen3-dev libblosc-dev zlib1g-dev
           libcli11-dev nlohmann-json3-dev libnanoflann-dev libsuitesparse-dev libopenblas0-serial
           libgtest-dev libbenchmark-dev libopenvdb-tools)
+# The tests also read our files with Debian's pyopenvdb, the client pipeline scripts use.
+[ "$mode" = test ] && packages+=(python3-openvdb)
 # shellcheck disable=SC2206  # a list of package names
 packages+=(${EXTRA_PACKAGES:-})
 

@@ -179,7 +179,7 @@ TEST_F(FieldGridsTest, CompanionGridsArePairedVoxelByVoxel) {
   auto e1 = make(openvdb::Vec3SGrid::create(), "e1");
   auto k1 = make(openvdb::FloatGrid::create(), "k1");
   auto k2 = make(openvdb::FloatGrid::create(), "k2");
-  auto flags = make(openvdb::Int32Grid::create(), "flags");
+  auto flags = make(openvdb::FloatGrid::create(), "flags");
   const auto toVec3s = [](const Eigen::Vector3d& v) {
     return openvdb::Vec3s(static_cast<float>(v.x()), static_cast<float>(v.y()),
                           static_cast<float>(v.z()));
@@ -191,7 +191,7 @@ TEST_F(FieldGridsTest, CompanionGridsArePairedVoxelByVoxel) {
     e1->tree().setValueOn(ijk, toVec3s(a.tangent));
     k1->tree().setValueOn(ijk, static_cast<float>(a.k1));
     k2->tree().setValueOn(ijk, static_cast<float>(a.k2));
-    flags->tree().setValueOn(ijk, 0);
+    flags->tree().setValueOn(ijk, 0.0f);
   }
   auto unrelated = openvdb::FloatGrid::create(1.0f);
   unrelated->setName("density");
@@ -285,6 +285,55 @@ TEST_F(FieldGridsTest, RejectsBadGridsWithClearErrors) {
   strange.front() = unknown;
   expectError(strange, "unknown field kind 'volume'");
   expectError({openvdb::Int32Grid::create()}, "neither an approximant field nor");
+}
+
+TEST_F(FieldGridsTest, ReadsVersionOneFilesWithInt32FlagsAndRefusesBadFlags) {
+  // Version 1 of the layout stored the flags as Int32 (pyopenvdb cannot open that type); such
+  // grids give the same field as the float flags of today's layout. Some voxels carry flags.
+  const ApproximantField field = ApproximantField::fromLevelSet(
+      primitiveLevelSet(Torus(Eigen::Vector3d::Zero(), 0.7, 0.25), {0.04, 3.0}));
+  openvdb::GridPtrVec current = fieldToGrids(field), versionOne, fractional;
+  for (auto& grid : current) {
+    if (grid->getName() == "flags") {
+      const auto flags = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->deepCopy();
+      ASSERT_TRUE(flags) << "flags are stored as float";
+      int n = 0;
+      for (auto value = flags->beginValueOn(); value; ++value, ++n) {
+        if (n % 7 == 0) value.setValue(static_cast<float>(kFlagDegradedEstimate | kFlagCutLocus));
+      }
+      auto old = openvdb::Int32Grid::create(0);
+      old->setTransform(flags->transform().copy());
+      old->setName("flags");
+      for (auto value = flags->cbeginValueOn(); value; ++value) {
+        old->tree().setValue(value.getCoord(), static_cast<std::int32_t>(*value));
+      }
+      auto bad = flags->deepCopy();
+      bad->tree().setValueOnly(bad->cbeginValueOn().getCoord(), 0.5f);
+      grid = flags;
+      versionOne.push_back(old);
+      fractional.push_back(bad);
+    } else if (grid == current.front()) {
+      auto distance = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->copy();
+      distance->insertMeta(kFieldVersionMetadata, openvdb::Int32Metadata(1));
+      versionOne.push_back(distance);
+      fractional.push_back(grid);
+    } else {
+      versionOne.push_back(grid);
+      fractional.push_back(grid);
+    }
+  }
+  const ApproximantField today = fieldFromGrids(current, "version2.vdb");
+  const ApproximantField loaded = fieldFromGrids(versionOne, "version1.vdb");
+  std::size_t flagged = 0;
+  for (const Eigen::Vector3d& p : bandCentres(today)) {
+    const Approximant a = loaded.approximantAt(p);
+    EXPECT_EQ(a.flags, today.approximantAt(p).flags);
+    flagged += (a.flags & kFlagDegradedEstimate) != 0 ? 1 : 0;
+  }
+  EXPECT_GT(flagged, 0u);
+  expectSameAnswers(today, loaded, bandCentres(today));
+  test::expectInputError([&] { fieldFromGrids(fractional, "bad.vdb"); },
+                         {"bad.vdb", "'flags'", "whole number"});
 }
 
 }  // namespace

@@ -25,6 +25,14 @@ Eigen::Vector3d fromVec(const openvdb::Vec3s& v) {
   return Eigen::Vector3d(v.x(), v.y(), v.z());
 }
 
+/// The field format whose "flags" grid was Int32 (read, never written).
+constexpr int kInt32FlagsVersion = 1;
+
+// Every flag bit must survive a float, and a half float (whole numbers are exact below 2048).
+static_assert(kFlagCutLocus < 2048 && kFlagCurvatureClamped < 2048 &&
+                  kFlagDegradedEstimate < 2048 && kFlagFarField < 2048 && kFlagEndPoint < 2048,
+              "ApproximantFlag bits beyond 2^10 would not survive the half-float flags grid");
+
 void setFieldMetadata(openvdb::GridBase& grid, const ApproximantField& field) {
   grid.insertMeta(kFieldKindMetadata, openvdb::StringMetadata(targetKindName(field.kind())));
   grid.insertMeta(kFieldEstimatorMetadata, openvdb::StringMetadata(field.estimator()));
@@ -48,7 +56,7 @@ typename GridT::Ptr companionGrid(const openvdb::FloatGrid& distance, const std:
 /// The companion grids of one kind of field: the flags, and per kind up to three vector and two
 /// scalar grids (null where the kind has none).
 struct Companions {
-  openvdb::Int32Grid::Ptr flags;
+  openvdb::FloatGrid::Ptr flags;  ///< the ApproximantFlag bits as whole numbers
   openvdb::Vec3SGrid::Ptr vector0, vector1, vector2;
   openvdb::FloatGrid::Ptr scalar0, scalar1;
 };
@@ -73,6 +81,7 @@ openvdb::FloatGrid::Ptr firstLevelSet(const openvdb::GridPtrVec& grids) {
 
 /// What a stored field's metadata says.
 struct StoredField {
+  int version = kFieldFormatVersion;
   std::string kindName;
   TargetKind kind = TargetKind::Surface;
   std::string estimator;
@@ -99,11 +108,13 @@ StoredField readStoredField(const openvdb::FloatGrid& distance, const std::strin
     throw InputError(source + ": the field's metadata (" + std::string(kFieldVersionMetadata) +
                      ") is missing or has the wrong type");
   }
-  if (version != kFieldFormatVersion) {
+  if (version != kFieldFormatVersion && version != kInt32FlagsVersion) {
     throw InputError(source + ": field format version " + std::to_string(version) +
-                     " is not supported (this d2vdb reads version " +
+                     " is not supported (this d2vdb reads versions " +
+                     std::to_string(kInt32FlagsVersion) + " and " +
                      std::to_string(kFieldFormatVersion) + ")");
   }
+  stored.version = version;
   stored.kind = storedKind(stored.kindName, source);
   try {
     stored.estimator = distance.metaValue<std::string>(kFieldEstimatorMetadata);
@@ -160,6 +171,37 @@ typename GridT::Ptr storedCompanion(const openvdb::GridPtrVec& grids, const std:
   return typed;
 }
 
+/// The flags of a stored field as whole numbers in a float grid: version 1 files hold them as
+/// Int32 and are converted. InputError naming `source` for a flags value that is not a whole
+/// number in [0, 65535] (the ApproximantFlag bits fit 16 bits).
+openvdb::FloatGrid::Ptr storedFlags(const openvdb::GridPtrVec& grids,
+                                    const openvdb::FloatGrid& distance, const StoredField& stored,
+                                    const std::string& source) {
+  openvdb::FloatGrid::Ptr flags;
+  bool valid = true;
+  if (stored.version == kInt32FlagsVersion) {
+    const openvdb::Int32Grid::Ptr old =
+        storedCompanion<openvdb::Int32Grid>(grids, "flags", distance, stored.kindName, source);
+    flags = companionGrid<openvdb::FloatGrid>(distance, "flags");
+    openvdb::FloatGrid::Accessor converted = flags->getAccessor();
+    for (auto value = old->cbeginValueOn(); value && valid; ++value) {
+      valid = *value >= 0 && *value <= 0xffff;
+      converted.setValueOnly(value.getCoord(), static_cast<float>(*value));
+    }
+  } else {
+    flags = storedCompanion<openvdb::FloatGrid>(grids, "flags", distance, stored.kindName, source);
+    for (auto value = flags->cbeginValueOn(); value && valid; ++value) {
+      valid = *value >= 0.0f && *value <= 65535.0f && std::floor(*value) == *value;
+    }
+  }
+  if (!valid) {
+    throw InputError(source +
+                     ": the companion grid 'flags' holds a value that is not a set of "
+                     "field flags (a whole number from 0 to 65535)");
+  }
+  return flags;
+}
+
 /// The companion grids a stored field of `stored.kind` must have (see fieldToGrids()).
 Companions storedCompanions(const openvdb::GridPtrVec& grids, const openvdb::FloatGrid& distance,
                             const StoredField& stored, const std::string& source) {
@@ -170,7 +212,7 @@ Companions storedCompanions(const openvdb::GridPtrVec& grids, const openvdb::Flo
     return storedCompanion<openvdb::FloatGrid>(grids, name, distance, stored.kindName, source);
   };
   Companions c;
-  c.flags = storedCompanion<openvdb::Int32Grid>(grids, "flags", distance, stored.kindName, source);
+  c.flags = storedFlags(grids, distance, stored, source);
   if (stored.kind == TargetKind::Surface) {
     c.vector0 = vectors("normal");
     c.scalar0 = scalars("k1");
@@ -235,7 +277,7 @@ Companions newCompanions(const openvdb::FloatGrid& band, TargetKind kind) {
     return grid;
   };
   Companions c;
-  c.flags = companionGrid<openvdb::Int32Grid>(band, "flags");
+  c.flags = companionGrid<openvdb::FloatGrid>(band, "flags");
   if (kind == TargetKind::Surface) {
     c.vector0 = vectorGrid("normal");
     c.scalar0 = companionGrid<openvdb::FloatGrid>(band, "k1");
@@ -256,7 +298,7 @@ Companions newCompanions(const openvdb::FloatGrid& band, TargetKind kind) {
 void fillCompanions(const ApproximantField& field, const Companions& c) {
   const TargetKind kind = field.kind();
   // Leaf by leaf of the flags grid; every other companion's leaf is the one with the same origin.
-  std::vector<openvdb::Int32Tree::LeafNodeType*> leaves;
+  std::vector<openvdb::FloatTree::LeafNodeType*> leaves;
   leaves.reserve(c.flags->tree().leafCount());
   for (auto leaf = c.flags->tree().beginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
   tbb::parallel_for(
@@ -279,7 +321,7 @@ void fillCompanions(const ApproximantField& field, const Companions& c) {
             const std::optional<Approximant> a =
                 accessor.bandApproximant(flags.offsetToGlobalCoord(offset));
             if (!a) throw RuntimeFailure("internal error: a field's grid and band disagree");
-            flags.setValueOnly(offset, a->flags);
+            flags.setValueOnly(offset, static_cast<float>(a->flags));
             v0->setValueOnly(offset, toVec(a->normal));
             if (kind == TargetKind::Surface) {
               f0->setValueOnly(offset, static_cast<float>(a->k1));

@@ -14,11 +14,12 @@ namespace d2vdb {
 /// Metadata keys of a field's distance grid.
 inline constexpr const char* kFieldKindMetadata = "d2vdb_field_kind";  ///< surface/curve/points
 inline constexpr const char* kFieldEstimatorMetadata = "d2vdb_field_estimator";  ///< one line
-inline constexpr const char* kFieldVersionMetadata = "d2vdb_field_version";      ///< int, 1
+inline constexpr const char* kFieldVersionMetadata = "d2vdb_field_version";      ///< int, 2
 inline constexpr const char* kFieldDomainMinMetadata = "d2vdb_domain_min";       ///< vec3d, world
 inline constexpr const char* kFieldDomainMaxMetadata = "d2vdb_domain_max";       ///< vec3d, world
-/// The version of the layout below that fieldToGrids() writes and fieldFromGrids() reads.
-inline constexpr int kFieldFormatVersion = 1;
+/// The version of the layout below that fieldToGrids() writes. fieldFromGrids() also reads
+/// version 1, whose "flags" grid was Int32 (a type pyopenvdb and other clients cannot open).
+inline constexpr int kFieldFormatVersion = 2;
 
 /// The band of `field` as standard OpenVDB grids: first the distance grid (a shallow copy of
 /// field.distanceGrid() sharing its tree, named "surface" or "unsigned_distance" when it has no
@@ -28,9 +29,10 @@ inline constexpr int kFieldFormatVersion = 1;
 /// 1 / world units), "e1" (Vec3s, first principal direction); curves "direction" (Vec3s, unit
 /// vector from the footpoint toward the voxel centre), "tangent" (Vec3s), "curvature" (float),
 /// "principal_normal" (Vec3s, zero where the curvature is 0); points "direction" (Vec3s); and
-/// "flags" (Int32, the ApproximantFlag bits, 0 where none is set). The coarse levels are not
-/// stored (a field rebuilds them on its first query beyond the band). Never throws for a valid
-/// field.
+/// "flags" (float holding the ApproximantFlag bits as a whole number, 0 where none is set: float so
+/// that every client opens it; exact, also as half floats, for values below 2048). The coarse
+/// levels are not stored (a field rebuilds them on its first query beyond the band). Never throws
+/// for a valid field.
 openvdb::GridPtrVec fieldToGrids(const ApproximantField& field);
 
 /// The field whose grids fieldToGrids() made (any order, extra grids ignored; companion grids are
