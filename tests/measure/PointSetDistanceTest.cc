@@ -33,7 +33,7 @@ TEST(PointSetDistance, EqualsBruteForceOnCloudsOfEveryShape) {
     }
     const PointSetDistance distance(points);
     for (int q = 0; q < 300; ++q) {
-      const double reach = q < 200 ? 1.5 : 40.0;  // inside the box, then far away
+      const double reach = q < 250 ? 1.5 : 40.0;  // inside the box, then far away
       const Eigen::Vector3d x(reach * unit(random), reach * unit(random), reach * unit(random));
       EXPECT_EQ(distance(x), bruteForce(points, x)) << x.transpose();
     }

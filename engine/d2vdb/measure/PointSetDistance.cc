@@ -12,21 +12,32 @@ PointSetDistance::PointSetDistance(std::vector<Eigen::Vector3d> points)
     : points_(std::move(points)) {
   Eigen::AlignedBox3d box;
   for (const Eigen::Vector3d& p : points_) box.extend(p);
-  // About four points per cell of a grid over the set's bounding box.
-  const double volume = std::max(box.sizes().prod(), 1e-30);
-  cell_ = std::max(std::cbrt(volume / std::max<double>(1.0, points_.size() / 4.0)),
-                   1e-9 * std::max(box.sizes().maxCoeff(), 1e-300));
-  for (std::size_t i = 0; i < points_.size(); ++i) grid_[key(cellOf(points_[i]))].push_back(i);
+  // The box's longest side over the cube root of a quarter of the points: about four points
+  // per cell in a solid cloud, more in flat or thin ones, and never a cell far below the
+  // spacing (a flat cloud has no volume to divide).
+  const double longest = points_.empty() ? 1.0 : box.sizes().maxCoeff();
+  cell_ = longest > 0.0 ? longest / std::max(1.0, std::cbrt(points_.size() / 4.0)) : 1.0;
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector3i cell = cellOf(points_[i]);
+    grid_[key(cell)].push_back(i);
+    lowCell_ = i == 0 ? cell : lowCell_.cwiseMin(cell);
+    highCell_ = i == 0 ? cell : highCell_.cwiseMax(cell);
+  }
 }
 
 double PointSetDistance::operator()(const Eigen::Vector3d& x) const {
-  const Eigen::Vector3i centre = cellOf(x);
   double best = std::numeric_limits<double>::infinity();
   if (points_.empty()) return best;
-  for (int ring = 0; ring < 1 << 20; ++ring) {
-    for (int i = -ring; i <= ring; ++i) {
-      for (int j = -ring; j <= ring; ++j) {
-        for (int k = -ring; k <= ring; ++k) {
+  // Cells of growing Chebyshev rings around the query's cell, clipped to the occupied cells:
+  // the first ring that reaches them, and none after the one that covers them all.
+  const Eigen::Vector3i centre = cellOf(x);
+  const Eigen::Vector3i low = lowCell_ - centre, high = highCell_ - centre;
+  const int first = std::max({0, low.maxCoeff(), -high.minCoeff()});
+  const int last = std::max({-low.minCoeff(), high.maxCoeff(), 0});
+  for (int ring = first; ring <= last; ++ring) {
+    for (int i = std::max(-ring, low.x()); i <= std::min(ring, high.x()); ++i) {
+      for (int j = std::max(-ring, low.y()); j <= std::min(ring, high.y()); ++j) {
+        for (int k = std::max(-ring, low.z()); k <= std::min(ring, high.z()); ++k) {
           if (std::max({std::abs(i), std::abs(j), std::abs(k)}) != ring) continue;
           const auto found = grid_.find(key(centre + Eigen::Vector3i(i, j, k)));
           if (found == grid_.end()) continue;

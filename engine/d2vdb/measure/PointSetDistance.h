@@ -26,7 +26,8 @@ class PointSetDistance {
   static std::int64_t key(const Eigen::Vector3i& cell);
 
   std::vector<Eigen::Vector3d> points_;
-  double cell_ = 1.0;  ///< grid cell side, world units
+  double cell_ = 1.0;                                        ///< grid cell side, world units
+  Eigen::Vector3i lowCell_{0, 0, 0}, highCell_{-1, -1, -1};  ///< the cells holding points
   std::unordered_map<std::int64_t, std::vector<std::size_t>> grid_;
 };
 
