@@ -1,3 +1,5 @@
+// meshToLevelSet(): validation, voxel budget, OpenVDB's conversion in index space, the exact
+// signs and the report.
 #include "d2vdb/field/MeshToLevelSet.h"
 
 #include <openvdb/tools/MeshToVolume.h>

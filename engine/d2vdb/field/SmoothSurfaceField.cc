@@ -1,3 +1,5 @@
+// smoothSurfaceField(): seeds on the smooth surface, the band around them, and every band voxel
+// projected onto the surface, starting from its neighbour's projection.
 #include "d2vdb/field/SmoothSurfaceField.h"
 
 #include <tbb/enumerable_thread_specific.h>

@@ -1,3 +1,5 @@
+// Initial surfaces for the surface fitters: planes, cylinders and tori placed from the principal
+// axes of the target's points.
 #include "d2vdb/fit/InitialSurface.h"
 
 #include <Eigen/Eigenvalues>

@@ -1,3 +1,5 @@
+// The surface fitters: the target problem (SDM I) and the point-cloud problem (SDM II, footpoints
+// on the active surface), run by the shared fit loop.
 #include "d2vdb/fit/SurfaceFitter.h"
 
 #include <tbb/blocked_range.h>

@@ -1,3 +1,5 @@
+// loadInput(): recognising a file's format by content, the kinds a caller accepts, and reading it
+// once into the right representation.
 #include "d2vdb/io/InputFile.h"
 
 #include <array>

@@ -1,3 +1,5 @@
+// Reading and writing .vdb files: validation, grid preparation (names, metadata, half floats)
+// and atomic writes.
 #include "d2vdb/io/VdbFile.h"
 
 #include <openvdb/io/File.h>

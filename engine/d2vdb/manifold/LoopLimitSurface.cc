@@ -1,3 +1,5 @@
+// Exact evaluation of the Loop limit surface: regular faces as box-spline patches, faces at
+// extraordinary corners by Stam's subdivision.
 #include "d2vdb/manifold/LoopLimitSurface.h"
 
 #include <Eigen/Geometry>

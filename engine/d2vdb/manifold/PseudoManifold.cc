@@ -1,3 +1,5 @@
+// The pseudo-manifold's construction (charts fitted per vertex), its evaluation with derivatives,
+// and the projection of points onto it (ProjectionRun).
 #include "d2vdb/manifold/PseudoManifold.h"
 
 #include <Eigen/Geometry>

@@ -1,3 +1,5 @@
+// The exact curve-curve Hausdorff distance: the one-sided search over Bernstein bounds
+// (OneSidedSearch), bisector cases and the final classification.
 #include "d2vdb/measure/CurveHausdorff.h"
 
 #include <Eigen/LU>

@@ -1,3 +1,5 @@
+// Point-curve projection by Bernstein root isolation of (C(t) - p) . C'(t) over each span, and
+// the batch projection.
 #include "d2vdb/measure/PointProjection.h"
 
 #include <tbb/blocked_range.h>

@@ -1,3 +1,5 @@
+// validateMesh(): referenced vertices, degenerate triangles, the edge table and per-edge
+// topology, vertex fans, components and the Euler characteristic.
 #include "d2vdb/mesh/MeshValidation.h"
 
 #include <Eigen/Geometry>

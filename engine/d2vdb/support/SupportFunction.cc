@@ -1,3 +1,5 @@
+// Evaluating a support function in spherical harmonics: values, surface points, gradients and
+// principal radii, in blocks of normals.
 #include "d2vdb/support/SupportFunction.h"
 
 #include <tbb/blocked_range.h>

@@ -1,3 +1,5 @@
+// Splitting a non-convex mesh into regions of one curvature sign and fitting each over its Gauss
+// image, cutting regions whose fit fails.
 #include "d2vdb/support/SupportPatches.h"
 
 #include <Eigen/Cholesky>

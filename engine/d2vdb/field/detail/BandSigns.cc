@@ -1,3 +1,5 @@
+// The exact-sign pass over a mesh level set's band: closest-feature sides near the surface,
+// winding numbers for undecided voxels and for far groups, then the rewrite and flood fill.
 #include "d2vdb/field/detail/BandSigns.h"
 
 #include <openvdb/tools/SignedFloodFill.h>

@@ -1,3 +1,5 @@
+// Preparing a mesh for inside/outside decisions (welding, winding repair, hole caps) and the
+// generalised winding number and closest-feature side queries on it.
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 
 #include <tbb/blocked_range.h>

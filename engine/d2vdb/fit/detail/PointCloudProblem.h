@@ -11,8 +11,8 @@
 
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/fit/CurveFit.h"
-#include "d2vdb/fit/detail/SensorBasis.h"
 #include "d2vdb/fit/detail/FitLoop.h"
+#include "d2vdb/fit/detail/SensorBasis.h"
 #include "d2vdb/measure/PointProjection.h"
 #include "d2vdb/spline/BSplineCurve.h"
 

@@ -1,3 +1,5 @@
+// The quadratic model of a fitting iteration: sensor forms assembled per span group into the
+// normal equations, smoothing terms, and their sparse or dense solution.
 #include "d2vdb/fit/detail/QuadraticModel.h"
 
 #include <tbb/blocked_range.h>

@@ -3,8 +3,8 @@
 
 #include <utility>
 
-#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 #include "d2vdb/fit/detail/SplineFit.h"
+#include "d2vdb/fit/detail/ThinPlateMatrix.h"
 
 namespace d2vdb::detail {
 

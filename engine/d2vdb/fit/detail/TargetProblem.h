@@ -13,8 +13,8 @@
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
 #include "d2vdb/fit/FitMethod.h"
-#include "d2vdb/fit/detail/SensorMap.h"
 #include "d2vdb/fit/detail/FitLoop.h"
+#include "d2vdb/fit/detail/SensorMap.h"
 
 namespace d2vdb::detail {
 

@@ -1,3 +1,5 @@
+// The bounds-checked walk over a .vdb stream (header, metadata, grid descriptors, trees) done
+// before OpenVDB parses it.
 #include "d2vdb/io/detail/VdbFormatCheck.h"
 
 #include <blosc.h>

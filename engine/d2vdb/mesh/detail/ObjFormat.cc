@@ -1,3 +1,4 @@
+// The OBJ reader (v, vn, f with polygon fans, errors with line numbers) and writer.
 #include "d2vdb/mesh/detail/ObjFormat.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The PLY reader for the ascii and both binary encodings (header, element and property checks,
+// vertex attributes) and writer.
 #include "d2vdb/mesh/detail/PlyFormat.h"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+// The STL reader (ASCII and binary, welded on read, every malformed byte reported with its
+// offset) and writer.
 #include "d2vdb/mesh/detail/StlFormat.h"
 
 #include <Eigen/Geometry>
