@@ -29,7 +29,7 @@ double nearestSampleDistance(const std::vector<Eigen::Vector3d>& samples,
 }
 
 // For random points in `region`, |d| must match the distance to the sampled surface within the
-// sampling resolution (samples lie on the surface: never closer than |d|, and within `spacing`
+// sampling step (samples lie on the surface: never closer than |d|, and within `spacing`
 // of the true closest point), and the sign must match the independent containment test.
 void expectMatchesSampledSurface(const AnalyticShape& shape,
                                  const std::vector<Eigen::Vector3d>& samples, double spacing,

@@ -77,14 +77,8 @@ TEST_F(FieldFromInputTest, PointSetFieldAndTheVoxelSizeRule) {
 
   writePointSet(file("one.xyz"), {{1, 2, 3}});
   expectInputError([&] { build(file("one.xyz"), FieldBuildOptions{}); }, {"zero extent"});
-  FieldBuildOptions rule;
-  std::string measured;
-  rule.voxelSizeFor = [&measured](const Eigen::AlignedBox3d&, const std::string& what) {
-    measured = what;
-    return 0.1;
-  };
-  EXPECT_EQ(build(file("one.xyz"), rule).field.voxelSize(), 0.1);
-  EXPECT_EQ(measured, "point set");
+  expectInputError([&] { build(file("one.xyz"), FieldBuildOptions{}); }, {"point set"});
+  EXPECT_EQ(build(file("one.xyz"), withVoxelSize(0.1)).field.voxelSize(), 0.1);
 }
 
 TEST_F(FieldFromInputTest, PolylineFieldOfACircle) {

@@ -45,16 +45,35 @@ Graph graphFromCMake() {
   return graph;
 }
 
-// The rows "| `name` | `dep`, `dep` | ... |" of engine/README.md's module table.
-Graph graphFromEngineReadme() {
+// The rows "| `name` | `x`, `y` | ... |" of the engine/README.md table whose header row is
+// `header` (the rows up to the first line that is not a table row).
+std::string engineReadmeTable(const std::string& header) {
   const std::string text = readSourceFile("engine/README.md");
+  const std::size_t start = text.find("\n" + header + "\n");
+  EXPECT_NE(start, std::string::npos) << "engine/README.md has no table " << header;
+  if (start == std::string::npos) return {};
+  std::size_t end = start + 1;
+  while (end < text.size() && text[end] == '|') {
+    const std::size_t lineEnd = text.find('\n', end);
+    end = lineEnd == std::string::npos ? text.size() : lineEnd + 1;
+  }
+  return text.substr(start, end - start);
+}
+
+// The rows "| `name` | `x`, `y` | ... |" of a table: name -> the words of its second cell.
+Graph tableRows(const std::string& text) {
   const std::regex row(R"(\n\| `(\w+)` \| ([^|]*)\|)");
   Graph graph;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator();
        ++it) {
-    graph[(*it)[1].str()] = words((*it)[2].str(), std::regex("`(\\w+)`"));
+    graph[(*it)[1].str()] = words((*it)[2].str(), std::regex("`([\\w.]+)`"));
   }
   return graph;
+}
+
+// engine/README.md's module table: module -> the modules it links.
+Graph graphFromEngineReadme() {
+  return tableRows(engineReadmeTable("| module | depends on | holds |"));
 }
 
 // The module folders drawn in README.md's tree of engine/d2vdb/ ("  name/  what it holds").
@@ -81,6 +100,21 @@ TEST(ModuleGraph, EngineReadmeTableMatchesTheLinkGraph) {
 
 TEST(ModuleGraph, ReadmeTreeNamesEveryModule) {
   EXPECT_EQ(modulesFromReadme(), names(graphFromCMake()));
+}
+
+TEST(ModuleGraph, EntryHeadersExistInTheirModules) {
+  // engine/README.md's "Where to start" table names, for every module, headers of that module.
+  const Graph entries = tableRows(engineReadmeTable("| module | entry headers | one call does |"));
+  EXPECT_EQ(names(entries), names(graphFromCMake()));
+  for (const auto& [module, headers] : entries) {
+    EXPECT_FALSE(headers.empty()) << module << " names no entry header";
+    for (const std::string& header : headers) {
+      const std::string path =
+          std::string(D2VDB_SOURCE_DIR) + "/engine/d2vdb/" + module + "/" + header;
+      EXPECT_TRUE(std::ifstream(path).good())
+          << module << "'s entry header " << header << " is not " << path;
+    }
+  }
 }
 
 TEST(ModuleGraph, DependenciesPointOneWay) {

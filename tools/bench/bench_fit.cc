@@ -680,7 +680,7 @@ BENCHMARK(BM_SurfaceNoisyCloud)->Unit(benchmark::kMillisecond)->UseRealTime()->I
 // ---- One SDM I surface iteration against the field queries it makes (BM_SurfaceIteration*) ----
 
 /// Forwards to a target and counts the approximant queries made through it (atomic, so the count
-/// is exact for any thread count). Its resolution() is 0, so that the fit's resolved-move floor
+/// is exact for any thread count). Its resolvedLength() is 0, so that the fit's resolved-move floor
 /// (1/100 of a voxel) does not end the timed fits early.
 class CountingTarget final : public d2vdb::SquaredDistanceTarget {
  public:

@@ -80,10 +80,6 @@ FieldBuildOptions fieldBuildOptions(const FieldArguments& args, const CommandCon
     build.smooth =
         args.smooth == "pn" ? SmoothSurfaceSource::PnTriangles : SmoothSurfaceSource::LoopLimit;
   }
-  const BandArguments band = args.band;
-  build.voxelSizeFor = [band](const Eigen::AlignedBox3d& bounds, const std::string& what) {
-    return band.voxelSizeFor(bounds, what);
-  };
   build.progress = context.progress();
   return build;
 }

@@ -73,7 +73,7 @@ void declareFitCurve(CLI::App& command, FitCurveArguments& args) {
   declareFitOptions(command, args.fit, args.plainSdm,
                     {"curve",
                      "Weight of int |x''|^2 (dimensionless; default: automatic, its bias held at "
-                     "--smoothing-bias x the fit's resolution; none for open curves on a curve or "
+                     "--smoothing-bias x the fit's precision; none for open curves on a curve or "
                      "field target)",
                      "Weight of int |x'|^2 (dimensionless)",
                      "SDM on point clouds without the exact second-order terms (Wang, Pottmann and "

@@ -46,7 +46,7 @@ void declareFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm,
       .add_option("--move-tolerance", fit.moveTolerance,
                   "Converged when the " + help.spline +
                       "'s move across the target and its RMS change, extrapolated at their "
-                      "rate of convergence, are below this fraction of the fit's resolution")
+                      "rate of convergence, are below this fraction of the fit's precision")
       ->capture_default_str()
       ->check(nonNegativeNumber());
   command.add_flag("--plain-sdm", plainSdm, help.plainSdm);

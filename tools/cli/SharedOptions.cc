@@ -9,13 +9,7 @@ namespace d2vdb::cli {
 
 double BandArguments::voxelSizeFor(const Eigen::AlignedBox3d& bounds,
                                    const std::string& what) const {
-  if (voxelSize > 0) return voxelSize;
-  const double longest = bounds.sizes().maxCoeff();
-  if (!(longest > 0)) {
-    throw InputError("the " + what + " has a bounding box of zero extent, so --resolution " +
-                     "cannot set the voxel size; give --voxel-size");
-  }
-  return longest / resolutionOrDefault();
+  return voxelSizeForBox(bounds.sizes().maxCoeff(), voxelSize, resolutionOrDefault(), what);
 }
 
 LevelSetOptions BandArguments::levelSetOptions() const {

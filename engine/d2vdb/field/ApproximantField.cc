@@ -528,7 +528,7 @@ double ApproximantField::coarseDistanceErrorBound(int level) const {
   return std::sqrt(3.0) * std::ldexp(storage_->voxelSize(), level) + storage_->samples().error;
 }
 
-double ApproximantField::resolution() const {
+double ApproximantField::resolvedLength() const {
   return voxelSize();
 }
 

@@ -141,7 +141,7 @@ class ApproximantField final : public SquaredDistanceTarget {
       const std::vector<Eigen::Vector3d>& points) const override;
   std::string describe() const override;
   /// The band's voxel size.
-  double resolution() const override;
+  double resolvedLength() const override;
 
   /// A per-thread query handle: caches the last leaf it visited, so spatially coherent queries
   /// skip the hash probe. Cheap to create; must not outlive the field; not shareable between

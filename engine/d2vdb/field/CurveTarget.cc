@@ -151,7 +151,7 @@ CurveTarget::~CurveTarget() = default;
 CurveTarget::CurveTarget(CurveTarget&&) noexcept = default;
 CurveTarget& CurveTarget::operator=(CurveTarget&&) noexcept = default;
 
-double CurveTarget::resolution() const {
+double CurveTarget::resolvedLength() const {
   if (spline_) return 0.0;
   const std::size_t n = polyline_.points.size();
   const std::size_t segments = polyline_.closed ? n : n - 1;

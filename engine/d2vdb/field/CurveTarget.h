@@ -61,7 +61,7 @@ class CurveTarget final : public SquaredDistanceTarget {
   std::string describe() const override;
   /// A polyline's mean segment length (its approximants interpolate the curvature between
   /// vertices, so they resolve nothing finer than the vertex spacing); 0 for a spline.
-  double resolution() const override;
+  double resolvedLength() const override;
 
   /// The approximant at `point` without the domain check (for field construction, which samples
   /// a padded box). Throws InputError when `point` is not finite.

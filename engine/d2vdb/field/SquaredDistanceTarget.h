@@ -45,7 +45,7 @@ class SquaredDistanceTarget {
   /// Length (world units) on which the target's answers are resolved: a field's voxel size, 0
   /// for exact targets. Moves far below it cannot be told apart by the target's approximants, so
   /// a fit whose step is below a small fraction of it has converged. Throws nothing.
-  virtual double resolution() const { return 0.0; }
+  virtual double resolvedLength() const { return 0.0; }
 };
 
 }  // namespace d2vdb

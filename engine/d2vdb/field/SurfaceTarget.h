@@ -40,7 +40,7 @@ Approximant surfaceApproximantFromFrame(const SurfaceFrame& frame, bool onBounda
 /// regular (Su x Sv = 0) the approximant is likewise a point distance (kFlagEndPoint).
 ///
 /// The domain is the control points' bounding box padded by `domainPadding` times its largest
-/// side on every side. resolution() is 0 (exact). Immutable; thread-safe.
+/// side on every side. resolvedLength() is 0 (exact). Immutable; thread-safe.
 class SurfaceTarget final : public SquaredDistanceTarget {
  public:
   /// Target from a surface (its own copy). Throws InputError when all control points coincide or

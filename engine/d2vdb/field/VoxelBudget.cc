@@ -11,6 +11,21 @@
 #include "d2vdb/core/Error.h"
 
 namespace d2vdb {
+
+double voxelSizeForBox(double longestSide, double voxelSize, int resolution,
+                       const std::string& what) {
+  if (voxelSize > 0) return voxelSize;
+  if (!(longestSide > 0) || !std::isfinite(longestSide)) {
+    throw InputError("the " + what +
+                     " has a bounding box of zero extent, so a resolution cannot set the voxel "
+                     "size; give a voxel size (--voxel-size)");
+  }
+  if (resolution <= 0) {
+    throw InputError("the resolution (voxels along the longest side) must be positive, got " +
+                     std::to_string(resolution));
+  }
+  return longestSide / resolution;
+}
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;

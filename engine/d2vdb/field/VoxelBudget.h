@@ -20,6 +20,14 @@ inline constexpr std::uint64_t kDefaultMaxActiveVoxels = 150'000'000;
 /// longest side of the target's bounding box (every front end uses this one value).
 inline constexpr int kDefaultResolution = 256;
 
+/// The voxel edge length (world units) of a band around a target whose bounding box is
+/// `longestSide` long on its longest side: `voxelSize` when positive, else longestSide /
+/// resolution. Throws InputError when no voxel size is given and the box has zero extent (or is
+/// empty or not finite), naming `what` ("mesh", "point set", "curve", ...), and when resolution is
+/// not positive.
+double voxelSizeForBox(double longestSide, double voxelSize, int resolution,
+                       const std::string& what);
+
 /// Factor applied to the band volume estimate below: voxel centres of a band of width 2r fill
 /// slightly more than its volume (OpenVDB's mesh band can be a fraction of a voxel wider than
 /// asked), and sharp features add wedges the per-piece box terms only approximate.

@@ -13,7 +13,7 @@ namespace d2vdb {
 /// normalised to [0, 1] (curves: int |x''|^2 and int |x'|^2, CurveFitOptions; surfaces: the
 /// thin-plate and membrane energies, SurfaceFitOptions). Both weights are dimensionless.
 ///
-/// The fit's resolution is rms * sqrt(n / N): the RMS distance times the square root of control
+/// The fit's precision is rms * sqrt(n / N): the RMS distance times the square root of control
 /// points per term, the statistical uncertainty of a least-squares fit with that much freedom
 /// (for noisy data, the noise floor).
 struct FitOptions {
@@ -30,7 +30,7 @@ struct FitOptions {
   /// the approximation floor, for exact data) at convergence. The history records the weight of
   /// each iteration.
   double smoothness = -1.0;
-  /// With automatic smoothness: the bending term's shift as a fraction of the fit's resolution.
+  /// With automatic smoothness: the bending term's shift as a fraction of the fit's precision.
   double automaticSmoothingBias = 0.25;
   /// Weight of the stretching energy (0 = off).
   double stretch = 0.0;
@@ -54,7 +54,7 @@ struct FitOptions {
   double distanceTolerance = 0.0;
   /// Converged when an iteration's largest sensor move across the target and RMS change, each
   /// extrapolated at its rate of convergence, are at most the geometric tolerance
-  /// max(stepTolerance x size, moveTolerance x the fit's resolution, 1/100 of the target's
+  /// max(stepTolerance x size, moveTolerance x the fit's precision, 1/100 of the target's
   /// resolution), with size the largest side of the initial control points' bounding box.
   double stepTolerance = 1e-9;
   double moveTolerance = 0.1;

@@ -43,8 +43,8 @@ class OffsetTarget final : public SquaredDistanceTarget {
   Eigen::AlignedBox3d domain() const override { return base_.domain(); }
   Approximant approximantAt(const Eigen::Vector3d& point) const override;
   std::string describe() const override;
-  /// The base target's resolution.
-  double resolution() const override { return base_.resolution(); }
+  /// The base target's resolved length.
+  double resolvedLength() const override { return base_.resolvedLength(); }
 
   /// The offset distance r (world units).
   double offset() const { return offset_; }

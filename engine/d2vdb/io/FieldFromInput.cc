@@ -15,15 +15,7 @@ namespace {
 
 double voxelSizeFor(const FieldBuildOptions& options, const Eigen::AlignedBox3d& bounds,
                     const std::string& what) {
-  if (options.voxelSizeFor) return options.voxelSizeFor(bounds, what);
-  if (options.voxelSize > 0) return options.voxelSize;
-  const double longest = bounds.sizes().maxCoeff();
-  if (!(longest > 0)) {
-    throw InputError("the " + what +
-                     " has a bounding box of zero extent, so a resolution cannot set the voxel "
-                     "size; give a voxel size");
-  }
-  return longest / options.resolution;
+  return voxelSizeForBox(bounds.sizes().maxCoeff(), options.voxelSize, options.resolution, what);
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {

@@ -6,7 +6,6 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,7 +21,9 @@ namespace d2vdb {
 /// How buildApproximantField() sizes and builds a field.
 struct FieldBuildOptions {
   /// Voxel edge length of the band (world units); 0 = the longest side of the target's bounding
-  /// box over `resolution`. Not used for .vdb inputs: their field keeps the level set's voxels.
+  /// box over `resolution` (voxelSizeForBox(); a box of zero extent is an InputError). Not used
+  /// for .vdb inputs: their field keeps the level set's voxels. Meshes made into a level set take
+  /// voxelSize and resolution as meshToLevelSet() does.
   double voxelSize = 0;
   /// Voxels along the longest side of the target's bounding box, used when voxelSize is 0.
   int resolution = kDefaultResolution;
@@ -35,12 +36,6 @@ struct FieldBuildOptions {
   /// (smoothSurfaceFromMesh(), then smoothSurfaceField()) instead of its level set. Only meshes
   /// are accepted then.
   std::optional<SmoothSurfaceSource> smooth;
-  /// The voxel size of a point set, a curve or polyline, or a mesh's smooth surface (targets whose
-  /// bounding box the builder measures), from that box and what it bounds ("point set", "curve",
-  /// "mesh"); lets a front end apply its own rule and messages. Empty: voxelSize when positive,
-  /// else the box's longest side over resolution, and InputError for a box of zero extent. Meshes
-  /// made into a level set take voxelSize and resolution as meshToLevelSet() does.
-  std::function<double(const Eigen::AlignedBox3d& bounds, const std::string& what)> voxelSizeFor;
   /// Progress of the level set, the smooth surface and the field (may be empty).
   ProgressCallback progress;
 };

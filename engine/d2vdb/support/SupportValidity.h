@@ -52,7 +52,7 @@ struct SupportValidity {
   Eigen::Vector3d safeOffsetMaxNormal = Eigen::Vector3d::Zero();  ///< where the upper limit is
 
   /// One sign pattern everywhere and no parabolic point: x_h is a regular surface over the
-  /// domain (to the sampling resolution).
+  /// domain (to the sampling step).
   bool regular() const {
     return parabolicCrossings == 0 && parabolicNormals == 0 &&
            (convexNormals == normalsChecked || saddleNormals == normalsChecked ||

@@ -34,7 +34,7 @@ const char* fitStatusName(FitStatus status) {
 namespace detail {
 namespace {
 
-/// Fraction of the target's resolution (a field's voxel) below which a move is not resolved: the
+/// Fraction of the target's resolved length (a field's voxel) below which a move is not resolved: the
 /// approximants' own error (footpoints to a few hundredths of a voxel, piecewise per voxel) makes
 /// the objective rough on that scale.
 constexpr double kResolvedFraction = 0.01;
@@ -104,9 +104,9 @@ void validate(const FitLoopSettings& settings, int controlPoints) {
   }
 }
 
-/// The statistical resolution of a least-squares fit with `controlPoints` points' worth of
+/// The statistical precision of a least-squares fit with `controlPoints` points' worth of
 /// freedom to `count` squared distances of RMS `rms`.
-double fitResolution(double rms, int controlPoints, int count) {
+double fitPrecision(double rms, int controlPoints, int count) {
   return count > 0 ? rms * std::sqrt(static_cast<double>(controlPoints) / count) : 0.0;
 }
 
@@ -275,7 +275,7 @@ class FitLoop {
     Eigen::AlignedBox3d box;
     for (const Eigen::Vector3d& point : initial) box.extend(point);
     size_ = box.sizes().maxCoeff();
-    resolvedMove_ = kResolvedFraction * problem.resolution();
+    resolvedMove_ = kResolvedFraction * problem.resolvedLength();
   }
 
   FitLoopResult run() {
@@ -325,7 +325,7 @@ class FitLoop {
   /// The geometric tolerance of a move for a fit of RMS `rms` over `count` terms.
   double moveTolerance(double rms, int count) const {
     return std::max({settings_.stepTolerance * size_,
-                     settings_.moveTolerance * fitResolution(rms, n_, count), resolvedMove_});
+                     settings_.moveTolerance * fitPrecision(rms, n_, count), resolvedMove_});
   }
 
   /// One iteration; true when the loop stops after it.
@@ -372,7 +372,7 @@ class FitLoop {
     rms_ = rmsOf(error_);
     if (automatic_) {
       bending_.choose(model_, linearization_,
-                      settings_.automaticBias * fitResolution(rms_, n_, std::max(count, 1)), d_);
+                      settings_.automaticBias * fitPrecision(rms_, n_, std::max(count, 1)), d_);
       objective_ = objectiveOf(error_, model_.smoothingEnergy(points_));
     }
     tolerance_ = moveTolerance(rms_, count);
@@ -524,8 +524,8 @@ class FitLoop {
       result_.status = FitStatus::Converged;
       result_.reason = firstStep <= resolvedMove_ && resolvedMove_ > 0.0
                            ? "the model's step (" + number(firstStep) + ") is below " +
-                                 number(kResolvedFraction) + " of the target's resolution (" +
-                                 number(problem_.resolution()) +
+                                 number(kResolvedFraction) + " of the target's resolved length (" +
+                                 number(problem_.resolvedLength()) +
                                  "): the target resolves no further improvement"
                            : "the objective no longer decreases and the model's step (" +
                                  number(firstStep) + ") is within the geometric tolerance (" +

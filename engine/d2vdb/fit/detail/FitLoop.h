@@ -68,8 +68,8 @@ class FitProblem {
                           FitLinearization& /*correction*/) {
     return false;
   }
-  /// The target's resolution (SquaredDistanceTarget::resolution()); 0 for exact data.
-  virtual double resolution() const { return 0.0; }
+  /// The target's resolved length (SquaredDistanceTarget::resolvedLength()); 0 for exact data.
+  virtual double resolvedLength() const { return 0.0; }
 };
 
 /// The loop's parameters. Weights are dimensionless, distances world units.
@@ -95,7 +95,7 @@ struct FitLoopSettings {
   int maxIterations = 100;
   double distanceTolerance = 0.0;   ///< converged when the RMS distance falls to this (0 = off)
   double stepTolerance = 1e-9;      ///< move tolerance as a fraction of the net's size
-  double moveTolerance = 0.1;       ///< move tolerance as a fraction of the fit's resolution
+  double moveTolerance = 0.1;       ///< move tolerance as a fraction of the fit's precision
   double objectiveTolerance = 0.0;  ///< converged when E falls by less than this fraction (0 = off)
   bool keepIterates = false;
   ProgressCallback progress;  ///< stage "fit", fraction = iteration / maxIterations
@@ -122,7 +122,7 @@ struct FitLoopResult {
 /// Automatic bending (bendingWeight < 0 and a bending matrix): the weight lambda2 is set every
 /// iteration so that the shift the bending term causes in the model's minimiser (solved with the
 /// plain forms, measured at the sensors in the forms' metric: RMS of sqrt(d^T A d)) equals
-/// automaticBias x the fit's resolution rms x sqrt(n / N) (rms the RMS distance, n control
+/// automaticBias x the fit's precision rms x sqrt(n / N) (rms the RMS distance, n control
 /// points, N forms: the statistical uncertainty of a least-squares fit with n points' worth of
 /// freedom). Large while the net is far off, it shrinks as the fit converges; its bias stays a
 /// fixed fraction of the noise floor.
@@ -147,7 +147,7 @@ struct FitLoopResult {
 /// sqrt(d_k^T A_k d_k) over the sensors' displacements d_k in their forms' metric; the model's
 /// full step when the line search cut it) and its change of the RMS distance, each extrapolated
 /// at its rate of convergence (times q / (1 - q), q the ratio of the last two, between 1 and 100),
-/// are at most max(stepTolerance x size, moveTolerance x rms x sqrt(n / N), target resolution /
+/// are at most max(stepTolerance x size, moveTolerance x rms x sqrt(n / N), target resolved length /
 /// 100); when the RMS distance reaches distanceTolerance; when the relative objective decrease
 /// falls below objectiveTolerance (if set); or when no step lowers the objective although the
 /// model's step is within that tolerance (the objective is flat to rounding, or the target does

@@ -31,7 +31,7 @@ class TargetProblem : public FitProblem {
 
   /// The sensors (fixed linear maps from the control points).
   const SensorMap& sensors() const { return *sensors_; }
-  double resolution() const override { return target_.resolution(); }
+  double resolvedLength() const override { return target_.resolvedLength(); }
   DataError measure(const std::vector<Eigen::Vector3d>& controlPoints) override;
   void accept() override;
 
