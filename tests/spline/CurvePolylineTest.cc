@@ -2,8 +2,11 @@
 // curve against closed forms (a parabola, a straight line).
 #include "d2vdb/spline/CurvePolyline.h"
 
+#include "d2vdb/core/Error.h"
+
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -88,3 +91,20 @@ TEST(CurvePolyline, CurvesDrawnTogetherShareTheLargestCount) {
 }
 
 }  // namespace
+
+TEST(CurvePolyline, SampledLengthConvergesFromBelowToTheParabolasArcLength) {
+  // C(t) = (2t - 1, 4t(1 - t)): |C'(t)| = 2 sqrt(1 + (2 - 4t)^2), so the arc length is
+  // int_0^2 sqrt(1 + u^2) du = sqrt(5) + asinh(2) / 2.
+  const double exact = std::sqrt(5.0) + std::asinh(2.0) / 2.0;
+  EXPECT_DOUBLE_EQ(d2vdb::sampledLength(parabola(), 2), 2.0);  // the chord
+  const double coarse = d2vdb::sampledLength(parabola(), 1025);
+  const double fine = d2vdb::sampledLength(parabola(), 2049);
+  EXPECT_LT(coarse, exact);
+  EXPECT_LT(fine, exact);
+  EXPECT_NEAR(coarse, exact, 1e-5);
+  // Second order: halving the spacing quarters the error.
+  EXPECT_NEAR((exact - coarse) / (exact - fine), 4.0, 0.05);
+  // A straight line is measured exactly.
+  EXPECT_NEAR(d2vdb::sampledLength(cubicLine(5), 17), 5.0, 1e-12);
+  EXPECT_THROW(d2vdb::sampledLength(parabola(), 1), d2vdb::InputError);
+}

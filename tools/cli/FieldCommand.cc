@@ -6,6 +6,7 @@
 
 #include "Command.h"
 #include "FieldReports.h"
+#include "ReportText.h"
 #include "SharedOptions.h"
 #include "d2vdb/io/FieldFile.h"
 #include "d2vdb/io/FieldFromInput.h"
@@ -113,17 +114,13 @@ Report runField(const FieldArguments& args, const CommandContext& context) {
              args.vdb.writeOptions(std::filesystem::path(args.input).filename().string(),
                                    field.halfWidth()));
 
-  const std::string inputKind = inputKindName(built.inputKind);
   Report report;
   report.json = fieldJson(field);
-  report.json["input"] = args.input;
-  report.json["input_kind"] = inputKind;
-  report.json["output"] = args.output;
-  report.json["seconds"] = clock.seconds();
-  report.json["warnings"] = built.warnings;
   if (built.smooth) report.json["smooth"] = smoothJson(*built.smooth);
-  report.text = "wrote " + args.output + " (" + inputKind + " " + args.input + ", " +
-                std::to_string(clock.seconds()) + " s):\n" + fieldText(report.json, "  ");
+  const std::string wrote = addFileToFileKeys(
+      report.json,
+      {args.input, inputKindName(built.inputKind), args.output, clock.seconds(), built.warnings});
+  report.text = wrote + "\n" + fieldText(report.json, "  ");
   return report;
 }
 

@@ -21,6 +21,7 @@
 #include "d2vdb/io/VdbFile.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 #include "d2vdb/mesh/MeshValidation.h"
+#include "d2vdb/spline/CurvePolyline.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -149,10 +150,6 @@ std::string fieldInfoText(const nlohmann::json& field) {
 
 nlohmann::json splineJson(const Spline& spline) {
   if (const auto* curve = std::get_if<BSplineCurve>(&spline)) {
-    const std::vector<Eigen::Vector3d> points = curve->sample(1025);
-    double polylineLength = 0;
-    for (std::size_t i = 1; i < points.size(); ++i)
-      polylineLength += (points[i] - points[i - 1]).norm();
     return {{"kind", "bspline_curve"},
             {"dimension", curve->dimension()},
             {"degree", curve->degree()},
@@ -160,7 +157,7 @@ nlohmann::json splineJson(const Spline& spline) {
             {"control_points", curve->controlPointCount()},
             {"knots", curve->knots().size()},
             {"domain", {curve->domain().start, curve->domain().end}},
-            {"length_estimate", polylineLength}};
+            {"length_estimate", sampledLength(*curve)}};
   }
   const auto& surface = std::get<BSplineSurface>(spline);
   return {{"kind", "bspline_surface"},

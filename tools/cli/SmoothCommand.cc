@@ -12,6 +12,7 @@
 #include "d2vdb/manifold/SmoothSurfaceFromMesh.h"
 #include "d2vdb/manifold/SmoothTessellation.h"
 #include "d2vdb/manifold/SourceDistance.h"
+#include "d2vdb/mesh/CurvatureColors.h"
 #include "d2vdb/mesh/MeshIO.h"
 
 namespace d2vdb::cli {
@@ -42,59 +43,24 @@ void declareSmooth(CLI::App& command, SmoothArguments& args) {
                    "Add k1, k2 and mean-curvature colours (PLY output only)");
 }
 
-/// Diverging colour of mean curvature h against `scale`: white at 0, red toward +scale (convex,
-/// bending away from the outward normal), blue toward -scale (concave).
-std::array<std::uint8_t, 3> meanCurvatureColour(double h, double scale) {
-  const double u = scale > 0.0 ? std::clamp(h / scale, -1.0, 1.0) : 0.0;
-  const auto channel = [](double value) {
-    return static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0, 1.0) * 255.0));
-  };
-  if (u >= 0.0) return {255, channel(1.0 - u), channel(1.0 - u)};
-  return {channel(1.0 + u), channel(1.0 + u), 255};
-}
-
-/// The value at fraction q (0..1) of the sorted values (nearest rank).
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  const auto index =
-      static_cast<std::size_t>(std::clamp(std::ceil(q * static_cast<double>(values.size())) - 1.0,
-                                          0.0, static_cast<double>(values.size() - 1)));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(index),
-                   values.end());
-  return values[index];
-}
-
 /// Writes the tessellation with per-vertex k1, k2 and mean-curvature colours (PLY) and returns
 /// the "curvature" report: ranges, percentiles of the mean curvature and the colour scale.
 nlohmann::json writeCurvatureMesh(const std::string& file, const SmoothTessellation& tessellation) {
-  const std::size_t count = tessellation.k1.size();
-  VertexAttributes attributes;
-  std::vector<float> k2(count);
-  attributes.scalarName = "k1";
-  attributes.scalars.resize(count);
-  std::vector<double> mean(count), absMean(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    attributes.scalars[i] = static_cast<float>(tessellation.k1[i]);
-    k2[i] = static_cast<float>(tessellation.k2[i]);
-    mean[i] = 0.5 * (tessellation.k1[i] + tessellation.k2[i]);
-    absMean[i] = std::abs(mean[i]);
-  }
-  const double scale = quantile(absMean, 0.99);
-  attributes.colours.reserve(count);
-  for (const double h : mean) attributes.colours.push_back(meanCurvatureColour(h, scale));
-  attributes.moreScalars.push_back({"k2", std::move(k2)});
-  writeMesh(file, tessellation.mesh, attributes);
-  const auto range = [](const std::vector<double>& values) {
-    const auto [low, high] = std::minmax_element(values.begin(), values.end());
-    return nlohmann::json{{"min", *low}, {"max", *high}};
+  const CurvatureAttributes curvature = curvatureAttributes(tessellation.k1, tessellation.k2);
+  writeMesh(file, tessellation.mesh, curvature.attributes);
+  const CurvatureSummary& summary = curvature.summary;
+  const auto range = [](const std::array<double, 2>& values) {
+    return nlohmann::json{{"min", values[0]}, {"max", values[1]}};
   };
   return {
-      {"k1", range(tessellation.k1)},
-      {"k2", range(tessellation.k2)},
-      {"mean", range(mean)},
+      {"k1", range(summary.k1Range)},
+      {"k2", range(summary.k2Range)},
+      {"mean", range(summary.meanRange)},
       {"mean_percentiles",
-       {{"p1", quantile(mean, 0.01)}, {"p50", quantile(mean, 0.5)}, {"p99", quantile(mean, 0.99)}}},
-      {"colour_scale", scale},
+       {{"p1", summary.meanPercentiles[0]},
+        {"p50", summary.meanPercentiles[1]},
+        {"p99", summary.meanPercentiles[2]}}},
+      {"colour_scale", summary.colorScale},
   };
 }
 

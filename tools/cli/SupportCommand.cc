@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "Command.h"
+#include "ReportText.h"
 #include "SupportReports.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/io/SupportFunctionJson.h"
@@ -104,9 +105,6 @@ Report runSupport(const SupportArguments& args, const CommandContext& context) {
 
   Report report;
   report.json = supportJson(support);
-  report.json["input"] = args.input;
-  report.json["input_kind"] = kind;
-  report.json["output"] = args.output;
   if (input.gaussImage) {
     report.json["gauss_image"] = {{"preserving_triangles", input.gaussImage->preservingTriangles},
                                   {"reversing_triangles", input.gaussImage->reversingTriangles},
@@ -114,10 +112,9 @@ Report runSupport(const SupportArguments& args, const CommandContext& context) {
   }
   std::vector<std::string> warnings = input.warnings;
   warnings.insert(warnings.end(), support.warnings.begin(), support.warnings.end());
-  report.json["warnings"] = warnings;
-  report.json["seconds"] = clock.seconds();
-  report.text = "wrote " + args.output + " (" + kind + " " + args.input + ", " +
-                std::to_string(clock.seconds()) + " s):\n" + supportText(report.json, "  ");
+  const std::string wrote =
+      addFileToFileKeys(report.json, {args.input, kind, args.output, clock.seconds(), warnings});
+  report.text = wrote + "\n" + supportText(report.json, "  ");
   return report;
 }
 

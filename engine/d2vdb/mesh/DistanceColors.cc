@@ -6,7 +6,7 @@
 namespace d2vdb {
 
 std::array<std::uint8_t, 3> distanceColor(double distance, double scale) {
-  const double t = std::clamp(distance / scale, -1.0, 1.0);
+  const double t = scale > 0.0 ? std::clamp(distance / scale, -1.0, 1.0) : 0.0;
   const auto channel = [](double value) {
     return static_cast<std::uint8_t>(std::lround(255.0 * std::clamp(value, 0.0, 1.0)));
   };

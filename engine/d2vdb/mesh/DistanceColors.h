@@ -13,7 +13,8 @@
 
 namespace d2vdb {
 
-/// Blue (distance <= -scale) through white (0) to red (>= scale), linear in distance / scale.
+/// Blue (distance <= -scale) through white (0) to red (>= scale), linear in distance / scale;
+/// white for a scale that is not positive. Never throws.
 std::array<std::uint8_t, 3> distanceColor(double distance, double scale);
 
 /// The vertex attributes of `mesh` coloured by `distance` (world units, signed or not) at each

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
+
+#include "d2vdb/core/Error.h"
 
 namespace d2vdb {
 namespace {
@@ -26,6 +29,17 @@ std::vector<std::vector<Eigen::Vector3d>> drawingPolylines(
   polylines.reserve(curves.size());
   for (const BSplineCurve& curve : curves) polylines.push_back(curve.sample(count));
   return polylines;
+}
+
+double sampledLength(const BSplineCurve& curve, int samples) {
+  if (samples < 2) {
+    throw InputError("a sampled curve length needs at least 2 samples, got " +
+                     std::to_string(samples));
+  }
+  const std::vector<Eigen::Vector3d> points = curve.sample(samples);
+  double length = 0;
+  for (std::size_t i = 1; i < points.size(); ++i) length += (points[i] - points[i - 1]).norm();
+  return length;
 }
 
 }  // namespace d2vdb

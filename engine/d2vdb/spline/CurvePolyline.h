@@ -1,4 +1,4 @@
-// B-spline curves as polylines for drawing.
+// B-spline curves as polylines: for drawing, and for their length.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,5 +22,10 @@ int drawingPointCount(const BSplineCurve& curve);
 /// `curves`; an empty list gives none. Never throws (beyond std::bad_alloc).
 std::vector<std::vector<Eigen::Vector3d>> drawingPolylines(
     std::initializer_list<std::reference_wrapper<const BSplineCurve>> curves);
+
+/// The length (world units) of the polyline through `samples` (>= 2) points of `curve` equally
+/// spaced in parameter (BSplineCurve::sample()): a lower bound of the curve's arc length that
+/// converges to it quadratically in the spacing. Throws InputError for fewer than 2 samples.
+double sampledLength(const BSplineCurve& curve, int samples = 1025);
 
 }  // namespace d2vdb
