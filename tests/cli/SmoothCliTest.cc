@@ -112,9 +112,10 @@ TEST_F(SmoothCliTest, RefusesBadFilesAndOptions) {
   EXPECT_NE(broken.err.find("broken.obj"), std::string::npos) << broken.err;
   const CliResult missing = run("smooth " + path("nothing.obj") + " " + path("a.ply"));
   EXPECT_EQ(missing.exitCode, 2);
-  // Curvature needs PLY; level of detail and source are checked: usage errors.
+  // Curvature needs PLY (an output named for another format: bad input); level of detail and
+  // source are checked: usage errors.
   const CliResult obj = run("smooth " + path("octa.obj") + " " + path("a.obj") + " --curvature");
-  EXPECT_EQ(obj.exitCode, 1);
+  EXPECT_EQ(obj.exitCode, 2);
   EXPECT_NE(obj.err.find("--curvature"), std::string::npos) << obj.err;
   EXPECT_EQ(run("smooth " + path("octa.obj") + " " + path("a.ply") + " --lod 11").exitCode, 1);
   EXPECT_EQ(run("smooth " + path("octa.obj") + " " + path("a.ply") + " --source catmull").exitCode,

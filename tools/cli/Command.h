@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "OutputFiles.h"
 #include "d2vdb/core/Progress.h"
 
 namespace d2vdb::cli {
@@ -80,7 +81,8 @@ class CommandContext {
 };
 
 /// One sub-command: its name, help text, the advice printed when it runs out of memory (the
-/// options that size its work), how it declares its options into `Arguments` and how it runs.
+/// options that size its work), how it declares its options into `Arguments`, how it runs, and
+/// which files it writes.
 template <class Arguments>
 struct CommandDefinition {
   std::string name;
@@ -88,6 +90,9 @@ struct CommandDefinition {
   std::string outOfMemoryAdvice;
   void (*declare)(CLI::App& command, Arguments& arguments);
   Report (*run)(const Arguments& arguments, const CommandContext& context);
+  /// Every file the command writes with these arguments (not requested ones with an empty path),
+  /// checked by checkOutputFiles() before `run` is called; null for a command that writes none.
+  std::vector<OutputFile> (*outputs)(const Arguments& arguments) = nullptr;
 };
 
 /// The registered sub-commands. Each lives in its own .cc with one `add...Command` function that
@@ -96,21 +101,24 @@ class CommandRegistry {
  public:
   CommandRegistry(CLI::App& app, const GlobalOptions& options) : app_(app), options_(options) {}
 
-  /// Adds the sub-command of `definition` to the application: its options are declared now, its
-  /// run function is called by run() when it was chosen.
+  /// Adds the sub-command of `definition` to the application: its options are declared now; when
+  /// it was chosen, run() checks its outputs and calls its run function.
   template <class Arguments>
   void add(const CommandDefinition<Arguments>& definition) {
     auto arguments = std::make_shared<Arguments>();
     CLI::App* command = app_.add_subcommand(definition.name, definition.description);
     definition.declare(*command, *arguments);
     const auto run = definition.run;
-    entries_.push_back(
-        {command, definition.outOfMemoryAdvice,
-         [arguments, run](const CommandContext& context) { return run(*arguments, context); }});
+    const auto outputs = definition.outputs;
+    entries_.push_back({command, definition.outOfMemoryAdvice,
+                        [arguments, run, outputs](const CommandContext& context) {
+                          if (outputs != nullptr) checkOutputFiles(outputs(*arguments));
+                          return run(*arguments, context);
+                        }});
   }
 
-  /// Runs the chosen sub-command, prints its report and returns its exit code; kUsageError when
-  /// none was chosen. Exceptions propagate.
+  /// Runs the chosen sub-command (its outputs checked first), prints its report and returns its
+  /// exit code; kUsageError when none was chosen. Exceptions propagate.
   int run() const;
 
   /// The chosen sub-command's name ("d2vdb" when none) and what to try when it runs out of memory.

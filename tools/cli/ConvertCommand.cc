@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "Command.h"
 #include "SharedOptions.h"
@@ -67,6 +68,10 @@ Report runConvert(const ConvertArguments& args, const CommandContext&) {
   return report;
 }
 
+std::vector<OutputFile> outputsOfConvert(const ConvertArguments& args) {
+  return {{"output", args.output, OutputFormat::Vdb}};
+}
+
 }  // namespace
 
 void addConvertCommand(CommandRegistry& registry) {
@@ -78,7 +83,7 @@ void addConvertCommand(CommandRegistry& registry) {
        "Example: d2vdb convert houdini_export.vdb surface.vdb --grid surface\n"
        "         d2vdb convert smoke.vdb smoke-surface.vdb --grid density --iso 0.5",
        "the level set is too large for this machine; convert a coarser one", declareConvert,
-       runConvert});
+       runConvert, outputsOfConvert});
 }
 
 }  // namespace d2vdb::cli

@@ -6,6 +6,7 @@
 
 #include "Command.h"
 #include "FieldReports.h"
+#include "JsonReports.h"
 #include "ReportText.h"
 #include "SharedOptions.h"
 #include "d2vdb/io/FieldFile.h"
@@ -121,7 +122,15 @@ Report runField(const FieldArguments& args, const CommandContext& context) {
       report.json,
       {args.input, inputKindName(built.inputKind), args.output, clock.seconds(), built.warnings});
   report.text = wrote + "\n" + fieldText(report.json, "  ");
+  if (built.signs && built.signs->method != SignMethod::none) {
+    report.json["signs"] = signReportJson(*built.signs);
+    report.text += "  " + signSummary(*built.signs);
+  }
   return report;
+}
+
+std::vector<OutputFile> outputsOfField(const FieldArguments& args) {
+  return {{"output", args.output, OutputFormat::Vdb}};
 }
 
 }  // namespace
@@ -139,7 +148,7 @@ void addFieldCommand(CommandRegistry& registry) {
        "         d2vdb field helix.json helix-field.vdb --resolution 128 --half-width 4\n"
        "         d2vdb field volumes/bunny.obj bunny-field.vdb --smooth",
        "use a coarser --voxel-size or --resolution, or a smaller --half-width", declareField,
-       runField});
+       runField, outputsOfField});
 }
 
 }  // namespace d2vdb::cli

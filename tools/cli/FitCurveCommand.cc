@@ -226,6 +226,7 @@ nlohmann::json fitCurveJson(const FitCurveArguments& args, const FitTarget& targ
 Report runFitCurve(const FitCurveArguments& args, const CommandContext& context) {
   const Stopwatch clock;
   const FitMethod method = parseFitMethod(args.method);
+  checkInitOption(args.init, {"circle", "ellipse", "polyline"}, "a B-spline curve .json");
   FitTargetOptions load;
   load.spline = FitSpline::Curve;
   load.offset = args.offset;
@@ -257,6 +258,12 @@ Report runFitCurve(const FitCurveArguments& args, const CommandContext& context)
   return report;
 }
 
+std::vector<OutputFile> outputsOfFitCurve(const FitCurveArguments& args) {
+  return {{"--out", args.out, OutputFormat::Json},
+          {"--svg", args.svg, OutputFormat::Svg},
+          {"--plot", args.plot, OutputFormat::Svg}};
+}
+
 }  // namespace
 
 void addFitCurveCommand(CommandRegistry& registry) {
@@ -270,7 +277,7 @@ void addFitCurveCommand(CommandRegistry& registry) {
        "Example: d2vdb fit-curve --target ellipse.json --init circle --method sdm --ctrl 12 "
        "--out fitted.json --svg fit.svg --plot conv.svg --compare",
        "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target",
-       declareFitCurve, runFitCurve});
+       declareFitCurve, runFitCurve, outputsOfFitCurve});
 }
 
 }  // namespace d2vdb::cli

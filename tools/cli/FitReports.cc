@@ -2,11 +2,28 @@
 #include "FitReports.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "Command.h"
+#include "d2vdb/core/Error.h"
 
 namespace d2vdb::cli {
+
+void checkInitOption(const std::string& init, std::initializer_list<const char*> shapes,
+                     const std::string& file) {
+  const std::vector<std::string> names(shapes.begin(), shapes.end());
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == init) return;
+    list += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i];
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(init, ec)) return;  // a file: loading it says what it holds
+  throw InputError("--init '" + init + "' is not " + list +
+                   ", and there is no file of that name (" + file + " was expected)");
+}
 
 void declareFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm,
                        const FitOptionHelp& help) {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <initializer_list>
 #include <string>
 
 #include "d2vdb/fit/FitHistory.h"
@@ -29,6 +30,13 @@ struct FitOptionHelp {
 /// [0, 10^6]); the defaults are those of `fit` at registration.
 void declareFitOptions(CLI::App& command, FitOptions& fit, bool& plainSdm,
                        const FitOptionHelp& help);
+
+/// Throws InputError (before any work) when --init is neither one of `shapes` (the generated
+/// initial splines, e.g. plane, cylinder, torus) nor an existing file, saying both: "--init
+/// 'sphere' is not plane, cylinder or torus, and there is no file of that name". `file` names what
+/// a file must hold ("a surface .json").
+void checkInitOption(const std::string& init, std::initializer_list<const char*> shapes,
+                     const std::string& file);
 
 /// {"method", "status", "reason", "iterations", "rms_distance", "max_distance", "smoothness" (of
 ///  the last iteration), "history": [{"iteration", "objective", "rms_distance", "max_distance",

@@ -96,13 +96,26 @@ std::function<double(const Eigen::Vector3d&)> distanceFunction(const FitTarget& 
   };
 }
 
+// The progress stage of writing the --mesh output, whose vertices' distances to the target take
+// most of the time after the fit.
+constexpr const char* kMeshStage = "writing --mesh (distances to the target)";
+
 nlohmann::json writeSurfaceMesh(const std::string& file, const BSplineSurface& surface, int samples,
-                                const std::function<double(const Eigen::Vector3d&)>& distance) {
+                                const std::function<double(const Eigen::Vector3d&)>& distance,
+                                const ProgressCallback& progress) {
   const int samplesU = std::max(surface.isClosedU() ? 3 : 2, samples * surface.countU());
   const int samplesV = std::max(surface.isClosedV() ? 3 : 2, samples * surface.countV());
   const TriangleMesh mesh = tessellate(surface, samplesU, samplesV);
   double largest = 0.0;
-  writeMesh(file, mesh, distanceAttributes(mesh, distance, largest));
+  if (progress) progress(kMeshStage, 0.0);
+  std::size_t done = 0;
+  const double count = static_cast<double>(mesh.vertexCount());
+  const auto counted = [&](const Eigen::Vector3d& x) {
+    if (progress && ++done % 1024 == 0) progress(kMeshStage, 0.99 * done / count);
+    return distance(x);
+  };
+  writeMesh(file, mesh, distanceAttributes(mesh, counted, largest));
+  if (progress) progress(kMeshStage, 1.0);
   return {{"file", file},
           {"vertices", mesh.vertexCount()},
           {"triangles", mesh.triangleCount()},
@@ -212,17 +225,23 @@ SurfaceFitResult runFit(const FitSurfaceArguments& args, FitMethod method,
                                             : fitSurface(initial, target.fitTarget(), fit);
 }
 
-// The mesh, the rulings and the plot, each with its entry of the report.
+// The surface, the mesh, the rulings and the plot, each with its entry of the report; each
+// output a progress stage of its own ("writing --mesh ...").
 void writeFitSurfaceOutputs(const FitSurfaceArguments& args, FitMethod method,
                             const FitTarget& target, const SurfaceFitResult& result,
-                            nlohmann::json& report) {
+                            const ProgressCallback& progress, nlohmann::json& report) {
   const auto distance = distanceFunction(target);
+  if (progress) progress("writing --out", 0.0);
   writeSurfaceJson(args.out, result.surface);
+  if (progress) progress("writing --out", 1.0);
   if (!args.mesh.empty()) {
-    report["mesh"] = writeSurfaceMesh(args.mesh, result.surface, args.meshSamples, distance);
+    report["mesh"] =
+        writeSurfaceMesh(args.mesh, result.surface, args.meshSamples, distance, progress);
   }
   if (!args.rulings.empty()) {
+    if (progress) progress("writing --rulings", 0.0);
     report["rulings"] = writeRulings(args.rulings, result.surface, args.rulingSamples, distance);
+    if (progress) progress("writing --rulings", 1.0);
   }
   if (!args.plot.empty()) {
     writeConvergencePlot(args.plot, {{method, &result.history, result.iterations(), result.status}},
@@ -235,6 +254,7 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
   const Stopwatch clock;
   const FitMethod method = parseFitMethod(args.method);
   if (!std::isfinite(args.offset)) throw InputError("--offset must be a finite number");
+  checkInitOption(args.init, {"plane", "cylinder", "torus"}, "a B-spline surface .json");
   FitTargetOptions load;
   load.spline = FitSpline::Surface;
   load.offset = args.offset;
@@ -261,12 +281,20 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
                       {"closed", {initial.isClosedU(), initial.isClosedV()}},
                       {"ruled", ruled},
                       {"output", args.out}});
-  writeFitSurfaceOutputs(args, method, target, result, report.json);
+  writeFitSurfaceOutputs(args, method, target, result, context.progress(), report.json);
   report.json["seconds"] = clock.seconds();
   report.text = fitReportText(result, method);
   report.textKind = Report::Text::Answer;
   if (!context.options().json) context.status("wrote " + args.out);
   return report;
+}
+
+std::vector<OutputFile> outputsOfFitSurface(const FitSurfaceArguments& args) {
+  return {{"--out", args.out, OutputFormat::Json},
+          {"--mesh", args.mesh, OutputFormat::ObjOrPly,
+           "its vertices carry the distance to the target, which STL cannot hold"},
+          {"--rulings", args.rulings, OutputFormat::Json},
+          {"--plot", args.plot, OutputFormat::Svg}};
 }
 
 }  // namespace
@@ -281,7 +309,7 @@ void addFitSurfaceCommand(CommandRegistry& registry) {
        "Example: d2vdb fit-surface --target volumes/torus.vdb --init torus --ctrl 12,8 "
        "--out torus.json --mesh torus.ply --plot conv.svg",
        "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target",
-       declareFitSurface, runFitSurface});
+       declareFitSurface, runFitSurface, outputsOfFitSurface});
 }
 
 }  // namespace d2vdb::cli

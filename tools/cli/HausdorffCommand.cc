@@ -178,6 +178,10 @@ Report runHausdorff(const HausdorffArguments& args, const CommandContext& contex
           Report::Text::Answer};
 }
 
+std::vector<OutputFile> outputsOfHausdorff(const HausdorffArguments& args) {
+  return {{"--svg", args.svg, OutputFormat::Svg}};
+}
+
 }  // namespace
 
 void addHausdorffCommand(CommandRegistry& registry) {
@@ -190,7 +194,7 @@ void addHausdorffCommand(CommandRegistry& registry) {
        "upper].\n"
        "Example: d2vdb hausdorff a.json b.json --svg pair.svg --json",
        "compare curves with fewer control points, or raise --tolerance", declareHausdorff,
-       runHausdorff});
+       runHausdorff, outputsOfHausdorff});
 }
 
 }  // namespace d2vdb::cli

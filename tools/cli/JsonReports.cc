@@ -16,6 +16,11 @@ nlohmann::json signReportJson(const SignReport& report) {
   };
 }
 
+std::string signSummary(const SignReport& report) {
+  return std::string("signs checked by ") + signMethodName(report.method) + ": " +
+         std::to_string(report.correctedVoxels) + " voxels of OpenVDB's conversion corrected\n";
+}
+
 nlohmann::json meshReportJson(const MeshReport& report) {
   return {
       {"vertices", report.vertexCount},

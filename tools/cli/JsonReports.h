@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+
 #include <Eigen/Core>
 
 #include "d2vdb/mesh/MeshValidation.h"
@@ -23,6 +25,10 @@ nlohmann::json meshReportJson(const MeshReport& report);
 ///  "winding_number_queries", "reoriented_triangles", "watertight", "holes_closed",
 ///  "self_intersecting"}: how mesh2sdf decided inside and outside.
 nlohmann::json signReportJson(const SignReport& report);
+
+/// "signs checked by closest feature: N voxels of OpenVDB's conversion corrected\n" (text
+/// reports of the commands that build a level set from a mesh).
+std::string signSummary(const SignReport& report);
 
 /// [x, y, z], or [x, y] when `dimension` is 2.
 nlohmann::json pointJson(const Eigen::Vector3d& point, int dimension = 3);

@@ -1,6 +1,7 @@
 // d2vdb mesh2sdf: triangle mesh (OBJ/PLY/STL) to a narrow-band signed (or unsigned) distance field.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "Command.h"
 #include "JsonReports.h"
@@ -65,15 +66,15 @@ Report runMesh2Sdf(const Mesh2SdfArguments& args, const CommandContext& context)
       {"signs", signReportJson(result.signs)},
       {"warnings", result.warnings},
   };
-  if (result.signs.method != SignMethod::none) {
-    report.text = std::string("signs checked by ") + signMethodName(result.signs.method) + ": " +
-                  std::to_string(result.signs.correctedVoxels) +
-                  " voxels of OpenVDB's conversion corrected\n";
-  }
+  if (result.signs.method != SignMethod::none) report.text = signSummary(result.signs);
   report.text += "wrote " + args.output + ": " + std::to_string(result.grid->activeVoxelCount()) +
                  " active voxels, voxel size " + std::to_string(result.grid->voxelSize()[0]) +
                  ", " + std::to_string(clock.seconds()) + " s\n";
   return report;
+}
+
+std::vector<OutputFile> outputsOfMesh2Sdf(const Mesh2SdfArguments& args) {
+  return {{"output", args.output, OutputFormat::Vdb}};
 }
 
 }  // namespace
@@ -89,7 +90,7 @@ void addMesh2SdfCommand(CommandRegistry& registry) {
        "Example: d2vdb mesh2sdf volumes/bunny.obj bunny.vdb --resolution 256",
        "use a coarser --voxel-size or --resolution, a smaller --half-width, or a lower "
        "--max-voxels to be refused early",
-       declareMesh2Sdf, runMesh2Sdf});
+       declareMesh2Sdf, runMesh2Sdf, outputsOfMesh2Sdf});
 }
 
 }  // namespace d2vdb::cli

@@ -1,6 +1,7 @@
 // d2vdb mesh: iso-surface of a .vdb grid to a triangle mesh (marching cubes), optionally checked.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "Command.h"
 #include "ContourInputs.h"
@@ -58,7 +59,6 @@ int checkMesh(const TriangleMesh& mesh, const CommandContext& context, nlohmann:
 
 Report runMesh(const MeshArguments& args, const CommandContext& context) {
   const Stopwatch clock;
-  meshFormatFromPath(args.output);  // reject an unsupported extension before working
   const openvdb::GridBase::Ptr grid = loadContourGrid(args.input, args.gridName, "mesh");
   IsoSurfaceOptions surface = args.surface;
   surface.computeNormals = !args.noNormals;
@@ -90,6 +90,10 @@ Report runMesh(const MeshArguments& args, const CommandContext& context) {
   return report;
 }
 
+std::vector<OutputFile> outputsOfMesh(const MeshArguments& args) {
+  return {{"output", args.output, OutputFormat::Mesh}};
+}
+
 }  // namespace
 
 void addMeshCommand(CommandRegistry& registry) {
@@ -103,7 +107,8 @@ void addMeshCommand(CommandRegistry& registry) {
        "With --check the mesh is validated; the exit code is 3 if it is not closed, manifold and "
        "oriented.\n"
        "Example: d2vdb mesh bunny.vdb bunny.obj --check",
-       "the level set is too large for this machine; mesh a coarser one", declareMesh, runMesh});
+       "the level set is too large for this machine; mesh a coarser one", declareMesh, runMesh,
+       outputsOfMesh});
 }
 
 }  // namespace d2vdb::cli

@@ -252,15 +252,6 @@ OffsetRun offsetByLevelSet(const OffsetArguments& args, const CommandContext& co
 
 Report runOffset(const OffsetArguments& args, const CommandContext& context) {
   const Stopwatch clock;
-  // An unsupported extension fails before any work.
-  if (!isVdbPath(args.output)) {
-    try {
-      meshFormatFromPath(args.output);
-    } catch (const InputError&) {
-      throw InputError("the output '" + args.output +
-                       "' must be a mesh (.obj, .ply, .stl) or a level set (.vdb)");
-    }
-  }
   for (const double d : args.distances) {
     if (!std::isfinite(d)) throw InputError("--distance must be a finite number");
   }
@@ -293,6 +284,11 @@ Report runOffset(const OffsetArguments& args, const CommandContext& context) {
   return report;
 }
 
+// OUT (with several distances the directory and extension of every offset's file).
+std::vector<OutputFile> outputsOfOffset(const OffsetArguments& args) {
+  return {{"output", args.output, OutputFormat::MeshOrVdb}};
+}
+
 }  // namespace
 
 void addOffsetCommand(CommandRegistry& registry) {
@@ -318,7 +314,7 @@ void addOffsetCommand(CommandRegistry& registry) {
        "use a lower --degree or fewer --subdivisions; for --method levelset and .vdb outputs a "
        "coarser --voxel-size or --resolution, a smaller --half-width, or a lower --max-voxels to "
        "be refused early",
-       declareOffset, runOffset});
+       declareOffset, runOffset, outputsOfOffset});
 }
 
 }  // namespace d2vdb::cli

@@ -1,6 +1,7 @@
 // d2vdb primitive: narrow-band level set of an analytic shape with exact signed distances.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "Command.h"
 #include "SharedOptions.h"
@@ -94,6 +95,10 @@ Report runPrimitive(const PrimitiveArguments& args, const CommandContext& contex
   return report;
 }
 
+std::vector<OutputFile> outputsOfPrimitive(const PrimitiveArguments& args) {
+  return {{"output", args.output, OutputFormat::Vdb}};
+}
+
 }  // namespace
 
 void addPrimitiveCommand(CommandRegistry& registry) {
@@ -109,7 +114,7 @@ void addPrimitiveCommand(CommandRegistry& registry) {
        "Example: d2vdb primitive torus --major 1 --minor 0.35 --voxel-size 0.02 torus.vdb",
        "use a coarser --voxel-size or --resolution, a smaller --half-width, or a lower "
        "--max-voxels to be refused early",
-       declarePrimitive, runPrimitive});
+       declarePrimitive, runPrimitive, outputsOfPrimitive});
 }
 
 }  // namespace d2vdb::cli

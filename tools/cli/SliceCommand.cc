@@ -2,6 +2,7 @@
 #include <iomanip>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "Command.h"
 #include "ContourInputs.h"
@@ -101,6 +102,11 @@ Report runSlice(const SliceArguments& args, const CommandContext& context) {
   return report;
 }
 
+std::vector<OutputFile> outputsOfSlice(const SliceArguments& args) {
+  return {{"output", args.output, OutputFormat::Svg},
+          {"--polylines", args.polylines, OutputFormat::Json}};
+}
+
 }  // namespace
 
 void addSliceCommand(CommandRegistry& registry) {
@@ -110,7 +116,8 @@ void addSliceCommand(CommandRegistry& registry) {
        "squares; closed lines for a closed level set, inside on the left). The SVG shows the two\n"
        "other axes in cyclic order (z: x right, y up). --polylines also writes the lines as JSON.\n"
        "Example: d2vdb slice bunny.vdb bunny-z.svg --axis z --offset 0.1",
-       "the level set is too large for this machine; mesh a coarser one", declareSlice, runSlice});
+       "the level set is too large for this machine; mesh a coarser one", declareSlice, runSlice,
+       outputsOfSlice});
 }
 
 }  // namespace d2vdb::cli

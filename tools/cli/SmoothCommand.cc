@@ -181,13 +181,6 @@ MeshSmoothSurface buildSmoothSurface(const SmoothArguments& args, const CommandC
 
 Report runSmooth(const SmoothArguments& args, const CommandContext& context) {
   const Stopwatch clock;
-  const MeshFormat outputFormat = meshFormatFromPath(args.output);  // refuses unknown formats
-  if (args.curvature && outputFormat != MeshFormat::Ply) {
-    throw CLI::ValidationError("--curvature",
-                               "needs a .ply output (OBJ and STL have no per-vertex properties), "
-                               "not " +
-                                   args.output);
-  }
   SmoothResult result{buildSmoothSurface(args, context), {}, {}, 0, {}, 0, 0};
   const PseudoManifold& surface = result.smooth.surface;
 
@@ -215,6 +208,14 @@ Report runSmooth(const SmoothArguments& args, const CommandContext& context) {
   return report;
 }
 
+std::vector<OutputFile> outputsOfSmooth(const SmoothArguments& args) {
+  if (args.curvature) {
+    return {{"output", args.output, OutputFormat::Ply,
+             "--curvature adds per-vertex properties, which OBJ and STL cannot hold"}};
+  }
+  return {{"output", args.output, OutputFormat::Mesh}};
+}
+
 }  // namespace
 
 void addSmoothCommand(CommandRegistry& registry) {
@@ -229,7 +230,8 @@ void addSmoothCommand(CommandRegistry& registry) {
        "by mean curvature (red convex, white flat, blue concave; scale: 99th percentile of |H|)\n"
        "to .ply output. Reports the distance from the smooth surface to its source.\n"
        "Example: d2vdb smooth volumes/bunny.obj bunny_smooth.ply --lod 3 --curvature",
-       "use a lower --lod or --max-bidegree, or a smaller mesh", declareSmooth, runSmooth});
+       "use a lower --lod or --max-bidegree, or a smaller mesh", declareSmooth, runSmooth,
+       outputsOfSmooth});
 }
 
 }  // namespace d2vdb::cli

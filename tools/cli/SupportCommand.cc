@@ -83,9 +83,6 @@ Report runPatches(const SupportArguments& args, const CommandContext& context,
 
 Report runSupport(const SupportArguments& args, const CommandContext& context) {
   const Stopwatch clock;
-  if (std::filesystem::path(args.output).extension() != ".json") {
-    throw InputError("the output '" + args.output + "' must end in .json");
-  }
   if (args.patches) return runPatches(args, context, clock);
   const SupportInput input = loadSupportInput(args.input, context.progress());
   if (input.document) {
@@ -118,6 +115,11 @@ Report runSupport(const SupportArguments& args, const CommandContext& context) {
   return report;
 }
 
+// --out (with --patches the directory and extension of every patch's file).
+std::vector<OutputFile> outputsOfSupport(const SupportArguments& args) {
+  return {{"--out", args.output, OutputFormat::Json}};
+}
+
 }  // namespace
 
 void addSupportCommand(CommandRegistry& registry) {
@@ -138,7 +140,7 @@ void addSupportCommand(CommandRegistry& registry) {
        "Example: d2vdb support ellipsoid.obj --degree 24 --out ellipsoid-sf.json\n"
        "         d2vdb support volumes/torus.vdb --patches --out torus-sf.json",
        "use a lower --degree, or an input with fewer samples (a coarser mesh or level set)",
-       declareSupport, runSupport});
+       declareSupport, runSupport, outputsOfSupport});
 }
 
 }  // namespace d2vdb::cli

@@ -12,6 +12,26 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
 
+namespace {
+
+// For a missing required argument, CLI11 says only "b is required": name what it is, from its
+// help text ("missing b: Second curve (.json)"). Returns false when no missing argument of the
+// chosen sub-command is found (another kind of RequiredError), which CLI11's message covers.
+bool explainMissingArguments(const CLI::App& app) {
+  bool found = false;
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options()) {
+      if (!option->get_required() || option->count() > 0) continue;
+      std::cerr << "error: missing " << option->get_name() << ": " << option->get_description()
+                << "; run 'd2vdb " << command->get_name() << " --help'\n";
+      found = true;
+    }
+  }
+  return found;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace d2vdb::cli;
   CLI::App app{
@@ -48,6 +68,9 @@ int main(int argc, char** argv) {
     return app.exit(help);
   } catch (const CLI::CallForVersion& version) {
     return app.exit(version);
+  } catch (const CLI::RequiredError& error) {
+    if (!explainMissingArguments(app)) app.exit(error);
+    return kUsageError;
   } catch (const CLI::ParseError& error) {
     app.exit(error);
     return kUsageError;

@@ -18,6 +18,7 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/CurveTarget.h"
+#include "d2vdb/field/VoxelBudget.h"
 #include "d2vdb/field/detail/FieldStorage.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/field/detail/SeedDilation.h"
@@ -58,6 +59,7 @@ void checkBandParameters(double voxelSize, double halfWidth, const char* what) {
     throw InputError(std::string(what) + ": the voxel size must be a positive finite number, not " +
                      formatNumber(voxelSize, kDigits));
   }
+  checkVoxelSizeIsRepresentable(voxelSize, what);
   if (!(halfWidth >= 1.0) || !std::isfinite(halfWidth) || halfWidth > 64.0) {
     throw InputError(std::string(what) +
                      ": the band half-width must be between 1 and 64 voxels, "

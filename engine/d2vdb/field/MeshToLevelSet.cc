@@ -285,12 +285,6 @@ void addSignWarnings(const TriangleMesh& mesh, bool exactSigns, LevelSetResult& 
         " triangles were wound against their neighbours (or the mesh inside out) and were "
         "reversed for the inside/outside decision");
   }
-  if (signs.correctedVoxels > 0) {
-    result.warnings.push_back(
-        std::to_string(signs.correctedVoxels) +
-        " band voxels had the wrong sign from OpenVDB's mesh conversion and were corrected (" +
-        signMethodName(signs.method) + ")");
-  }
   if (result.grid->activeVoxelCount() > 0 && !hasInsideValue(*result.grid)) {
     result.warnings.push_back(
         "no voxel of the signed field is inside the mesh: the surface encloses no volume (a "

@@ -88,8 +88,8 @@ struct LevelSetResult {
 /// certified neighbours, with one winding number per group that has none (for meshes with holes:
 /// one per voxel). Flipped voxels and their neighbours get the distance to their closest
 /// triangle with the new sign, and inactive values are flood-filled again. `signs` reports the
-/// method and the number of corrected voxels; a correction, holes and self-intersections produce
-/// warnings.
+/// method and the number of corrected voxels (a report, not a warning: correcting them is the
+/// check's job); holes and self-intersections produce warnings.
 ///
 /// Without exact signs, the sign does not depend on triangle orientation and holes a few voxels
 /// across are bridged by the voxels the surrounding triangles touch; wider holes let the outside

@@ -181,7 +181,24 @@ double smallestVoxelSizeWithinBudget(const VoxelBudgetRequest& request) {
   return fits;
 }
 
+void checkVoxelSizeIsRepresentable(double voxelSize, const std::string& subject) {
+  if (std::isfinite(voxelSize) && voxelSize >= kMinimumVoxelSize) return;
+  std::ostringstream message;
+  message.precision(3);
+  message << subject << ": the voxel size " << voxelSize;
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
+    message << " is not a positive finite number";
+  } else {
+    message << " is below " << kMinimumVoxelSize
+            << " world units, the smallest voxel an OpenVDB grid can have (its transforms refuse "
+               "voxel volumes below 3e-15); use a larger --voxel-size or a lower --resolution, or "
+               "express the geometry in smaller units (e.g. millimetres instead of metres)";
+  }
+  throw InputError(message.str());
+}
+
 void enforceVoxelBudget(const VoxelBudgetRequest& request) {
+  checkVoxelSizeIsRepresentable(request.voxelSize, request.subject);
   const double estimate = estimateActiveVoxels(request);
   if (estimate <= static_cast<double>(request.maxActiveVoxels)) return;
 

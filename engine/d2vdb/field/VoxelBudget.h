@@ -28,6 +28,17 @@ inline constexpr int kDefaultResolution = 256;
 double voxelSizeForBox(double longestSide, double voxelSize, int resolution,
                        const std::string& what);
 
+/// The smallest voxel edge (world units) an OpenVDB grid can have: its linear transforms refuse
+/// a voxel volume below 3e-15 ("Non-zero scale values required"), an edge of 1.4422e-5; rounded
+/// up. Geometry smaller than a few of these must be expressed in smaller units (millimetres, not
+/// metres) to be resolved.
+inline constexpr double kMinimumVoxelSize = 1.5e-5;
+
+/// Throws InputError, naming `subject` (e.g. "the level set of sphere(...)"), unless
+/// `voxelSize` is finite and at least kMinimumVoxelSize; the message gives the voxel size, the
+/// limit and the remedy (larger voxels, or the geometry in smaller units).
+void checkVoxelSizeIsRepresentable(double voxelSize, const std::string& subject);
+
 /// Factor applied to the band volume estimate below: voxel centres of a band of width 2r fill
 /// slightly more than its volume (OpenVDB's mesh band can be a fraction of a voxel wider than
 /// asked), and sharp features add wedges the per-piece box terms only approximate.
@@ -80,7 +91,9 @@ double smallestVoxelSizeWithinBudget(const VoxelBudgetRequest& request);
 /// halfWidth^3.
 double minimumActiveVoxels(double halfWidth);
 
-/// Throws InputError when the estimate exceeds the limit, before anything is allocated. The
+/// Throws InputError when request.voxelSize is not representable
+/// (checkVoxelSizeIsRepresentable()) or the estimate exceeds the limit, before anything is
+/// allocated. The
 /// message states the estimate, the limit, and the smallest voxel size (and, when the longest side
 /// is known, the largest resolution along it) that would fit, or, when no voxel size fits, the
 /// largest half-width that would.

@@ -55,7 +55,7 @@ BuiltField levelSetMeshField(const TriangleMesh& mesh, const FieldBuildOptions& 
   levelSet.maxActiveVoxels = options.field.maxActiveVoxels;
   LevelSetResult result = meshToLevelSet(mesh, levelSet, options.progress);
   return BuiltField{ApproximantField::fromLevelSet(result.grid, options.field, options.progress),
-                    InputKind::Mesh, std::move(result.warnings), std::nullopt};
+                    InputKind::Mesh, std::move(result.warnings), std::nullopt, result.signs};
 }
 
 BuiltField pointSetField(const std::vector<Eigen::Vector3d>& points,

@@ -12,6 +12,7 @@
 
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/VoxelBudget.h"
 #include "d2vdb/io/InputFile.h"
 #include "d2vdb/manifold/SmoothSurfaceFromMesh.h"
@@ -57,6 +58,8 @@ struct BuiltField {
   InputKind inputKind = InputKind::Mesh;
   std::vector<std::string> warnings;  ///< one sentence each (meshToLevelSet()'s)
   std::optional<SmoothFieldSurface> smooth;
+  /// Meshes made into a level set: how its signs were decided and how many voxels were corrected.
+  std::optional<SignReport> signs = std::nullopt;
 };
 
 /// Builds the approximant field of `input`, as loaded by loadInput() (InputFile.h) with the kinds

@@ -12,6 +12,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/FieldBand.h"
+#include "d2vdb/field/MeshToLevelSet.h"
 
 namespace d2vdb {
 namespace {
@@ -37,6 +38,9 @@ void setFieldMetadata(openvdb::GridBase& grid, const ApproximantField& field) {
   grid.insertMeta(kFieldKindMetadata, openvdb::StringMetadata(targetKindName(field.kind())));
   grid.insertMeta(kFieldEstimatorMetadata, openvdb::StringMetadata(field.estimator()));
   grid.insertMeta(kFieldVersionMetadata, openvdb::Int32Metadata(kFieldFormatVersion));
+  grid.insertMeta(
+      kDistanceKindMetadata,
+      openvdb::StringMetadata(field.kind() == TargetKind::Surface ? "signed" : "unsigned"));
   const auto toVec3d = [](const Eigen::Vector3d& v) { return openvdb::Vec3d(v.x(), v.y(), v.z()); };
   grid.insertMeta(kFieldDomainMinMetadata, openvdb::Vec3DMetadata(toVec3d(field.domain().min())));
   grid.insertMeta(kFieldDomainMaxMetadata, openvdb::Vec3DMetadata(toVec3d(field.domain().max())));

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/SurfaceTarget.h"
@@ -98,6 +99,26 @@ void takeSurface(const BSplineSurface& surface, const std::filesystem::path& pat
   loaded.target = std::move(target);
 }
 
+// Throws InputError when the offset surface can leave the target's working domain, where the
+// target answers nothing: it lies up to |offset| beyond the target's points (on every side for a
+// sheet), so their bounding box grown by |offset| must stay inside the domain.
+void checkOffsetWithinDomain(double offset, const FitTarget& loaded) {
+  if (loaded.points.empty()) return;
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : loaded.points) box.extend(p);
+  const Eigen::AlignedBox3d domain = loaded.target->domain();
+  const double margin =
+      std::min((box.min() - domain.min()).minCoeff(), (domain.max() - box.max()).minCoeff());
+  if (std::abs(offset) <= margin) return;
+  throw InputError("--offset " + formatNumber(offset, 6) + " reaches beyond the target's working " +
+                   "domain, which extends only " + formatNumber(std::max(margin, 0.0), 6) +
+                   " beyond the target on its nearest side, so the offset surface could not be "
+                   "fitted there; use an offset of at most that size" +
+                   (loaded.kind == InputKind::Field
+                        ? std::string(" or build the field with a larger --padding")
+                        : std::string()));
+}
+
 void addOffset(double offset, FitSpline spline, FitTarget& loaded) {
   if (offset == 0.0) return;
   if (spline == FitSpline::Curve) {
@@ -109,6 +130,7 @@ void addOffset(double offset, FitSpline spline, FitTarget& loaded) {
     throw InputError("--offset needs a field or B-spline surface target, not a point cloud");
   }
   loaded.offset = std::make_unique<OffsetTarget>(*loaded.target, offset);
+  checkOffsetWithinDomain(offset, loaded);
 }
 
 }  // namespace

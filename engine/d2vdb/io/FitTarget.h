@@ -70,8 +70,9 @@ struct FitTarget {
 /// something other than a surface, or field without voxels on its zero level set, and for an
 /// offset of a target that has none: "--offset needs a curve target ..." (curve fits: only curve
 /// targets and fields of curves) or "--offset needs a field or B-spline surface target ..."
-/// (surface fits: not point clouds), the messages naming the option as the d2vdb command does;
-/// and as OffsetTarget does for an offset it refuses.
+/// (surface fits: not point clouds), or one whose size reaches beyond the target's working domain
+/// (the target's points grown by |offset| leave it), the messages naming the option as the d2vdb
+/// command does; and as OffsetTarget does for an offset it refuses.
 FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOptions& options = {});
 
 }  // namespace d2vdb

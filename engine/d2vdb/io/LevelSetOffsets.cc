@@ -20,6 +20,14 @@ OffsetLevelSet loadOffsetLevelSet(const std::filesystem::path& path, const Level
   input.kind = loaded.kind();
   if (loaded.kind() == InputKind::LevelSet) {
     input.grid = std::move(loaded).take<LevelSetInput>().floatGrid();
+    if (input.grid->getGridClass() != openvdb::GRID_LEVEL_SET) {
+      throw InputError(
+          "grid '" + input.grid->getName() + "' of '" + path.string() +
+          "' is not a level set (its class is '" +
+          openvdb::GridBase::gridClassToString(input.grid->getGridClass()) +
+          "'; an unsigned distance, such as a curve's or a point set's field, or a density): the "
+          "level-set method offsets the signed distance of a closed surface");
+    }
     return input;
   }
   const TriangleMesh mesh = std::move(loaded).take<MeshInput>().mesh;

@@ -30,7 +30,8 @@ struct OffsetLevelSet {
 
 /// Loads `path` as a level set (.vdb; selectGrid()'s float grid) or converts a mesh with triangles
 /// by meshToLevelSet() with `options` (`progress` follows the conversion). Throws InputError for
-/// other kinds, a mesh without triangles, and as loadInput() and meshToLevelSet() do.
+/// other kinds, a grid whose class is not level set (unsigned distances of curve and point
+/// fields, densities), a mesh without triangles, and as loadInput() and meshToLevelSet() do.
 OffsetLevelSet loadOffsetLevelSet(const std::filesystem::path& path, const LevelSetOptions& options,
                                   const ProgressCallback& progress = {});
 

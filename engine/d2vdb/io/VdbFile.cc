@@ -15,6 +15,7 @@
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/Version.h"
+#include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/io/GridSelection.h"
 #include "d2vdb/io/detail/VdbFormatCheck.h"
@@ -213,6 +214,10 @@ openvdb::GridPtrVec prepareGridsForWriting(const openvdb::GridPtrVec& grids,
     copy->setCreator(creator);
     if (!options.source.empty()) {
       copy->insertMeta(kSourceMetadata, openvdb::StringMetadata(options.source));
+    }
+    if (copy->getGridClass() == openvdb::GRID_LEVEL_SET &&
+        !copy->getMetadata<openvdb::StringMetadata>(kDistanceKindMetadata)) {
+      copy->insertMeta(kDistanceKindMetadata, openvdb::StringMetadata("signed"));
     }
     const double halfWidth = halfWidthFor(*copy, options);
     if (halfWidth > 0.0) copy->insertMeta(kHalfWidthMetadata, openvdb::DoubleMetadata(halfWidth));

@@ -48,7 +48,9 @@ struct VdbWriteOptions {
 /// Grids are written from shallow copies, so the caller's grids and metadata are not modified.
 /// Each written grid gets: metadata "creator" = "d2vdb <version>"; kSourceMetadata when
 /// options.source is set; kHalfWidthMetadata = options.halfWidth when positive, otherwise, for
-/// float/double level sets, background / voxel size. Unnamed level sets are named "surface"
+/// float/double level sets, background / voxel size; kDistanceKindMetadata
+/// (field/MeshToLevelSet.h) = "signed" for level sets that do not carry it already. Unnamed level
+/// sets are named "surface"
 /// ("surface_2", ... if taken), other unnamed grids "grid_<position>".
 /// Throws InputError for an empty list, a null grid, a non-standard grid type (only OpenVDB's
 /// standard bool, mask, float, double, int32, int64, Vec3s, Vec3d and Vec3i grids are accepted)

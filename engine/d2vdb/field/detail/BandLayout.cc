@@ -47,7 +47,10 @@ BandLayout::BandLayout(openvdb::FloatGrid::ConstPtr grid, const std::string& sou
 }
 
 double BandLayout::halfWidth() const {
-  return std::abs(static_cast<double>(grid_->background())) / frame_.voxelSize();
+  // The background is a float, so the quotient is known to float precision only: rounded to it,
+  // a band made with half-width 3 reports 3, not 3.0000001192 (float(0.075) / 0.025).
+  return static_cast<double>(
+      static_cast<float>(std::abs(static_cast<double>(grid_->background())) / frame_.voxelSize()));
 }
 
 void BandLayout::replaceGrid(openvdb::FloatGrid::ConstPtr sameTopology) {
