@@ -198,9 +198,12 @@ void checkVoxelSizeIsRepresentable(double voxelSize, const std::string& subject)
 }
 
 void enforceVoxelBudget(const VoxelBudgetRequest& request) {
-  checkVoxelSizeIsRepresentable(request.voxelSize, request.subject);
   const double estimate = estimateActiveVoxels(request);
-  if (estimate <= static_cast<double>(request.maxActiveVoxels)) return;
+  if (estimate <= static_cast<double>(request.maxActiveVoxels)) {
+    // Within the budget; the voxel can still be too small for OpenVDB (a tiny shape).
+    checkVoxelSizeIsRepresentable(request.voxelSize, request.subject);
+    return;
+  }
 
   std::ostringstream message;
   message.precision(3);

@@ -91,9 +91,8 @@ double smallestVoxelSizeWithinBudget(const VoxelBudgetRequest& request);
 /// halfWidth^3.
 double minimumActiveVoxels(double halfWidth);
 
-/// Throws InputError when request.voxelSize is not representable
-/// (checkVoxelSizeIsRepresentable()) or the estimate exceeds the limit, before anything is
-/// allocated. The
+/// Throws InputError when the estimate exceeds the limit or, within it, request.voxelSize is not
+/// representable (checkVoxelSizeIsRepresentable()), before anything is allocated. The
 /// message states the estimate, the limit, and the smallest voxel size (and, when the longest side
 /// is known, the largest resolution along it) that would fit, or, when no voxel size fits, the
 /// largest half-width that would.

@@ -2,6 +2,8 @@
 #include "d2vdb/field/detail/BandLayout.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <utility>
 #include <vector>
 
@@ -47,10 +49,13 @@ BandLayout::BandLayout(openvdb::FloatGrid::ConstPtr grid, const std::string& sou
 }
 
 double BandLayout::halfWidth() const {
-  // The background is a float, so the quotient is known to float precision only: rounded to it,
-  // a band made with half-width 3 reports 3, not 3.0000001192 (float(0.075) / 0.025).
-  return static_cast<double>(
-      static_cast<float>(std::abs(static_cast<double>(grid_->background())) / frame_.voxelSize()));
+  // The background is a float, so the quotient is known to a relative 6e-8 only: rounded to 6
+  // significant digits (steps of at least 5e-7 relative), a band made with half-width 3 reports
+  // 3, not 3.0000001192 (float(0.075) / 0.025) or 3.0000001444.
+  const double quotient = std::abs(static_cast<double>(grid_->background())) / frame_.voxelSize();
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", quotient);
+  return std::strtod(text, nullptr);
 }
 
 void BandLayout::replaceGrid(openvdb::FloatGrid::ConstPtr sameTopology) {
