@@ -248,14 +248,10 @@ Report runFitCurve(const FitCurveArguments& args, const CommandContext& context)
   if (!args.svg.empty()) writeIterationSvg(args.svg, target, result, args.every);
   if (!args.plot.empty()) writePlot(args.plot, method, result, extra);
 
-  Report report;
-  report.json = fitCurveJson(args, target, initial, method, result, extra);
-  report.json["seconds"] = clock.seconds();
-  report.text = fitReportText(result, method);
-  for (const auto& [other, otherResult] : extra) report.text += fitReportText(otherResult, other);
-  report.textKind = Report::Text::Answer;
-  if (!context.options().json) context.status("wrote " + args.out);
-  return report;
+  std::string text = fitReportText(result, method);
+  for (const auto& [other, otherResult] : extra) text += fitReportText(otherResult, other);
+  return fitAnswer(fitCurveJson(args, target, initial, method, result, extra), std::move(text),
+                   clock.seconds(), args.out, context);
 }
 
 std::vector<OutputFile> outputsOfFitCurve(const FitCurveArguments& args) {

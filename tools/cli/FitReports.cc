@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Command.h"
@@ -120,6 +121,17 @@ std::string fitReportText(const FitReport& report, FitMethod method) {
                row.stepScale, row.damping, row.smoothness, row.secondOrderWeight);
   }
   return text;
+}
+
+Report fitAnswer(nlohmann::json json, std::string text, double seconds, const std::string& out,
+                 const CommandContext& context) {
+  Report report;
+  report.json = std::move(json);
+  report.json["seconds"] = seconds;
+  report.text = std::move(text);
+  report.textKind = Report::Text::Answer;
+  if (!context.options().json) context.status("wrote " + out);
+  return report;
 }
 
 }  // namespace d2vdb::cli

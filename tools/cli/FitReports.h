@@ -9,6 +9,7 @@
 #include <initializer_list>
 #include <string>
 
+#include "Command.h"
 #include "d2vdb/fit/FitHistory.h"
 #include "d2vdb/fit/FitMethod.h"
 #include "d2vdb/fit/FitOptions.h"
@@ -47,5 +48,10 @@ nlohmann::json fitReportJson(const FitReport& report, FitMethod method);
 /// "<method> fit: <status> after N iterations (<reason>)" and the history as a table, one row per
 /// iteration, each line ending in '\n'.
 std::string fitReportText(const FitReport& report, FitMethod method);
+
+/// The report of a fit that wrote its result to `out`: `json` with "seconds", `text` as the
+/// answer (stdout), and "wrote OUT" on stderr now, unless --json.
+Report fitAnswer(nlohmann::json json, std::string text, double seconds, const std::string& out,
+                 const CommandContext& context);
 
 }  // namespace d2vdb::cli

@@ -270,23 +270,19 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
   }
   const SurfaceFitResult result = runFit(args, method, initial, target, context);
 
-  Report report;
-  report.json = fitReportJson(result, method);
-  report.json.update({{"target", args.target},
-                      {"target_kind", inputKindName(target.kind)},
-                      {"offset", args.offset},
-                      {"dimension", 3},
-                      {"degree", {initial.degreeU(), initial.degreeV()}},
-                      {"control_points", {initial.countU(), initial.countV()}},
-                      {"closed", {initial.isClosedU(), initial.isClosedV()}},
-                      {"ruled", ruled},
-                      {"output", args.out}});
-  writeFitSurfaceOutputs(args, method, target, result, context.progress(), report.json);
-  report.json["seconds"] = clock.seconds();
-  report.text = fitReportText(result, method);
-  report.textKind = Report::Text::Answer;
-  if (!context.options().json) context.status("wrote " + args.out);
-  return report;
+  nlohmann::json json = fitReportJson(result, method);
+  json.update({{"target", args.target},
+               {"target_kind", inputKindName(target.kind)},
+               {"offset", args.offset},
+               {"dimension", 3},
+               {"degree", {initial.degreeU(), initial.degreeV()}},
+               {"control_points", {initial.countU(), initial.countV()}},
+               {"closed", {initial.isClosedU(), initial.isClosedV()}},
+               {"ruled", ruled},
+               {"output", args.out}});
+  writeFitSurfaceOutputs(args, method, target, result, context.progress(), json);
+  return fitAnswer(std::move(json), fitReportText(result, method), clock.seconds(), args.out,
+                   context);
 }
 
 std::vector<OutputFile> outputsOfFitSurface(const FitSurfaceArguments& args) {
