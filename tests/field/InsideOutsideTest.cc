@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
+#include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/field/detail/SelfIntersection.h"
 #include "d2vdb/field/detail/TriangleClosestPoint.h"
 #include "d2vdb/field/detail/WindingNumber.h"
@@ -90,6 +92,64 @@ TEST(InsideOutside, HierarchicalWindingNumberStaysWithinItsBound) {
   const TriangleIndices& face = triangles[100];
   const Eigen::Vector3d centroid = (points[face[0]] + points[face[1]] + points[face[2]]) / 3.0;
   EXPECT_NEAR(field.exact(centroid, 100), 0.5, 1e-9);
+}
+
+TEST(InsideOutside, OrientationSignIsCertainOrInDoubt) {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_EQ(detail::certifiedOrientation(a, b, c, Eigen::Vector3d(0.2, 0.2, -1.0)), 1);  // behind
+  EXPECT_EQ(detail::certifiedOrientation(a, b, c, Eigen::Vector3d(0.2, 0.2, 1e-3)), -1);
+  EXPECT_EQ(detail::certifiedOrientation(a, b, c, Eigen::Vector3d(5.0, -3.0, 0.0)), 0);  // plane
+  // Off the plane by far less than rounding of coordinates near 1e6: in doubt, not a guess.
+  const Eigen::Vector3d far(1e6, 1e6, 1e6);
+  EXPECT_EQ(detail::certifiedOrientation(far + a, far + b, far + c,
+                                         far + Eigen::Vector3d(0.3, 0.3, 1e-12)),
+            0);
+}
+
+TEST(InsideOutside, RayCrossingsGiveTheWindingNumberOfWatertightMeshes) {
+  // Two overlapping spheres (W = 2 in the overlap) and a capped sphere with holes, against the
+  // brute-force winding number; queries include vertices' neighbourhoods, where rays through
+  // edges must be discarded.
+  TriangleMesh spheres = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 2);
+  const TriangleMesh other = test::makeIcosphere(Eigen::Vector3d(0.7, 0.2, 0.1), 0.8, 2);
+  const auto offset = static_cast<TriangleMesh::Index>(spheres.positions.size());
+  spheres.positions.insert(spheres.positions.end(), other.positions.begin(), other.positions.end());
+  for (TriangleMesh::Triangle t : other.triangles) {
+    for (TriangleMesh::Index& v : t) v += offset;
+    spheres.triangles.push_back(t);
+  }
+  TriangleMesh holed = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
+  holed.triangles.erase(holed.triangles.begin() + 200);
+  holed.triangles.erase(holed.triangles.begin() + 100);
+  std::mt19937 random(9);
+  int twos = 0, ones = 0, rejected = 0;
+  for (const TriangleMesh* input : {&spheres, &holed}) {
+    const detail::InsideOutsideMesh mesh =
+        detail::prepareInsideOutsideMesh(toDouble(*input), toIndices(*input));
+    const detail::WindingNumberField field(mesh.points, mesh.triangles);
+    for (int n = 0; n < 600; ++n) {
+      Eigen::Vector3d q(test::uniform(random, -1.5, 2.0), test::uniform(random, -1.5, 1.5),
+                        test::uniform(random, -1.5, 1.5));
+      if (n % 3 == 0) q = mesh.points[random() % mesh.points.size()];  // on a vertex
+      const std::optional<long> w =
+          detail::rayWindingNumber(field.hierarchy(), mesh.points, mesh.triangles, q);
+      const double exact = field.exact(q);
+      if (n % 3 == 0) {
+        // On the surface no ray can be certain.
+        EXPECT_FALSE(w.has_value()) << q.transpose();
+        rejected += !w.has_value();
+        continue;
+      }
+      ASSERT_TRUE(w.has_value()) << q.transpose();
+      ASSERT_NEAR(exact, std::round(exact), 1e-6);
+      EXPECT_EQ(*w, std::lround(exact)) << q.transpose();
+      twos += *w == 2;
+      ones += *w == 1;
+    }
+  }
+  EXPECT_GT(twos, 5);
+  EXPECT_GT(ones, 50);
+  EXPECT_EQ(rejected, 400);
 }
 
 TEST(InsideOutside, SelfIntersectionTestCases) {

@@ -4,6 +4,7 @@
 // inside-out meshes; inactive values; 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -185,6 +186,78 @@ TEST(MeshToLevelSetSigns, NestedShellsAndInsideOutMeshes) {
   EXPECT_EQ(flipped.signs.reorientedTriangles, insideOut.triangles.size());
   EXPECT_LT(flipped.grid->getConstAccessor().getValue(openvdb::Coord(0, 0, 0)), 0.0f);
   EXPECT_TRUE(containsText(flipped.warnings, "320 of 320 triangles were wound against"));
+}
+
+/// A sphere of radius 1 as a raw scan comes: two holes (the triangles within 0.25 of two surface
+/// points removed), three junk flaps inside (the triangles within 0.3 of three other surface
+/// points, copied at radius `flapRadius`, left open) and a fin that crosses the surface (the
+/// triangles within 0.2 of a fourth point, copied and pushed out from radius 0.95 to 1.05 along
+/// one axis, so that the mesh intersects itself).
+TriangleMesh makeScannedSphere(int levels, double flapRadius) {
+  const TriangleMesh sphere = test::makeIcosphere(Eigen::Vector3d::Zero(), 1.0, levels);
+  const auto centroid = [&](const TriangleMesh::Triangle& t) {
+    return Eigen::Vector3f(
+        (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]) / 3.0f);
+  };
+  const std::vector<Eigen::Vector3f> holes{Eigen::Vector3f(0.0f, 0.0f, 1.0f),
+                                           Eigen::Vector3f(0.6f, -0.8f, 0.0f)};
+  const std::vector<Eigen::Vector3f> flaps{Eigen::Vector3f(1.0f, 0.0f, 0.0f),
+                                           Eigen::Vector3f(0.0f, 0.6f, -0.8f),
+                                           Eigen::Vector3f(-0.8f, 0.0f, -0.6f)};
+  const Eigen::Vector3f fin = Eigen::Vector3f(-0.6f, 0.8f, 0.0f);
+  TriangleMesh mesh;
+  mesh.positions = sphere.positions;
+  for (const TriangleMesh::Triangle& t : sphere.triangles) {
+    bool removed = false;
+    for (const Eigen::Vector3f& h : holes) removed = removed || (centroid(t) - h).norm() < 0.25f;
+    if (!removed) mesh.triangles.push_back(t);
+  }
+  const auto copyPatch = [&](const Eigen::Vector3f& at, float reach, auto&& move) {
+    for (const TriangleMesh::Triangle& t : sphere.triangles) {
+      if ((centroid(t) - at).norm() >= reach) continue;
+      const auto base = static_cast<TriangleMesh::Index>(mesh.positions.size());
+      for (const TriangleMesh::Index corner : t)
+        mesh.positions.push_back(move(sphere.positions[corner]));
+      mesh.triangles.push_back({base, base + 1, base + 2});
+    }
+  };
+  for (const Eigen::Vector3f& f : flaps) {
+    copyPatch(f, 0.3f,
+              [&](const Eigen::Vector3f& p) { return Eigen::Vector3f(float(flapRadius) * p); });
+  }
+  copyPatch(fin, 0.2f, [&](const Eigen::Vector3f& p) {
+    const float along = std::clamp((p.z() + 0.2f) / 0.4f, 0.0f, 1.0f);
+    return Eigen::Vector3f(p.normalized() * (0.95f + 0.1f * along));
+  });
+  return mesh;
+}
+
+TEST(MeshToLevelSetSigns, ScanWithHolesFlapsAndAFinMatchesBruteForceWindingNumbers) {
+  // Caps, self-intersection and non-embedded caps at once: the winding-number path with groups.
+  const TriangleMesh mesh = makeScannedSphere(3, 0.8);
+  const test::WindingNumberReference winding(mesh);
+  for (const double voxel : {0.07, 0.045}) {
+    SCOPED_TRACE("voxel " + std::to_string(voxel));
+    LevelSetOptions options;
+    options.voxelSize = voxel;
+    const LevelSetResult result = meshToLevelSet(mesh, options);
+    EXPECT_FALSE(result.signs.watertight);
+    EXPECT_EQ(result.signs.holesClosed, 2u + 3u + 1u);  // two holes, three flaps, the fin
+    EXPECT_TRUE(result.signs.selfIntersecting);
+    EXPECT_EQ(result.signs.method, SignMethod::windingNumber);
+    const test::SignCheck check =
+        test::compareSignsWithWindingNumbers(*result.grid, winding, 1e-4 * voxel);
+    EXPECT_GT(check.checked, 15000u);
+    EXPECT_EQ(check.wrong, 0u);
+    // (Inactive values are not checked: the holes are wider than the band, and the flood fill
+    // beyond it cannot follow the surface w = 1/2 that spans them.)
+  }
+  LevelSetOptions options;
+  options.voxelSize = 0.06;
+  const auto one = test::withThreads(1, [&] { return meshToLevelSet(mesh, options); });
+  const auto two = test::withThreads(2, [&] { return meshToLevelSet(mesh, options); });
+  EXPECT_EQ(one.signs.windingNumberQueries, two.signs.windingNumberQueries);
+  test::expectBitwiseIdentical(*one.grid, *two.grid);
 }
 
 TEST(MeshToLevelSetSigns, ExactSignsCanBeTurnedOff) {

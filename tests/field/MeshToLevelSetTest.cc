@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "d2vdb/core/Error.h"
@@ -309,19 +310,43 @@ TEST(MeshToLevelSet, OneAndTwoThreadsGiveBitwiseIdenticalGrids) {
   test::expectBitwiseIdentical(*oneCube, *twoCube);
 }
 
-TEST(MeshToLevelSet, ReportsMonotoneProgressEndingAtOne) {
-  const TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 3);
-  std::vector<double> fractions;
-  LevelSetOptions options;
-  options.voxelSize = kVoxel;
+/// The fractions reported for each stage, in the order the stages came (a stage never returns).
+std::vector<std::pair<std::string, std::vector<double>>> progressOf(
+    const TriangleMesh& mesh, const LevelSetOptions& options) {
+  std::vector<std::pair<std::string, std::vector<double>>> stages;
   meshToLevelSet(mesh, options, [&](std::string_view stage, double fraction) {
-    EXPECT_EQ(stage, "mesh to level set");
-    fractions.push_back(fraction);
+    if (stages.empty() || stages.back().first != stage)
+      stages.emplace_back(stage, std::vector<double>{});
+    stages.back().second.push_back(fraction);
   });
-  ASSERT_GE(fractions.size(), 3u);
+  return stages;
+}
+
+void expectMonotoneFromZeroToOne(const std::vector<double>& fractions) {
+  ASSERT_GE(fractions.size(), 2u);
   EXPECT_EQ(fractions.front(), 0.0);
   EXPECT_EQ(fractions.back(), 1.0);
   for (std::size_t i = 1; i < fractions.size(); ++i) EXPECT_GE(fractions[i], fractions[i - 1]);
+}
+
+TEST(MeshToLevelSet, ReportsMonotoneProgressEndingAtOne) {
+  const TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 3);
+  LevelSetOptions options;
+  options.voxelSize = kVoxel;
+  // The conversion, then the sign pass as a stage of its own from its start.
+  const auto stages = progressOf(mesh, options);
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[0].first, "mesh to level set");
+  EXPECT_EQ(stages[1].first, "exact signs (closest feature)");
+  expectMonotoneFromZeroToOne(stages[0].second);
+  expectMonotoneFromZeroToOne(stages[1].second);
+  EXPECT_GE(stages[1].second.size(), 10u);  // the pass reports as it goes
+  // Without exact signs, the conversion alone.
+  options.exactSigns = false;
+  const auto unchecked = progressOf(mesh, options);
+  ASSERT_EQ(unchecked.size(), 1u);
+  EXPECT_EQ(unchecked[0].first, "mesh to level set");
+  expectMonotoneFromZeroToOne(unchecked[0].second);
 }
 
 TEST(MeshToLevelSet, RejectsBadInput) {

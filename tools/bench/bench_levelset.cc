@@ -4,14 +4,19 @@
 //    the wrapper and of the exact-sign pass show as ratios. Meshes: the bunny at resolutions 256
 //    and 512, and two generated meshes of more than 800k triangles at resolution 512 (see
 //    largeMesh());
+//  - exact signs against OpenVDB's (unchecked) signs on scan-like meshes, both timed in each
+//    iteration and reported as a ratio: a generated scan (scannedBunny()) and, when the
+//    environment variable D2VDB_BENCH_SCAN names a mesh file, that file;
 //  - .vdb write and read with and without Blosc.
 // Every benchmark takes the thread count as its last argument (tbb::global_control).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <unordered_map>
 #include <utility>
@@ -109,6 +114,48 @@ const d2vdb::TriangleMesh& meshFor(std::int64_t id) {
     return mesh;
   }
   static const d2vdb::TriangleMesh mesh = foldedSphere();
+  return mesh;
+}
+
+/// The bunny as a raw scan comes: four holes (the triangles within 4 % of the bounding box's
+/// diagonal of four surface points removed), and eight junk flaps inside it (the triangles around
+/// eight other surface points, copied, pushed inward by 3 % and kept open), two of them
+/// pushed only halfway so that they cut the surface (self-intersection).
+d2vdb::TriangleMesh scannedBunny() {
+  const d2vdb::TriangleMesh& source = bunny();
+  const d2vdb::BoundingBox box = d2vdb::boundingBox(source);
+  const float diagonal = static_cast<float>(box.extent().norm());
+  const Eigen::Vector3f centre = (0.5 * (box.min + box.max)).cast<float>();
+  const auto centroid = [&](const d2vdb::TriangleMesh::Triangle& t) {
+    return Eigen::Vector3f(
+        (source.positions[t[0]] + source.positions[t[1]] + source.positions[t[2]]) / 3.0f);
+  };
+  const std::size_t count = source.triangles.size();
+  std::vector<Eigen::Vector3f> holes, flaps;
+  for (std::size_t k = 0; k < 4; ++k)
+    holes.push_back(centroid(source.triangles[(2 * k + 1) * count / 9]));
+  for (std::size_t k = 0; k < 8; ++k)
+    flaps.push_back(centroid(source.triangles[(2 * k + 1) * count / 17 + 7]));
+  d2vdb::TriangleMesh mesh;
+  mesh.positions = source.positions;
+  for (const auto& t : source.triangles) {
+    bool removed = false;
+    for (const Eigen::Vector3f& h : holes)
+      removed = removed || (centroid(t) - h).norm() < 0.04f * diagonal;
+    if (!removed) mesh.triangles.push_back(t);
+  }
+  for (std::size_t k = 0; k < flaps.size(); ++k) {
+    const float depth = (k < 2 ? 0.005f : 0.03f) * diagonal;
+    for (const auto& t : source.triangles) {
+      if ((centroid(t) - flaps[k]).norm() >= 0.03f * diagonal) continue;
+      const auto base = static_cast<d2vdb::TriangleMesh::Index>(mesh.positions.size());
+      for (const auto corner : t) {
+        const Eigen::Vector3f p = source.positions[corner];
+        mesh.positions.push_back(p + depth * (centre - p).normalized());
+      }
+      mesh.triangles.push_back({base, base + 1, base + 2});
+    }
+  }
   return mesh;
 }
 
@@ -231,6 +278,53 @@ BENCHMARK(BM_MeshToLevelSet)
     ->Apply(meshToLevelSetCases)
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()
+    ->UseRealTime();
+/// Arguments: {mesh, resolution, threads}; mesh 0 is scannedBunny(), 1 the file that
+/// D2VDB_BENCH_SCAN names (skipped without it). Each iteration converts with exact signs and
+/// without them; counters: both times (s) and exact_over_openvdb, their ratio.
+void BM_ExactSignsOnScans(benchmark::State& state) {
+  static const d2vdb::TriangleMesh generated = scannedBunny();
+  d2vdb::TriangleMesh file;
+  if (state.range(0) == 1) {
+    const char* path = std::getenv("D2VDB_BENCH_SCAN");
+    if (path == nullptr) {
+      state.SkipWithError("set D2VDB_BENCH_SCAN to a mesh file");
+      return;
+    }
+    file = d2vdb::readMesh(path);
+  }
+  const d2vdb::TriangleMesh& mesh = state.range(0) == 0 ? generated : file;
+  const auto limit = threadLimit(state, 2);
+  d2vdb::LevelSetOptions options;
+  options.voxelSize = voxelSizeFor(mesh, static_cast<int>(state.range(1)));
+  double exactSeconds = 0.0, openVdbSeconds = 0.0;
+  for (auto _ : state) {
+    for (const bool exact : {false, true}) {
+      options.exactSigns = exact;
+      const auto start = std::chrono::steady_clock::now();
+      const d2vdb::LevelSetResult result = d2vdb::meshToLevelSet(mesh, options);
+      benchmark::DoNotOptimize(result.grid->activeVoxelCount());
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      (exact ? exactSeconds : openVdbSeconds) += seconds;
+      if (exact) {
+        state.counters["winding_queries"] = static_cast<double>(result.signs.windingNumberQueries);
+        state.counters["self_intersecting"] = result.signs.selfIntersecting ? 1.0 : 0.0;
+        state.counters["holes"] = static_cast<double>(result.signs.holesClosed);
+      }
+    }
+  }
+  const double iterations = static_cast<double>(state.iterations());
+  state.counters["exact_s"] = exactSeconds / iterations;
+  state.counters["openvdb_s"] = openVdbSeconds / iterations;
+  state.counters["exact_over_openvdb"] = exactSeconds / openVdbSeconds;
+  state.counters["triangles"] = static_cast<double>(mesh.triangles.size());
+}
+
+BENCHMARK(BM_ExactSignsOnScans)
+    ->ArgsProduct({{0, 1}, {256, 512}, {2}})
+    ->ArgNames({"mesh", "res", "threads"})
+    ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_VdbWrite)
     ->ArgsProduct({{256}, {0, 1}, {1, 2}})

@@ -28,22 +28,19 @@ using detail::ensureOpenVdbInitialized;
 namespace {
 
 constexpr const char* kStage = "mesh to level set";
-/// Share of the progress stage given to OpenVDB's conversion when the signs are checked after it.
-constexpr double kConversionShare = 0.9;
 constexpr double kMaxIndexCoordinate = 1 << 30;
 
 // Forwards OpenVDB's percentage reports (made from the calling thread) to a ProgressCallback.
 // The parameterless checks that worker threads make are answered without locking.
 class ProgressInterrupter final : public openvdb::util::NullInterrupter {
  public:
-  /// OpenVDB's percentages become fractions 0..`share` of the stage.
-  ProgressInterrupter(const ProgressCallback& progress, double share)
-      : progress_(progress), share_(share) {}
+  /// OpenVDB's percentages become fractions 0..1 of the stage.
+  explicit ProgressInterrupter(const ProgressCallback& progress) : progress_(progress) {}
 
   bool wasInterrupted(int percent = -1) override {
     if (percent < 0 || !progress_) return false;
     const std::lock_guard<std::mutex> lock(mutex_);
-    const double fraction = share_ * std::clamp(percent / 100.0, 0.0, 1.0);
+    const double fraction = std::clamp(percent / 100.0, 0.0, 1.0);
     if (fraction > lastFraction_) {
       lastFraction_ = fraction;
       progress_(kStage, fraction);
@@ -53,7 +50,6 @@ class ProgressInterrupter final : public openvdb::util::NullInterrupter {
 
  private:
   const ProgressCallback& progress_;
-  const double share_;
   std::mutex mutex_;
   double lastFraction_ = 0.0;
 };
@@ -148,9 +144,19 @@ class ExactSigns {
            (enclosedSurface_ ? openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL : 0);
   }
 
-  /// Corrects the signs of the converted band (see correctBandSigns()).
-  SignReport correct(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles) {
+  /// The progress stage of correct(), which names the method.
+  std::string stage() const {
+    return std::string("exact signs (") + signMethodName(report_.method) + ")";
+  }
+
+  /// Corrects the signs of the converted band (see correctBandSigns()); reports stage() to
+  /// `progress` from its start.
+  SignReport correct(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles,
+                     const ProgressCallback& progress) {
+    const std::string name = stage();
+    if (progress) progress(name, 0.0);
     detail::BandSignInputs inputs;
+    if (progress) inputs.progress = [&](double fraction) { progress(name, fraction); };
     inputs.mesh = &mesh_;
     inputs.closed = &closed_;
     inputs.caps = caps_ ? &*caps_ : nullptr;
@@ -160,6 +166,7 @@ class ExactSigns {
     SignReport report = report_;
     report.correctedVoxels = band.correctedVoxels;
     report.windingNumberQueries += band.windingNumberQueries + band.capQueries;
+    if (progress) progress(name, 1.0);
     return report;
   }
 
@@ -327,7 +334,7 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
   const bool exactSigns = !options.unsignedDistance && options.exactSigns;
   std::optional<ExactSigns> signs;
   if (exactSigns) signs.emplace(indexMesh.points, indexMesh.triangles);
-  ProgressInterrupter interrupter(progress, exactSigns ? kConversionShare : 1.0);
+  ProgressInterrupter interrupter(progress);
   const int flags = options.unsignedDistance ? openvdb::tools::UNSIGNED_DISTANCE_FIELD
                                              : (signs ? signs->conversionFlags() : 0);
   // Called through the NullInterrupter base so that libopenvdb's pre-built instantiation is used.
@@ -346,7 +353,8 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
     result.grid->setGridClass(openvdb::GRID_LEVEL_SET);
     result.grid->insertMeta(kDistanceKindMetadata, openvdb::StringMetadata("signed"));
     if (signs) {
-      result.signs = signs->correct(*result.grid, closestTriangles);
+      if (progress) progress(kStage, 1.0);
+      result.signs = signs->correct(*result.grid, closestTriangles, progress);
       detail::renormalizeBand(*result.grid);
       if (bandWidth < 4.0f) detail::trimBand(*result.grid);
     }
@@ -356,7 +364,7 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
     result.warnings.push_back("mesh problems that do not affect the distance field: " +
                               joinLines(result.meshReport.problems()));
   }
-  if (progress) progress(kStage, 1.0);
+  if (progress && !signs) progress(kStage, 1.0);
   return result;
 }
 

@@ -12,9 +12,11 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include "d2vdb/core/detail/DisjointSets.h"
+#include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/field/detail/TriangleClosestPoint.h"
 
 namespace d2vdb::detail {
@@ -33,6 +35,8 @@ constexpr double kNearLimit2 = 0.7;
 const double kFarBound = std::sqrt(0.7 * (1.0 - 2e-5));
 /// A near voxel at least this far from the mesh shares its side with a far 6-neighbour.
 const double kLinkDistance = 1.0 - kFarBound + 1e-9;
+/// The clearance stored for far voxels: kFarBound rounded down.
+const float kFarClearance = static_cast<float>(kFarBound * (1.0 - 1e-6));
 /// Voxel centres this close to the mesh (voxels) keep OpenVDB's sign: either side is right.
 constexpr double kOnSurface = 1e-6;
 
@@ -54,6 +58,25 @@ constexpr std::uint16_t kNoLabel = std::numeric_limits<std::uint16_t>::max();
 
 using States = std::array<std::uint8_t, kVoxels>;
 using Windings = std::array<std::int16_t, kVoxels>;
+/// Per voxel a lower bound of its distance to M + S (voxels), rounded down: exact distances near
+/// the surface, kFarBound beyond.
+using Clearances = std::array<float, kVoxels>;
+
+/// Two 6-neighbours are linked when their clearances add up to more than this: a voxel, with
+/// room for the rounding of the clearances.
+constexpr double kLinkSum = 1.0 + 1e-6;
+
+/// A clearance as stored: rounded down, so that it stays a lower bound.
+float storedClearance(double distance) {
+  return static_cast<float>(distance * (1.0 - 1e-6));
+}
+
+/// The per-voxel records of every leaf (in LeafTable order) the passes share.
+struct VoxelData {
+  std::vector<States> states;
+  std::vector<Windings> windings;
+  std::vector<Clearances> clearances;
+};
 
 openvdb::Index offsetOf(int x, int y, int z) {
   return static_cast<openvdb::Index>((x << (2 * FloatLeaf::LOG2DIM)) + (y << FloatLeaf::LOG2DIM) +
@@ -115,7 +138,7 @@ class LeafTable {
   std::vector<std::array<std::uint32_t, 6>> neighbours_;
 };
 
-/// The range of W over the near voxels linked to a group.
+/// The range of W over the known voxels linked to a group.
 struct Seeds {
   std::int16_t low = std::numeric_limits<std::int16_t>::max();
   std::int16_t high = std::numeric_limits<std::int16_t>::min();
@@ -130,14 +153,15 @@ struct Seeds {
   }
 };
 
-/// Far voxels of one leaf grouped by 6-adjacency inside the leaf.
+/// Voxels of one leaf whose W is not known yet, grouped by links inside the leaf.
 struct LocalGroups {
-  std::array<std::uint16_t, kVoxels> label;   ///< group of each far voxel, or kNoLabel
-  std::vector<std::uint16_t> representative;  ///< first voxel (offset) of each group
-  std::vector<Seeds> seeds;                   ///< W of the linked near neighbours
+  std::array<std::uint16_t, kVoxels> label;   ///< group of each grouped voxel, or kNoLabel
+  std::vector<std::uint16_t> representative;  ///< voxel (offset) of each group farthest out
+  std::vector<float> reach;                   ///< |value| of that voxel (world units)
+  std::vector<Seeds> seeds;                   ///< W of the linked known neighbours
 };
 
-/// A leaf's states and W with a one-voxel shell from its face neighbours, indexed
+/// A leaf's states, W and clearances with a one-voxel shell from its face neighbours, indexed
 /// (x + 1) * 100 + (y + 1) * 10 + (z + 1), so that 6-neighbours are +-100, +-10, +-1 away.
 struct PaddedBlock {
   static constexpr int kSide = kDim + 2;
@@ -146,15 +170,12 @@ struct PaddedBlock {
   }
   std::array<std::uint8_t, kSide * kSide * kSide> state{};
   std::array<std::int16_t, kSide * kSide * kSide> winding{};
+  std::array<float, kSide * kSide * kSide> clearance{};
 
-  PaddedBlock(const LeafTable& table, const std::vector<States>& states,
-              const std::vector<Windings>& windings, std::size_t i) {
+  PaddedBlock(const LeafTable& table, const VoxelData& data, std::size_t i) {
     for (int x = 0; x < kDim; ++x)
       for (int y = 0; y < kDim; ++y)
-        for (int z = 0; z < kDim; ++z) {
-          state[index(x, y, z)] = states[i][offsetOf(x, y, z)];
-          winding[index(x, y, z)] = windings[i][offsetOf(x, y, z)];
-        }
+        for (int z = 0; z < kDim; ++z) copy(index(x, y, z), data, i, offsetOf(x, y, z));
     for (int axis = 0; axis < 3; ++axis) {
       for (int direction = 0; direction < 2; ++direction) {
         const std::uint32_t j = table.neighbour(i, 2 * axis + direction);
@@ -167,29 +188,46 @@ struct PaddedBlock {
             c[axis] = shell;
             c[(axis + 1) % 3] = u;
             c[(axis + 2) % 3] = v;
-            const openvdb::Index o = faceOffset(axis, depth, u, v);
-            state[index(c[0], c[1], c[2])] = states[j][o];
-            winding[index(c[0], c[1], c[2])] = windings[j][o];
+            copy(index(c[0], c[1], c[2]), data, j, faceOffset(axis, depth, u, v));
           }
         }
       }
     }
   }
+
+ private:
+  void copy(int b, const VoxelData& data, std::size_t leaf, openvdb::Index o) {
+    state[b] = data.states[leaf][o];
+    winding[b] = data.windings[leaf][o];
+    clearance[b] = data.clearances[leaf][o];
+  }
 };
 
-bool isFar(std::uint8_t s) {
-  return (s & (kActive | kNear)) == kActive;
+/// An active voxel whose W is still to be found (not known, not final): it joins a group.
+bool isGroupable(std::uint8_t s) {
+  return (s & (kActive | kKnown | kFinal)) == kActive;
 }
 
-LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& states,
-                           const std::vector<Windings>& windings, std::size_t i) {
+/// An active voxel whose W is known: it passes W on to the groups it is linked to.
+bool isKnown(std::uint8_t s) {
+  return (s & (kActive | kKnown)) == (kActive | kKnown);
+}
+
+/// Two 6-neighbours (one voxel apart) whose clearances add up to more than a voxel: no point of
+/// M + S lies on the segment between them (it would be nearer to both), so they share W.
+bool linked(float a, float b) {
+  return double(a) + double(b) > kLinkSum;
+}
+
+LocalGroups groupVoxels(const LeafTable& table, const VoxelData& data, std::size_t i) {
   LocalGroups groups;
   groups.label.fill(kNoLabel);
-  const States& state = states[i];
-  bool anyFar = false;
-  for (const std::uint8_t s : state) anyFar = anyFar || isFar(s);
-  if (!anyFar) return groups;
-  const PaddedBlock block(table, states, windings, i);
+  const States& state = data.states[i];
+  const Clearances& clearance = data.clearances[i];
+  bool anyGroupable = false;
+  for (const std::uint8_t s : state) anyGroupable = anyGroupable || isGroupable(s);
+  if (!anyGroupable) return groups;
+  const PaddedBlock block(table, data, i);
   std::array<std::uint16_t, kVoxels> parent;
   const auto find = [&parent](std::uint16_t x) {
     while (parent[x] != x) {
@@ -199,6 +237,7 @@ LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& st
     return x;
   };
   const auto unite = [&](openvdb::Index a, openvdb::Index b) {
+    if (!isGroupable(state[b]) || !linked(clearance[a], clearance[b])) return;
     const std::uint16_t ra = find(static_cast<std::uint16_t>(a));
     const std::uint16_t rb = find(static_cast<std::uint16_t>(b));
     if (ra < rb)
@@ -213,30 +252,38 @@ LocalGroups groupFarVoxels(const LeafTable& table, const std::vector<States>& st
       for (int z = 0; z < kDim; ++z) {
         const openvdb::Index o = offsetOf(x, y, z);
         parent[o] = static_cast<std::uint16_t>(o);
-        if (!isFar(state[o])) continue;
-        if (x > 0 && isFar(state[o - kDim * kDim])) unite(o, o - kDim * kDim);
-        if (y > 0 && isFar(state[o - kDim])) unite(o, o - kDim);
-        if (z > 0 && isFar(state[o - 1])) unite(o, o - 1);
+        if (!isGroupable(state[o])) continue;
+        if (x > 0) unite(o, o - kDim * kDim);
+        if (y > 0) unite(o, o - kDim);
+        if (z > 0) unite(o, o - 1);
       }
     }
   }
+  const FloatLeaf& leaf = table.leaf(i);
   for (int x = 0; x < kDim; ++x) {
     for (int y = 0; y < kDim; ++y) {
       for (int z = 0; z < kDim; ++z) {
         const openvdb::Index o = offsetOf(x, y, z);
-        if (!isFar(state[o])) continue;
+        if (!isGroupable(state[o])) continue;
         const std::uint16_t root = find(static_cast<std::uint16_t>(o));
+        const float reach = std::abs(leaf.getValue(o));
         if (groups.label[root] == kNoLabel) {
           groups.label[root] = static_cast<std::uint16_t>(groups.representative.size());
           groups.representative.push_back(static_cast<std::uint16_t>(o));
+          groups.reach.push_back(reach);
           groups.seeds.emplace_back();
         }
         const std::uint16_t label = groups.label[root];
         groups.label[o] = label;
-        // Seeds: near 6-neighbours far enough from the surface that none passes between.
+        // The voxel farthest from the surface (first in offset order among equals) represents
+        // the group: its winding number is the cheapest to certify.
+        if (reach > groups.reach[label]) {
+          groups.reach[label] = reach;
+          groups.representative[label] = static_cast<std::uint16_t>(o);
+        }
         const int b = PaddedBlock::index(x, y, z);
         for (const int step : {-kStepX, kStepX, -kStepY, kStepY, -1, 1}) {
-          if ((block.state[b + step] & kSeed) == kSeed) {
+          if (isKnown(block.state[b + step]) && linked(clearance[o], block.clearance[b + step])) {
             groups.seeds[label].add(block.winding[b + step]);
           }
         }
@@ -401,6 +448,40 @@ bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& su
   return allFarReachable(table, far, seeds);
 }
 
+/// A lower bound of the distance from the box [low, high] to the triangles of `bvh` (its boxes
+/// and those of single triangles); stops early with a value at most `limit` once one is nearer
+/// than `limit`.
+double capClearance(const TriangleBvh& bvh, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<TriangleIndices>& triangles, const Eigen::Vector3d& low,
+                    const Eigen::Vector3d& high, double limit) {
+  const auto gap = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - high).cwiseMax(low - b).cwiseMax(Eigen::Vector3d::Zero()).norm();
+  };
+  double nearest = std::numeric_limits<double>::infinity();
+  if (bvh.nodes().empty()) return nearest;
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const TriangleBvh::Node& node = bvh.nodes()[stack[--top]];
+    if (gap(node.low, node.high) >= nearest) continue;
+    if (!node.isLeaf()) {
+      stack[top++] = node.right;
+      stack[top++] = static_cast<std::uint32_t>(&node - bvh.nodes().data()) + 1;
+      continue;
+    }
+    for (std::uint32_t k = node.begin; k < node.end; ++k) {
+      const TriangleIndices& t = triangles[bvh.order()[k]];
+      const Eigen::Vector3d& a = points[t[0]];
+      const Eigen::Vector3d& b = points[t[1]];
+      const Eigen::Vector3d& c = points[t[2]];
+      nearest = std::min(nearest, gap(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)));
+    }
+    if (nearest <= limit) return nearest;
+  }
+  return nearest;
+}
+
 /// Voxel coordinates as a point in index space.
 Eigen::Vector3d pointOf(const openvdb::Coord& ijk) {
   return Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z());
@@ -414,12 +495,11 @@ struct FarGroups {
   DisjointSets<std::uint32_t> sets;
 };
 
-FarGroups joinFarGroups(const LeafTable& table, const std::vector<States>& states,
-                        const std::vector<Windings>& windings) {
+FarGroups joinFarGroups(const LeafTable& table, const VoxelData& data) {
   const std::size_t leafCount = table.size();
   std::vector<LocalGroups> local(leafCount);
   tbb::parallel_for(std::size_t{0}, leafCount,
-                    [&](std::size_t i) { local[i] = groupFarVoxels(table, states, windings, i); });
+                    [&](std::size_t i) { local[i] = groupVoxels(table, data, i); });
   std::vector<std::uint32_t> base(leafCount + 1, 0);
   for (std::size_t i = 0; i < leafCount; ++i) {
     base[i + 1] = base[i] + static_cast<std::uint32_t>(local[i].representative.size());
@@ -432,9 +512,12 @@ FarGroups joinFarGroups(const LeafTable& table, const std::vector<States>& state
       if (j == kNone) continue;
       for (int u = 0; u < kDim; ++u) {
         for (int v = 0; v < kDim; ++v) {
-          const std::uint16_t a = groups.local[i].label[faceOffset(axis, kDim - 1, u, v)];
-          const std::uint16_t b = groups.local[j].label[faceOffset(axis, 0, u, v)];
-          if (a != kNoLabel && b != kNoLabel) {
+          const openvdb::Index oi = faceOffset(axis, kDim - 1, u, v);
+          const openvdb::Index oj = faceOffset(axis, 0, u, v);
+          const std::uint16_t a = groups.local[i].label[oi];
+          const std::uint16_t b = groups.local[j].label[oj];
+          if (a != kNoLabel && b != kNoLabel &&
+              linked(data.clearances[i][oi], data.clearances[j][oj])) {
             groups.sets.unite(groups.base[i] + a, groups.base[j] + b);
           }
         }
@@ -458,6 +541,7 @@ class BandSignCorrection {
         closed_(*inputs.closed),
         caps_(inputs.caps),
         sides_(inputs.sides),
+        progress_(inputs.progress),
         decideBySides_(inputs.embedded && inputs.sides && !inputs.sides->empty()),
         leafCount_(table.size()),
         voxelSize_(grid.voxelSize()[0]),
@@ -466,9 +550,11 @@ class BandSignCorrection {
         nearValueLimit_(static_cast<float>(0.867 * voxelSize_)),
         meshTriangles_(static_cast<std::int64_t>(mesh_.meshTriangleCount)),
         closestLeaves_(leafCount_),
-        states_(leafCount_),
-        windings_(leafCount_),
-        summaries_(leafCount_) {
+        data_{std::vector<States>(leafCount_), std::vector<Windings>(leafCount_),
+              std::vector<Clearances>(leafCount_)},
+        summaries_(leafCount_),
+        capsNear_(caps_ ? leafCount_ : 0, 1),
+        capBound_(caps_ ? leafCount_ : 0, 0.0) {
     for (std::size_t i = 0; i < leafCount_; ++i) {
       closestLeaves_[i] = closest.tree().probeConstLeaf(table_.leaf(i).origin());
     }
@@ -478,13 +564,15 @@ class BandSignCorrection {
     BandSignReport report;
     // Near voxels: exact closest point on M + S, then W from its side where that is decisive.
     // Without caps, inside is W >= 1 and is compared with OpenVDB's sign right away.
-    tbb::parallel_for(std::size_t{0}, leafCount_, [this](std::size_t i) { classifyLeaf(i); });
-    // Near voxels the closest feature did not decide: their own winding number.
-    tbb::parallel_for(std::size_t{0}, leafCount_, [this](std::size_t i) { settleUndecided(i); });
-    // Far voxels. Without caps OpenVDB's sign is usually right there, which bit operations can
-    // check; otherwise: groups, their seeds, one winding number for a group without any.
-    const bool farVerified = !caps_ && farSignsVerified(table_, summaries_);
+    forLeaves(0.0, 0.3, [this](std::size_t i) { classifyLeaf(i); });
+    // Near voxels the closest feature did not decide (embedded M + S): their own winding number.
+    forLeaves(0.3, 0.5, [this](std::size_t i) { settleUndecided(i); });
+    // The other voxels. Without caps, with every near voxel decided, OpenVDB's sign is usually
+    // right there, which bit operations can check; otherwise: groups, their seeds, one winding
+    // number for a group without any.
+    const bool farVerified = !caps_ && decideBySides_ && farSignsVerified(table_, summaries_);
     if (!farVerified) decideFarVoxels(report);
+    reportProgress(0.95);
     for (const LeafSummary& summary : summaries_) {
       report.nearVoxels += summary.near;
       report.windingNumberQueries += summary.queries;
@@ -498,6 +586,23 @@ class BandSignCorrection {
   }
 
  private:
+  void reportProgress(double fraction) const {
+    if (progress_) progress_(fraction);
+  }
+
+  /// Runs `body` on every leaf in parallel, in a fixed number of slices, reporting progress from
+  /// `from` to `to` after each slice (leaves are independent, so slicing changes no result).
+  template <typename Body>
+  void forLeaves(double from, double to, const Body& body) const {
+    constexpr std::size_t kSlices = 20;
+    for (std::size_t slice = 0; slice < kSlices; ++slice) {
+      const std::size_t begin = leafCount_ * slice / kSlices;
+      const std::size_t end = leafCount_ * (slice + 1) / kSlices;
+      tbb::parallel_for(begin, end, body);
+      reportProgress(from + (to - from) * double(slice + 1) / kSlices);
+    }
+  }
+
   /// Closest point on M's recorded triangle t (index into mesh.triangles), or none.
   NearestTriangle closestOnMesh(std::int64_t t, const Eigen::Vector3d& p) const {
     NearestTriangle nearest;
@@ -510,15 +615,19 @@ class BandSignCorrection {
     return nearest;
   }
 
-  /// W of M + S at p, certified.
+  /// W of M + S at p, certified: by signed ray crossings (M + S is watertight), else, when every
+  /// ray met a predicate in doubt, hierarchically.
   std::int16_t windingAt(const Eigen::Vector3d& p) const {
-    return static_cast<std::int16_t>(std::clamp<long>(closed_.integerValue(p), -32000, 32000));
+    const std::optional<long> crossings =
+        rayWindingNumber(closed_.hierarchy(), mesh_.points, mesh_.triangles, p);
+    const long w = crossings ? *crossings : closed_.integerValue(p);
+    return static_cast<std::int16_t>(std::clamp<long>(w, -32000, 32000));
   }
 
   /// Records W at a near voxel; without caps also its final side, a flip, and a seed bit.
   void settle(std::size_t i, openvdb::Index o, std::int16_t w, float value) {
-    std::uint8_t& s = states_[i][o];
-    windings_[i][o] = w;
+    std::uint8_t& s = data_.states[i][o];
+    data_.windings[i][o] = w;
     s |= kKnown;
     if (caps_) return;
     const bool inside = w >= 1;
@@ -534,8 +643,10 @@ class BandSignCorrection {
 
   /// The near pass over the active voxels of leaf i.
   void classifyLeaf(std::size_t i) {
-    States& state = states_[i];
+    States& state = data_.states[i];
     state.fill(0);
+    data_.clearances[i].fill(0.0f);
+    if (caps_) boundCaps(i);
     LeafSummary& summary = summaries_[i];
     const IndexLeaf* indices = closestLeaves_[i];
     for (auto voxel = table_.leaf(i).cbeginValueOn(); voxel; ++voxel) {
@@ -557,18 +668,30 @@ class BandSignCorrection {
     if (nearMesh && std::sqrt(nearest.squaredDistance) <= kOnSurface) {
       state[o] = kActive | kNear | kFinal | kKeep | (value < 0.0f ? kInside : 0);
       ++summary.near;
-      return;
+      return;  // clearance 0
     }
     if (!nearMesh) nearest = NearestTriangle{};
-    if (caps_) preferNearerCap(nearMesh, p, nearest);
+    if (caps_ && capsNear_[i]) preferNearerCap(nearMesh, p, nearest);
     if (!(nearest.squaredDistance <= kNearLimit2)) {
       state[o] = kActive;
+      data_.clearances[i][o] = kFarClearance;
       const std::uint64_t bit = std::uint64_t{1} << (o & 63);
       summary.far[o >> 6] |= bit;
       if (value < 0.0f) summary.farInside[o >> 6] |= bit;
       return;
     }
     classifyNearVoxel(i, o, value, ijk, p, nearest, state[o], summary);
+  }
+
+  /// What the caps can do at the voxels of leaf i, from the box of their centres: whether a cap
+  /// may lie within the near zone of one (capsNear_), and a bound on |w_S| over them (capBound_).
+  void boundCaps(std::size_t i) {
+    const openvdb::Coord origin = table_.leaf(i).origin();
+    const Eigen::Vector3d low = pointOf(origin);
+    const Eigen::Vector3d high = low + Eigen::Vector3d::Constant(kDim - 1);
+    capsNear_[i] = capClearance(caps_->hierarchy(), mesh_.points, mesh_.caps, low, high,
+                                std::sqrt(kNearLimit2)) <= std::sqrt(kNearLimit2);
+    capBound_[i] = caps_->boundOverBox(low, high, 0.5);
   }
 
   /// Replaces `nearest` (on M, or none) by the nearest cap triangle when that is the closest
@@ -594,6 +717,7 @@ class BandSignCorrection {
     ++summary.near;
     const double distance = std::sqrt(nearest.squaredDistance);
     if (distance > kLinkDistance) s |= kLinkable;
+    data_.clearances[i][o] = storedClearance(distance);
     if (distance <= kOnSurface) {
       // On a cap, off M: W and w_S both jump here, but their difference w does not.
       const double w = closed_.exact(p) - caps_->exact(p);
@@ -609,8 +733,9 @@ class BandSignCorrection {
         settle(i, o, side == SurfaceSide::back ? component.back : component.front, value);
         return;
       }
+      summary.undecided.push_back(o);
     }
-    summary.undecided.push_back(o);
+    // Otherwise W comes from the group the voxel joins (decideFarVoxels()).
   }
 
   void settleUndecided(std::size_t i) {
@@ -624,21 +749,33 @@ class BandSignCorrection {
 
   /// W and the side of every far voxel through the groups they form.
   void decideFarVoxels(BandSignReport& report) {
-    FarGroups groups = joinFarGroups(table_, states_, windings_);
+    FarGroups groups = joinFarGroups(table_, data_);
+    reportProgress(0.55);
     const std::vector<std::int16_t> groupWinding = windingsOfGroups(groups, report);
+    reportProgress(0.7);
     assignGroupWindings(groups, groupWinding);
+    reportProgress(0.75);
     report.capQueries = decideFarSides();
   }
 
   /// Per group root: its seeds' W when they agree, kPerVoxel when they do not, or one winding
-  /// number at its representative voxel when it has no seeds. Counts the groups and conflicts.
+  /// number at its voxel farthest from the surface when it has no seeds. Counts the groups and
+  /// conflicts.
   std::vector<std::int16_t> windingsOfGroups(FarGroups& groups, BandSignReport& report) const {
     const std::vector<std::uint32_t>& base = groups.base;
     const std::uint32_t total = base[leafCount_];
     std::vector<Seeds> seeds(total);
+    // Per root, the local group holding the voxel farthest out (the first in leaf order among
+    // equals, so the choice does not depend on the schedule).
+    std::vector<std::uint32_t> farthest(total, kNone);
     for (std::size_t i = 0; i < leafCount_; ++i) {
-      for (std::uint32_t g = 0; g < groups.local[i].seeds.size(); ++g) {
-        seeds[groups.sets.find(base[i] + g)].add(groups.local[i].seeds[g]);
+      const LocalGroups& local = groups.local[i];
+      for (std::uint32_t g = 0; g < local.seeds.size(); ++g) {
+        const std::uint32_t root = groups.sets.find(base[i] + g);
+        seeds[root].add(local.seeds[g]);
+        if (farthest[root] == kNone || local.reach[g] > reachOf(groups, farthest[root])) {
+          farthest[root] = base[i] + g;
+        }
       }
     }
     std::vector<std::int16_t> groupWinding(total, 0);
@@ -656,18 +793,27 @@ class BandSignCorrection {
       }
     }
     tbb::parallel_for(std::size_t{0}, seedless.size(), [&](std::size_t n) {
-      const std::uint32_t id = seedless[n];
+      const std::uint32_t id = farthest[seedless[n]];
       const auto i =
           static_cast<std::size_t>(std::upper_bound(base.begin(), base.end(), id) - base.begin()) -
           1;
       const openvdb::Index o = groups.local[i].representative[id - base[i]];
-      groupWinding[id] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
+      groupWinding[seedless[n]] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
     });
     report.windingNumberQueries += seedless.size();
     return groupWinding;
   }
 
-  /// Every far voxel takes its group's W (its own winding number in a conflicting group).
+  /// |value| of the representative of local group `id` (numbered as in groups.base).
+  static float reachOf(const FarGroups& groups, std::uint32_t id) {
+    const auto i =
+        static_cast<std::size_t>(std::upper_bound(groups.base.begin(), groups.base.end(), id) -
+                                 groups.base.begin()) -
+        1;
+    return groups.local[i].reach[id - groups.base[i]];
+  }
+
+  /// Every grouped voxel takes its group's W (its own winding number in a conflicting group).
   void assignGroupWindings(FarGroups& groups, const std::vector<std::int16_t>& groupWinding) {
     groups.sets.flatten();  // root() reads without writing, so the loop below may share the sets
     tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
@@ -676,12 +822,12 @@ class BandSignCorrection {
         if (local.label[o] == kNoLabel) continue;
         const std::int16_t w = groupWinding[groups.sets.root(groups.base[i] + local.label[o])];
         if (w == kPerVoxel) {
-          windings_[i][o] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
+          data_.windings[i][o] = windingAt(pointOf(table_.leaf(i).offsetToGlobalCoord(o)));
           ++summaries_[i].queries;
         } else {
-          windings_[i][o] = w;
+          data_.windings[i][o] = w;
         }
-        states_[i][o] |= kKnown;
+        data_.states[i][o] |= kKnown;
       }
     });
   }
@@ -690,15 +836,16 @@ class BandSignCorrection {
   /// OpenVDB's sign. Returns the number of cap winding numbers evaluated.
   std::size_t decideFarSides() {
     std::vector<std::size_t> capQueries(leafCount_, 0);
-    tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
-      States& state = states_[i];
+    forLeaves(0.75, 0.95, [&](std::size_t i) {
+      States& state = data_.states[i];
       const FloatLeaf& leaf = table_.leaf(i);
       for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
         std::uint8_t& s = state[voxel.pos()];
         if (s & kFinal) continue;
-        const double w = windings_[i][voxel.pos()];
+        const double w = data_.windings[i][voxel.pos()];
         bool inside = w >= 1.0;
-        if (caps_) {
+        // |w_S| < 1/2 over the leaf: W - w_S >= 1/2 exactly when the integer W is at least 1.
+        if (caps_ && !(capBound_[i] < 0.5)) {
           const double wS =
               caps_->decide(pointOf(voxel.getCoord()), [w](const WindingNumberField::Estimate& e) {
                 return std::abs(w - e.value - 0.5) > e.errorBound;
@@ -750,7 +897,7 @@ class BandSignCorrection {
         }
       }
       // Far voxels left final by the bit check keep OpenVDB's sign.
-      const std::uint8_t s = states_[i][o];
+      const std::uint8_t s = data_.states[i][o];
       const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
       leaf.setValueOnly(o, inside ? -magnitude : magnitude);
     });
@@ -762,15 +909,17 @@ class BandSignCorrection {
   const WindingNumberField& closed_;
   const WindingNumberField* caps_;            ///< null without caps
   const std::vector<ComponentSides>* sides_;  ///< used only when decideBySides_
-  const bool decideBySides_;                  ///< embedded, with the components' sides
+  const std::function<void(double)>& progress_;
+  const bool decideBySides_;  ///< embedded, with the components' sides
   const std::size_t leafCount_;
   const double voxelSize_;
   const float nearValueLimit_;
   const std::int64_t meshTriangles_;
   std::vector<const IndexLeaf*> closestLeaves_;  ///< per leaf, the same leaf of `closest`
-  std::vector<States> states_;
-  std::vector<Windings> windings_;
+  VoxelData data_;                               ///< states, W and clearances of every voxel
   std::vector<LeafSummary> summaries_;
+  std::vector<char> capsNear_;    ///< with caps, per leaf: a cap may be near one of its voxels
+  std::vector<double> capBound_;  ///< with caps, per leaf: a bound on |w_S| at its voxels
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
@@ -37,6 +38,9 @@ struct BandSignInputs {
   /// `sides`; otherwise by a winding number each.
   bool embedded = false;
   const std::vector<ComponentSides>* sides = nullptr;
+  /// Receives fractions 0..1 of the pass as its phases finish, from the calling thread; may be
+  /// empty.
+  std::function<void(double)> progress;
 };
 
 /// What correctBandSigns() found and changed.

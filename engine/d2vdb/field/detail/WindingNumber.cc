@@ -23,6 +23,14 @@ double distanceToBox(const Eigen::Vector3d& q, const TriangleBvh::Node& node) {
   return outside.norm();
 }
 
+/// Distance between two axis-aligned boxes (0 when they overlap).
+double boxDistance(const Eigen::Vector3d& lowA, const Eigen::Vector3d& highA,
+                   const Eigen::Vector3d& lowB, const Eigen::Vector3d& highB) {
+  const Eigen::Vector3d gap =
+      (lowB - highA).cwiseMax(lowA - highB).cwiseMax(Eigen::Vector3d::Zero());
+  return gap.norm();
+}
+
 }  // namespace
 
 double solidAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
@@ -206,6 +214,49 @@ double WindingNumberField::decide(const Eigen::Vector3d& q,
     if (certain(value)) return value.value;
   }
   return exact(q, excluded);
+}
+
+double WindingNumberField::boundOverBox(const Eigen::Vector3d& low, const Eigen::Vector3d& high,
+                                        double limit) const {
+  const std::vector<TriangleBvh::Node>& nodes = bvh_.nodes();
+  if (nodes.empty()) return 0.0;
+  // A node is summed whole once its share is below this fraction of the limit.
+  const double fine = 1e-3 * limit;
+  double bound = 0.0;
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t index = stack[--top];
+    const TriangleBvh::Node& node = nodes[index];
+    const double area = expansions_[index].area;
+    if (area == 0.0) continue;
+    const double distance = boxDistance(low, high, node.low, node.high);
+    const double share = distance > 0.0 ? area / (kFourPi * distance * distance)
+                                        : std::numeric_limits<double>::infinity();
+    if (share <= fine || (node.isLeaf() && node.end - node.begin == 1)) {
+      bound += share;
+    } else if (node.isLeaf()) {
+      for (std::uint32_t i = node.begin; i < node.end; ++i) {
+        const TriangleIndices& tri = triangles_[bvh_.order()[i]];
+        const Eigen::Vector3d& a = points_[tri[0]];
+        const Eigen::Vector3d& b = points_[tri[1]];
+        const Eigen::Vector3d& c = points_[tri[2]];
+        const double triangleArea = 0.5 * (b - a).cross(c - a).norm();
+        if (triangleArea == 0.0) continue;
+        const double d =
+            boxDistance(low, high, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
+        bound +=
+            d > 0.0 ? triangleArea / (kFourPi * d * d) : std::numeric_limits<double>::infinity();
+      }
+    } else {
+      stack[top++] = node.right;
+      stack[top++] = index + 1;
+    }
+    // The rounding of the sum stays far below the slack added by the caller's decisions.
+    if (bound > limit) return bound;
+  }
+  return bound * (1.0 + 1e-12) + kRoundingSlack;
 }
 
 long WindingNumberField::integerValue(const Eigen::Vector3d& q) const {

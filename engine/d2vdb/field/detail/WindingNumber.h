@@ -75,6 +75,13 @@ class WindingNumberField {
   double decide(const Eigen::Vector3d& q, const std::function<bool(const Estimate&)>& certain,
                 std::uint32_t excluded = kNoTriangle) const;
 
+  /// An upper bound of |w(q)| over every q of the box [low, high]: a triangle at distance D
+  /// from q subtends a solid angle of at most its area over D^2, summed over the hierarchy's
+  /// nodes (opened while that is coarse, and down to single triangles; box distances). Infinity
+  /// when a triangle touches the box; stops early, returning a value above `limit`, once the sum
+  /// exceeds `limit`.
+  double boundOverBox(const Eigen::Vector3d& low, const Eigen::Vector3d& high, double limit) const;
+
   /// w(q) rounded to the nearest integer, certified (for closed, consistently oriented meshes).
   long integerValue(const Eigen::Vector3d& q) const;
   /// Whether w(q) >= 1/2, certified.
