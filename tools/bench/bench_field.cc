@@ -4,12 +4,17 @@
 //  (b) one approximant query next to one openvdb::tools::BoxSampler sample of the FloatGrid at
 //      the same points, in random and in spatially coherent order;
 //  (c) bytes per active voxel (counters of the build benchmark);
-//  (d) 1 and 2 threads for the build and the batch query.
+//  (d) 1 and 2 threads for the build and the batch query;
+//  (e) the batch query of a field file at 1M points into a result file (io/QueryResultFile.h),
+//      next to its parts measured in the same iteration: the in-process batch query (answerAll()
+//      on the field just read) plus the files' I/O (reading the field and the points, writing
+//      the answers already computed).
 // Every benchmark takes the thread count as its last argument (tbb::global_control).
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <random>
 #include <vector>
@@ -19,6 +24,10 @@
 #include <openvdb/tools/MeshToVolume.h>
 
 #include "d2vdb/field/ApproximantField.h"
+#include "d2vdb/io/FieldFile.h"
+#include "d2vdb/io/FieldQuery.h"
+#include "d2vdb/io/PointSetFile.h"
+#include "d2vdb/io/QueryResultFile.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 
@@ -170,6 +179,89 @@ void BM_BatchQuery(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * points.size()));
 }
 
+/// The files of the batch benchmark, made once: the bunny field and 1M query points (800k in the
+/// band, 200k uniform over the working domain, nearly all beyond the band), in a scratch folder.
+struct BatchFiles {
+  std::filesystem::path folder, field, points;
+  std::size_t count = 0;
+};
+
+const BatchFiles& batchFiles() {
+  static const BatchFiles files = [] {
+    BatchFiles f;
+    f.folder = std::filesystem::temp_directory_path() / "d2vdb-bench-batch-query";
+    std::filesystem::create_directories(f.folder);
+    f.field = f.folder / "bunny-field.vdb";
+    f.points = f.folder / "points.xyz";
+    d2vdb::writeField(f.field, bunnyField());
+    std::vector<Eigen::Vector3d> points = bandPoints(true);
+    points.resize(800000);
+    std::mt19937 random(7);
+    const Eigen::AlignedBox3d domain = bunnyField().domain();
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    while (points.size() < 1000000) {
+      const Eigen::Vector3d t(unit(random), unit(random), unit(random));
+      points.push_back(domain.min() + t.cwiseProduct(domain.sizes()));
+    }
+    d2vdb::writePointSet(f.points, points);
+    f.count = points.size();
+    return f;
+  }();
+  return files;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Argument 0: the result format (0 csv, 1 ply, 2 json); argument 1: threads. The iteration time
+/// is the batch query's (what `d2vdb query FIELD --points P --out R` runs); counters give its
+/// parts' reference and their ratio.
+void BM_BatchQueryFile(benchmark::State& state) {
+  const BatchFiles& files = batchFiles();
+  const char* extensions[] = {".csv", ".ply", ".json"};
+  const std::filesystem::path out =
+      files.folder / (std::string("answers") + extensions[state.range(0)]);
+  const auto limit = threadLimit(state, 1);
+  double batch = 0.0, inProcess = 0.0, io = 0.0;
+  std::uint64_t bytes = 0;
+  for (auto _ : state) {
+    // The reference: the files' I/O and the in-process batch query on the field just read (its
+    // coarse levels are built by the first query beyond the band, as in the batch).
+    auto start = std::chrono::steady_clock::now();
+    const std::vector<Eigen::Vector3d> points = d2vdb::readPointSet(files.points);
+    const d2vdb::ApproximantField field = d2vdb::readField(files.field);
+    double ioSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    const std::vector<d2vdb::FieldAnswer> answers = d2vdb::answerAll(field, points);
+    const double inProcessSeconds = secondsSince(start);
+    start = std::chrono::steady_clock::now();
+    d2vdb::writeQueryAnswers(out, field.kind(), answers, {});
+    ioSeconds += secondsSince(start);
+    // The batch query itself, from the files.
+    start = std::chrono::steady_clock::now();
+    {
+      const std::vector<Eigen::Vector3d> batchPoints = d2vdb::readPointSet(files.points);
+      const d2vdb::ApproximantField batchField = d2vdb::readField(files.field);
+      d2vdb::writeFieldQueries(out, batchField, batchPoints, {});
+    }
+    const double batchSeconds = secondsSince(start);
+    state.SetIterationTime(batchSeconds);
+    batch += batchSeconds;
+    inProcess += inProcessSeconds;
+    io += ioSeconds;
+    bytes = std::filesystem::file_size(out);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["batch_s"] = batch / n;
+  state.counters["in_process_s"] = inProcess / n;
+  state.counters["io_s"] = io / n;
+  state.counters["ratio"] = batch / (inProcess + io);
+  state.counters["points"] = static_cast<double>(files.count);
+  state.counters["output_bytes"] = static_cast<double>(bytes);
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * files.count));
+}
+
 }  // namespace
 
 BENCHMARK(BM_LevelSet_openvdb_meshToLevelSet)
@@ -190,5 +282,10 @@ BENCHMARK_CAPTURE(BM_Query_field, coherent, false)->Unit(benchmark::kMillisecond
 BENCHMARK_CAPTURE(BM_Query_openvdb_BoxSampler, coherent, false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Query_sdmForm, coherent, false)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BatchQuery)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BatchQueryFile)
+    ->ArgsProduct({{0, 1, 2}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(2);
 
 BENCHMARK_MAIN();

@@ -18,6 +18,7 @@
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/io/GridSelection.h"
+#include "d2vdb/io/VdbPartialReader.h"
 #include "d2vdb/io/detail/VdbFormatCheck.h"
 #include "d2vdb/io/detail/VdbStream.h"
 
@@ -305,6 +306,49 @@ void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grid
       throw RuntimeFailure("cannot write " + quoted(path) + ": nothing was written (disk full?)");
     }
   });
+}
+
+VdbPartialReader::VdbPartialReader(const std::filesystem::path& path) : path_(path) {
+  ensureOpenVdbInitialized();
+  const std::uint64_t size = checkIsVdbFile(path);
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+    checkVdbStream(in, size, path.string());
+  }
+  try {
+    openvdb::io::File file(path.string());
+    file.open(/*delayLoad=*/false);
+    const openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
+    if (grids) metadata_.assign(grids->begin(), grids->end());
+    file.close();
+  } catch (const std::exception& error) {
+    throw InputError("cannot read '" + path.string() + "': " + error.what() +
+                     " (the file is corrupt or not a grid file this OpenVDB understands)");
+  }
+  if (metadata_.empty()) throw InputError(quoted(path) + " contains no grids");
+  for (const openvdb::GridBase::Ptr& grid : metadata_)
+    rejectUnusableTransform(*grid, path.string());
+}
+
+std::vector<openvdb::GridBase::Ptr> VdbPartialReader::read(const openvdb::BBoxd& worldBox) const {
+  std::vector<openvdb::GridBase::Ptr> grids;
+  try {
+    openvdb::io::File file(path_.string());
+    file.open(/*delayLoad=*/false);
+    for (const openvdb::GridBase::Ptr& grid : metadata_) {
+      grids.push_back(file.readGrid(grid->getName(), worldBox));
+    }
+    file.close();
+  } catch (const std::exception& error) {
+    throw InputError("cannot read '" + path_.string() + "': " + error.what() +
+                     " (the file is corrupt or not a grid file this OpenVDB understands)");
+  }
+  for (const openvdb::GridBase::Ptr& grid : grids) {
+    rejectUnusableTransform(*grid, path_.string());
+    rejectNonFiniteValues(*grid, path_.string());
+  }
+  return grids;
 }
 
 std::vector<VdbGridInfo> describeVdbFile(const std::filesystem::path& path) {
