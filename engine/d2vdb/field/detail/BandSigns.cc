@@ -337,6 +337,33 @@ Mask neighboursOf(const std::vector<Mask>& masks, const LeafTable& table, std::s
   return out;
 }
 
+/// The masks dilated by one voxel along `axis` (0 x, 1 y, 2 z), across the leaves' faces.
+std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const LeafTable& table, int axis) {
+  std::vector<Mask> out(masks.size());
+  tbb::parallel_for(std::size_t{0}, masks.size(), [&](std::size_t i) {
+    const Mask& m = masks[i];
+    Mask& d = out[i];
+    const std::uint32_t low = table.neighbour(i, 2 * axis);
+    const std::uint32_t high = table.neighbour(i, 2 * axis + 1);
+    for (int x = 0; x < kDim; ++x) {
+      const std::uint64_t w = m[x];
+      if (axis == 0) {
+        d[x] = w | (x > 0 ? m[x - 1] : (low != kNone ? masks[low][kDim - 1] : 0)) |
+               (x < kDim - 1 ? m[x + 1] : (high != kNone ? masks[high][0] : 0));
+      } else if (axis == 1) {
+        d[x] = w | (w << 8) | (w >> 8);
+        if (low != kNone) d[x] |= (masks[low][x] >> kHighYShift) & kLowY;
+        if (high != kNone) d[x] |= (masks[high][x] & kLowY) << kHighYShift;
+      } else {
+        d[x] = w | ((w << 1) & ~kLowZ) | ((w >> 1) & ~kHighZ);
+        if (low != kNone) d[x] |= (masks[low][x] & kHighZ) >> 7;
+        if (high != kNone) d[x] |= (masks[high][x] & kLowZ) << 7;
+      }
+    }
+  });
+  return out;
+}
+
 /// What the near pass of one leaf found (one bit per voxel in the masks).
 struct LeafSummary {
   Mask far{};          ///< active voxels not near M + S
@@ -577,7 +604,7 @@ class BandSignCorrection {
       report.nearVoxels += summary.near;
       report.windingNumberQueries += summary.queries;
     }
-    const std::vector<openvdb::Coord> affected = affectedVoxels(report);
+    const std::vector<Mask> affected = affectedVoxels(report);
     if (report.correctedVoxels == 0) return report;
     rewrite(affected);
     const float background = grid_.background();
@@ -860,46 +887,44 @@ class BandSignCorrection {
     return std::accumulate(capQueries.begin(), capQueries.end(), std::size_t{0});
   }
 
-  /// The flipped voxels and their 26-neighbours, sorted and unique; counts the flips.
-  std::vector<openvdb::Coord> affectedVoxels(BandSignReport& report) const {
-    std::vector<openvdb::Coord> affected;
-    for (const LeafSummary& summary : summaries_) {
-      report.correctedVoxels += summary.flipped.size();
-      for (const openvdb::Coord& ijk : summary.flipped) {
-        for (int dx = -1; dx <= 1; ++dx)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dz = -1; dz <= 1; ++dz) affected.push_back(ijk.offsetBy(dx, dy, dz));
+  /// Per leaf, the flipped voxels and their 26-neighbours (as one-voxel dilations along x, y
+  /// and z, across the leaves' faces); counts the flips.
+  std::vector<Mask> affectedVoxels(BandSignReport& report) const {
+    std::vector<Mask> affected(leafCount_);
+    for (std::size_t i = 0; i < leafCount_; ++i) {
+      report.correctedVoxels += summaries_[i].flipped.size();
+      for (const openvdb::Coord& ijk : summaries_[i].flipped) {
+        const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
+        affected[i][o >> 6] |= std::uint64_t{1} << (o & 63);
       }
     }
     if (report.correctedVoxels == 0) return affected;
-    std::sort(affected.begin(), affected.end());
-    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    for (int axis = 0; axis < 3; ++axis) affected = dilateAlong(affected, table_, axis);
     return affected;
   }
 
   /// Flipped voxels change sign; they and the near voxels around them take the exact distance to
   /// M (meshToVolume pushes surface voxels without an inside neighbour out to sqrt(3)/2 voxel,
   /// which a corrected neighbour makes wrong).
-  void rewrite(const std::vector<openvdb::Coord>& affected) {
-    tbb::parallel_for(std::size_t{0}, affected.size(), [&](std::size_t n) {
-      const openvdb::Coord& ijk = affected[n];
-      const std::uint32_t i = table_.find(ijk & ~(kDim - 1));
-      if (i == kNone) return;
+  void rewrite(const std::vector<Mask>& affected) {
+    tbb::parallel_for(std::size_t{0}, leafCount_, [&](std::size_t i) {
       FloatLeaf& leaf = table_.leaf(i);
-      const openvdb::Index o = FloatLeaf::coordToOffset(ijk);
-      if (!leaf.isValueOn(o)) return;
-      float magnitude = std::abs(leaf.getValue(o));
-      if (magnitude <= nearValueLimit_) {
-        const NearestTriangle nearest =
-            closestOnMesh(closestLeaves_[i] ? closestLeaves_[i]->getValue(o) : -1, pointOf(ijk));
-        if (nearest.squaredDistance <= kNearLimit2) {
-          magnitude = static_cast<float>(std::sqrt(nearest.squaredDistance) * voxelSize_);
+      for (openvdb::Index o = 0; o < kVoxels; ++o) {
+        if (((affected[i][o >> 6] >> (o & 63)) & 1u) == 0 || !leaf.isValueOn(o)) continue;
+        float magnitude = std::abs(leaf.getValue(o));
+        if (magnitude <= nearValueLimit_) {
+          const NearestTriangle nearest =
+              closestOnMesh(closestLeaves_[i] ? closestLeaves_[i]->getValue(o) : -1,
+                            pointOf(leaf.offsetToGlobalCoord(o)));
+          if (nearest.squaredDistance <= kNearLimit2) {
+            magnitude = static_cast<float>(std::sqrt(nearest.squaredDistance) * voxelSize_);
+          }
         }
+        // Far voxels left final by the bit check keep OpenVDB's sign.
+        const std::uint8_t s = data_.states[i][o];
+        const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
+        leaf.setValueOnly(o, inside ? -magnitude : magnitude);
       }
-      // Far voxels left final by the bit check keep OpenVDB's sign.
-      const std::uint8_t s = data_.states[i][o];
-      const bool inside = (s & kFinal) ? (s & kInside) != 0 : leaf.getValue(o) < 0.0f;
-      leaf.setValueOnly(o, inside ? -magnitude : magnitude);
     });
   }
 
