@@ -38,6 +38,10 @@ OutputPathRule ruleFor(const OutputFile& output) {
       rule.extensions = {".svg"};
       rule.content = "an SVG drawing";
       break;
+    case OutputFormat::Table:
+      rule.extensions = {".csv", ".json", ".ply"};
+      rule.content = "a table of answers";
+      break;
   }
   return rule;
 }

@@ -18,6 +18,7 @@ enum class OutputFormat {
   Ply,        ///< a PLY mesh (per-vertex properties)
   Json,       ///< .json
   Svg,        ///< .svg
+  Table,      ///< per-point answers: .csv, .json, .ply
 };
 
 /// One output file of a command.

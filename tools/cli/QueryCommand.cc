@@ -194,6 +194,10 @@ Report runQuery(const QueryArguments& args, const CommandContext& context) {
   return {queryJson(args, answer), queryText(args, answer), Report::Text::Answer};
 }
 
+std::vector<OutputFile> outputsOfQuery(const QueryArguments& args) {
+  return {{"--out", args.out, OutputFormat::Table}};
+}
+
 }  // namespace
 
 void addQueryCommand(CommandRegistry& registry) {
@@ -214,7 +218,7 @@ void addQueryCommand(CommandRegistry& registry) {
        "Example: d2vdb query torus-field.vdb 1.4 0 0.1\n"
        "         d2vdb query torus-field.vdb -1.4 0 -0.1 --json --form all\n"
        "         d2vdb query torus-field.vdb --points scan.xyz --out answers.csv",
-       "the input is too large for this machine", declareQuery, runQuery});
+       "the input is too large for this machine", declareQuery, runQuery, outputsOfQuery});
 }
 
 }  // namespace d2vdb::cli

@@ -178,7 +178,15 @@ FieldFileAnswer answerFromFieldFile(const std::filesystem::path& path, const Eig
   for (int attempt = 0; attempt < 64; ++attempt) {
     const openvdb::CoordBBox clip(openvdb::Coord::floor(index - openvdb::Vec3d(radius)),
                                   openvdb::Coord::ceil(index + openvdb::Vec3d(radius)));
-    if (clip.isInside(bandBox)) break;  // no smaller than the whole band: read it all
+    // A box that holds most of the band costs more than reading it whole.
+    const openvdb::CoordBBox overlap = [&] {
+      openvdb::CoordBBox box = clip;
+      box.intersect(bandBox);
+      return box;
+    }();
+    if (clip.isInside(bandBox) || (!overlap.empty() && overlap.volume() > bandBox.volume() / 2)) {
+      break;
+    }
     const openvdb::BBoxd worldBox(distanceMeta->transform().indexToWorld(clip.min().asVec3d()),
                                   distanceMeta->transform().indexToWorld(clip.max().asVec3d()));
     openvdb::GridPtrVec grids = reader.read(worldBox);

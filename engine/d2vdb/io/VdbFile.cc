@@ -334,8 +334,10 @@ VdbPartialReader::VdbPartialReader(const std::filesystem::path& path) : path_(pa
 std::vector<openvdb::GridBase::Ptr> VdbPartialReader::read(const openvdb::BBoxd& worldBox) const {
   std::vector<openvdb::GridBase::Ptr> grids;
   try {
+    // Memory-mapped (OpenVDB's delayed loading, the file having been checked whole): skipping the
+    // leaves outside the box is then a pointer move, not a system call per leaf.
     openvdb::io::File file(path_.string());
-    file.open(/*delayLoad=*/false);
+    file.open(/*delayLoad=*/true);
     for (const openvdb::GridBase::Ptr& grid : metadata_) {
       grids.push_back(file.readGrid(grid->getName(), worldBox));
     }

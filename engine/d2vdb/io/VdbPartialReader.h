@@ -13,8 +13,9 @@ namespace d2vdb {
 /// (a regular, non-empty file with the VDB magic number, then the bounds-checked walk of every
 /// size and chunk in it) and reads the grids' metadata; read() then reads every grid clipped to a
 /// box, skipping the leaves outside it without decompressing them (OpenVDB's clipped read,
-/// openvdb::io::File::readGrid(name, bbox)). Throws InputError naming the file as readAllGrids()
-/// does. Not thread-safe.
+/// openvdb::io::File::readGrid(name, bbox), from the memory-mapped file: only the pages of the
+/// leaves read are touched; leaves inside the box load their values from the mapping when first
+/// used). Throws InputError naming the file as readAllGrids() does. Not thread-safe.
 class VdbPartialReader {
  public:
   explicit VdbPartialReader(const std::filesystem::path& path);
