@@ -34,9 +34,9 @@ const char* fitStatusName(FitStatus status) {
 namespace detail {
 namespace {
 
-/// Fraction of the target's resolved length (a field's voxel) below which a move is not resolved: the
-/// approximants' own error (footpoints to a few hundredths of a voxel, piecewise per voxel) makes
-/// the objective rough on that scale.
+/// Fraction of the target's resolved length (a field's voxel) below which a move is not resolved:
+/// the approximants' own error (footpoints to a few hundredths of a voxel, piecewise per voxel)
+/// makes the objective rough on that scale.
 constexpr double kResolvedFraction = 0.01;
 /// The automatic bending weight of the first iteration (refined within it).
 constexpr double kInitialAutomaticBending = 1e-6;

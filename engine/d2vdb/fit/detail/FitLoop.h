@@ -147,8 +147,8 @@ struct FitLoopResult {
 /// sqrt(d_k^T A_k d_k) over the sensors' displacements d_k in their forms' metric; the model's
 /// full step when the line search cut it) and its change of the RMS distance, each extrapolated
 /// at its rate of convergence (times q / (1 - q), q the ratio of the last two, between 1 and 100),
-/// are at most max(stepTolerance x size, moveTolerance x rms x sqrt(n / N), target resolved length /
-/// 100); when the RMS distance reaches distanceTolerance; when the relative objective decrease
+/// are at most max(stepTolerance x size, moveTolerance x rms x sqrt(n / N), target resolved length
+/// / 100); when the RMS distance reaches distanceTolerance; when the relative objective decrease
 /// falls below objectiveTolerance (if set); or when no step lowers the objective although the
 /// model's step is within that tolerance (the objective is flat to rounding, or the target does
 /// not resolve the move). Sliding along the target alone does not count as a move.
