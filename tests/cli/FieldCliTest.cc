@@ -46,11 +46,11 @@ struct TorusReference {
 
 TorusReference torusAt(const Vector3d& p) {
   const Vector3d radial = Vector3d(p.x(), p.y(), 0.0).normalized();
-  const Vector3d centre = kMajor * radial;
-  const Vector3d normal = (p - centre).normalized();
+  const Vector3d center = kMajor * radial;
+  const Vector3d normal = (p - center).normalized();
   const double cosTheta = normal.dot(radial);
-  return {(p - centre).norm() - kMinor,
-          centre + kMinor * normal,
+  return {(p - center).norm() - kMinor,
+          center + kMinor * normal,
           normal,
           1.0 / kMinor,
           cosTheta / (kMajor + kMinor * cosTheta),

@@ -110,7 +110,7 @@ TEST_F(SupportCliTest, HyperboloidPatchIsFittedOverItsGaussImage) {
 // Level sets and fields are fitted from their band's footpoints and normals: a sphere's level
 // set (voxel 0.05) against the exact sphere, and the same level set stored as a field.
 TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
-  const Eigen::Vector3d centre(0.1, -0.2, 0.3);
+  const Eigen::Vector3d center(0.1, -0.2, 0.3);
   ASSERT_EQ(
       run("primitive sphere --center 0.1,-0.2,0.3 --radius 1 --voxel-size 0.05 " + path("s.vdb"))
           .exitCode,
@@ -128,7 +128,7 @@ TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
     // The Steiner point of a sphere is its centre; its radii are all R; its volume 4 pi R^3 / 3.
     const auto& steiner = report.at("steiner_point");
     for (int axis = 0; axis < 3; ++axis) {
-      EXPECT_NEAR(steiner.at(axis).get<double>(), centre[axis], 1e-4) << kind;
+      EXPECT_NEAR(steiner.at(axis).get<double>(), center[axis], 1e-4) << kind;
     }
     EXPECT_NEAR(report.at("radii").at("min").get<double>(), 1.0, 5e-3) << kind;  // 0.1 voxel
     EXPECT_NEAR(report.at("radii").at("max").get<double>(), 1.0, 5e-3) << kind;
@@ -145,7 +145,7 @@ TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
   const d2vdb::TriangleMesh offset = d2vdb::readMesh(file("o.obj"));
   ASSERT_EQ(offset.vertexCount(), 642u);
   for (const Eigen::Vector3f& p : offset.positions) {
-    EXPECT_NEAR((p.cast<double>() - centre).norm(), 1.5, 5e-3);
+    EXPECT_NEAR((p.cast<double>() - center).norm(), 1.5, 5e-3);
   }
 }
 

@@ -32,9 +32,9 @@ template openvdb::DoubleGrid::Ptr gridFromDistance<openvdb::DoubleGrid>(const Di
                                                                         double, double,
                                                                         const openvdb::CoordBBox&);
 
-double torusDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& centre, double major,
+double torusDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& center, double major,
                      double minor) {
-  const Eigen::Vector3d local = point - centre;
+  const Eigen::Vector3d local = point - center;
   const double ring = std::hypot(local.x(), local.y()) - major;
   return std::hypot(ring, local.z()) - minor;
 }

@@ -28,7 +28,7 @@ typename GridT::Ptr gridFromDistance(const DistanceFunction& distance, double vo
                                      double halfWidth, const openvdb::CoordBBox& bounds);
 
 /// Exact signed distance of a torus about the z axis through `centre` (world units).
-double torusDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& centre, double major,
+double torusDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& center, double major,
                      double minor);
 
 /// Expects a closed, 2-manifold, consistently oriented mesh without degenerate triangles and

@@ -26,7 +26,7 @@ bool shareFace(int a, int b) {
 
 TEST(CubeTables, EveryCaseIsAClosedOrientedPatchOnTheCellBoundary) {
   const CubeTables& tables = CubeTables::instance();
-  int ambiguousCases = 0, centreCases = 0;
+  int ambiguousCases = 0, centerCases = 0;
   for (int caseIndex = 0; caseIndex < 256; ++caseIndex) {
     const int ambiguous = tables.ambiguousFaces(caseIndex);
     ambiguousCases += ambiguous != 0;
@@ -34,7 +34,7 @@ TEST(CubeTables, EveryCaseIsAClosedOrientedPatchOnTheCellBoundary) {
       if ((joined & ~ambiguous) != 0) continue;
       const CellTriangulation& cell =
           tables.triangulation(caseIndex, static_cast<std::uint8_t>(joined));
-      centreCases += cell.centreEdges != 0;
+      centerCases += cell.centerEdges != 0;
       // Directed edge counts: interior edges appear once each way; boundary edges (one face
       // segment) once in one direction only.
       std::map<std::pair<int, int>, int> directed;
@@ -44,14 +44,14 @@ TEST(CubeTables, EveryCaseIsAClosedOrientedPatchOnTheCellBoundary) {
           const int a = cell.edges[3 * t + i], b = cell.edges[3 * t + (i + 1) % 3];
           ASSERT_NE(a, b);
           ++directed[{a, b}];
-          if (a != kCellCentre) usedEdges |= 1 << a;
+          if (a != kCellCenter) usedEdges |= 1 << a;
         }
       }
       EXPECT_EQ(usedEdges, tables.crossedEdges(caseIndex)) << caseIndex;
       for (const auto& [edge, count] : directed) {
         EXPECT_EQ(count, 1) << caseIndex;
         const bool reverse = directed.count({edge.second, edge.first}) != 0;
-        const bool boundary = edge.first != kCellCentre && edge.second != kCellCentre &&
+        const bool boundary = edge.first != kCellCenter && edge.second != kCellCenter &&
                               shareFace(edge.first, edge.second);
         EXPECT_NE(reverse, boundary)
             << "case " << caseIndex << " edge " << edge.first << "-" << edge.second;
@@ -59,7 +59,7 @@ TEST(CubeTables, EveryCaseIsAClosedOrientedPatchOnTheCellBoundary) {
     }
   }
   EXPECT_GT(ambiguousCases, 0);
-  EXPECT_GT(centreCases, 0);
+  EXPECT_GT(centerCases, 0);
   EXPECT_EQ(tables.triangleCount(0, 0), 0);
   EXPECT_EQ(tables.triangleCount(255, 0), 0);
 }

@@ -26,24 +26,24 @@ double signedArea(const IsoLine& line) {
 }
 
 TEST(IsoLines, SphereSlicesAreClosedCounterClockwiseCircles) {
-  const Eigen::Vector3d centre(0.2, -0.1, 0.3);
+  const Eigen::Vector3d center(0.2, -0.1, 0.3);
   const double radius = 5.0;
   PrimitiveLevelSetOptions levelSet;
   levelSet.voxelSize = 0.1;
-  const auto grid = primitiveLevelSet(Sphere(centre, radius), levelSet);
+  const auto grid = primitiveLevelSet(Sphere(center, radius), levelSet);
   for (int axis = 0; axis < 3; ++axis) {
     for (const double offset : {0.0, 1.234, -3.05}) {
       SliceOptions options;
       options.axis = axis;
-      options.offset = centre[axis] + offset;
+      options.offset = center[axis] + offset;
       const Slice slice = sliceIsoLines(*grid, options);
       ASSERT_EQ(slice.lines.size(), 1u) << "axis " << axis << " offset " << offset;
       const IsoLine& line = slice.lines.front();
       EXPECT_TRUE(line.closed);
       const double circle = std::sqrt(radius * radius - offset * offset);
-      const Eigen::Vector2d planeCentre(centre[slice.planeAxes[0]], centre[slice.planeAxes[1]]);
+      const Eigen::Vector2d planeCenter(center[slice.planeAxes[0]], center[slice.planeAxes[1]]);
       for (const auto& point : line.points) {
-        EXPECT_NEAR((point - planeCentre).norm(), circle, 0.01);
+        EXPECT_NEAR((point - planeCenter).norm(), circle, 0.01);
       }
       EXPECT_NEAR(signedArea(line), M_PI * circle * circle, 0.01 * M_PI * circle * circle);
     }

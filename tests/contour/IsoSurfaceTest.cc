@@ -25,24 +25,24 @@ namespace {
 using openvdb::Coord;
 using openvdb::CoordBBox;
 
-openvdb::FloatGrid::Ptr sphereLevelSet(const Eigen::Vector3d& centre, double radius,
+openvdb::FloatGrid::Ptr sphereLevelSet(const Eigen::Vector3d& center, double radius,
                                        double voxelSize, double halfWidth = 3.0) {
   PrimitiveLevelSetOptions options;
   options.voxelSize = voxelSize;
   options.halfWidth = halfWidth;
-  return primitiveLevelSet(Sphere(centre, radius), options);
+  return primitiveLevelSet(Sphere(center, radius), options);
 }
 
 TEST(IsoSurface, SphereIsClosedGenusZeroWithOutwardNormals) {
-  const Eigen::Vector3d centre(0.3, -0.2, 0.15);
-  const auto grid = sphereLevelSet(centre, 12.0, 1.0);
+  const Eigen::Vector3d center(0.3, -0.2, 0.15);
+  const auto grid = sphereLevelSet(center, 12.0, 1.0);
   const TriangleMesh mesh = extractIsoSurface(*grid);
   expectClosedManifold(mesh, 2, "sphere");
   EXPECT_GT(signedVolume(mesh), 0.0);
   EXPECT_NEAR(signedVolume(mesh), 4.0 / 3.0 * M_PI * 12.0 * 12.0 * 12.0, 0.01 * 7238.0);
   ASSERT_TRUE(mesh.hasNormals());
   for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-    const Eigen::Vector3d radial = (mesh.positions[v].cast<double>() - centre).normalized();
+    const Eigen::Vector3d radial = (mesh.positions[v].cast<double>() - center).normalized();
     EXPECT_GT(radial.dot(mesh.normals[v].cast<double>()), 0.995) << "vertex " << v;
     EXPECT_NEAR(mesh.normals[v].norm(), 1.0, 1e-5);
   }
@@ -69,9 +69,9 @@ TEST(IsoSurface, TwoFusedToriHaveGenusTwo) {
 }
 
 TEST(IsoSurface, DoubleGridSphere) {
-  const Eigen::Vector3d centre(0.1, 0.2, 0.3);
+  const Eigen::Vector3d center(0.1, 0.2, 0.3);
   const DistanceFunction sphere = [&](const Eigen::Vector3d& p) {
-    return (p - centre).norm() - 2.0;
+    return (p - center).norm() - 2.0;
   };
   const auto grid =
       gridFromDistance<openvdb::DoubleGrid>(sphere, 0.25, 3.0, CoordBBox(Coord(-12), Coord(12)));
@@ -81,8 +81,8 @@ TEST(IsoSurface, DoubleGridSphere) {
 
 TEST(IsoSurface, VerticesLieOnTheSphereOfRadiusFortyVoxels) {
   const double voxel = 0.5;
-  const Eigen::Vector3d centre(0.37, -0.21, 0.113);
-  const auto grid = sphereLevelSet(centre, 40.0 * voxel, voxel);
+  const Eigen::Vector3d center(0.37, -0.21, 0.113);
+  const auto grid = sphereLevelSet(center, 40.0 * voxel, voxel);
   for (const double isoVoxels : {0.0, 1.0, -1.0}) {
     IsoSurfaceOptions options;
     options.isoValue = isoVoxels * voxel;
@@ -91,7 +91,7 @@ TEST(IsoSurface, VerticesLieOnTheSphereOfRadiusFortyVoxels) {
     const double radius = (40.0 + isoVoxels) * voxel;
     double worst = 0.0;
     for (const auto& position : mesh.positions) {
-      worst = std::max(worst, std::abs((position.cast<double>() - centre).norm() - radius));
+      worst = std::max(worst, std::abs((position.cast<double>() - center).norm() - radius));
     }
     EXPECT_LT(worst / voxel, 0.02) << "iso " << isoVoxels << " voxels";
   }
@@ -162,7 +162,7 @@ TEST(IsoSurface, OneVertexOnEveryCrossedEdgeWhereverTheBlocksLie) {
     // the others are the centre vertices of cells with 8- to 12-sided contours.
     const auto expected = crossedLeafEdges(*grid, iso);
     std::map<std::array<int, 4>, int> verticesOnEdge;
-    std::size_t centreVertices = 0;
+    std::size_t centerVertices = 0;
     for (const auto& position : mesh.positions) {
       std::array<int, 4> edge{0, 0, 0, -1};
       int integers = 0;
@@ -175,7 +175,7 @@ TEST(IsoSurface, OneVertexOnEveryCrossedEdgeWhereverTheBlocksLie) {
         }
       }
       if (integers != 2) {
-        ++centreVertices;
+        ++centerVertices;
         continue;
       }
       const auto found = expected.find(edge);
@@ -185,7 +185,7 @@ TEST(IsoSurface, OneVertexOnEveryCrossedEdgeWhereverTheBlocksLie) {
     }
     EXPECT_EQ(verticesOnEdge.size(), expected.size()) << what << ": crossed edges without vertex";
     for (const auto& [edge, count] : verticesOnEdge) EXPECT_EQ(count, 1) << what;
-    EXPECT_LT(centreVertices, expected.size() / 20) << what;
+    EXPECT_LT(centerVertices, expected.size() / 20) << what;
     // Every triangle lies in one cell.
     for (const auto& triangle : mesh.triangles) {
       for (int axis = 0; axis < 3; ++axis) {

@@ -23,36 +23,36 @@ typename GridT::Ptr twoVoxelGrid() {
   return grid;
 }
 
-TEST(SliceMeasures, OffsetIsTheCentreOfTheActiveVoxelBox) {
+TEST(SliceMeasures, OffsetIsTheCenterOfTheActiveVoxelBox) {
   const openvdb::FloatGrid::Ptr grid = twoVoxelGrid<openvdb::FloatGrid>();
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 0), 0.5);
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 1), 0.5);
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 2), -1.75);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 0), 0.5);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 1), 0.5);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 2), -1.75);
 
   // A translated transform moves the plane with it: world = 0.5 index + (1, 2, 3).
   grid->transform().postTranslate(openvdb::Vec3d(1, 2, 3));
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 0), 1.5);
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 1), 2.5);
-  EXPECT_EQ(activeVoxelCentreOffset(*grid, 2), 1.25);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 0), 1.5);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 1), 2.5);
+  EXPECT_EQ(activeVoxelCenterOffset(*grid, 2), 1.25);
 
   const openvdb::DoubleGrid::Ptr doubles = twoVoxelGrid<openvdb::DoubleGrid>();
-  EXPECT_EQ(activeVoxelCentreOffset(*doubles, 2), -1.75);
+  EXPECT_EQ(activeVoxelCenterOffset(*doubles, 2), -1.75);
 }
 
-TEST(SliceMeasures, SphereOffsetIsItsCentre) {
+TEST(SliceMeasures, SphereOffsetIsItsCenter) {
   PrimitiveLevelSetOptions levelSet;
   levelSet.voxelSize = 0.125;  // the centre is a grid point, the band symmetric about it
   const auto grid = primitiveLevelSet(Sphere(Eigen::Vector3d(1.0, -2.0, 0.5), 1.0), levelSet);
-  EXPECT_NEAR(*activeVoxelCentreOffset(*grid, 0), 1.0, 1e-12);
-  EXPECT_NEAR(*activeVoxelCentreOffset(*grid, 1), -2.0, 1e-12);
-  EXPECT_NEAR(*activeVoxelCentreOffset(*grid, 2), 0.5, 1e-12);
+  EXPECT_NEAR(*activeVoxelCenterOffset(*grid, 0), 1.0, 1e-12);
+  EXPECT_NEAR(*activeVoxelCenterOffset(*grid, 1), -2.0, 1e-12);
+  EXPECT_NEAR(*activeVoxelCenterOffset(*grid, 2), 0.5, 1e-12);
 }
 
 TEST(SliceMeasures, EmptyGridHasNoOffsetAndBadAxesAreRejected) {
-  EXPECT_EQ(activeVoxelCentreOffset(*openvdb::FloatGrid::create(1), 2), std::nullopt);
+  EXPECT_EQ(activeVoxelCenterOffset(*openvdb::FloatGrid::create(1), 2), std::nullopt);
   const openvdb::FloatGrid::Ptr grid = twoVoxelGrid<openvdb::FloatGrid>();
-  expectInputError([&] { activeVoxelCentreOffset(*grid, 3); }, {"axis"});
-  expectInputError([&] { activeVoxelCentreOffset(*grid, -1); }, {"axis"});
+  expectInputError([&] { activeVoxelCenterOffset(*grid, 3); }, {"axis"});
+  expectInputError([&] { activeVoxelCenterOffset(*grid, -1); }, {"axis"});
 }
 
 TEST(SliceMeasures, CountsLinesClosedLinesAndPoints) {

@@ -105,13 +105,13 @@ TEST(AnalyticShapes, SphereCurvatureIsInverseRadiusWithOutwardNormal) {
     const SurfacePoint s = sphere.closestSurfacePoint(p);
     EXPECT_DOUBLE_EQ(s.k1, 0.5);
     EXPECT_DOUBLE_EQ(s.k2, 0.5);
-    EXPECT_TRUE(s.normal.isApprox((p - sphere.centre()).normalized(), 1e-14));
+    EXPECT_TRUE(s.normal.isApprox((p - sphere.center()).normalized(), 1e-14));
     expectConsistentSurfacePoint(sphere, s, p);
   }
   // The centre is on the cut locus: documented choice +z.
-  const SurfacePoint atCentre = sphere.closestSurfacePoint(sphere.centre());
-  EXPECT_TRUE(atCentre.normal.isApprox(Eigen::Vector3d::UnitZ()));
-  EXPECT_DOUBLE_EQ(atCentre.signedDistance, -2.0);
+  const SurfacePoint atCenter = sphere.closestSurfacePoint(sphere.center());
+  EXPECT_TRUE(atCenter.normal.isApprox(Eigen::Vector3d::UnitZ()));
+  EXPECT_DOUBLE_EQ(atCenter.signedDistance, -2.0);
 }
 
 TEST(AnalyticShapes, BoxDistancesByHand) {
@@ -139,7 +139,7 @@ TEST(AnalyticShapes, TorusDistancesByHand) {
 
 TEST(AnalyticShapes, TorusCurvatures) {
   const Torus torus({1, -1, 0.5}, 2.0, 0.5);
-  const Eigen::Vector3d c = torus.centre();
+  const Eigen::Vector3d c = torus.center();
   // Outer equator: both curvatures convex, 1/r and 1/(R + r).
   SurfacePoint s = torus.closestSurfacePoint(c + Eigen::Vector3d(3.2, 0, 0));
   EXPECT_DOUBLE_EQ(s.k1, 2.0);
@@ -214,7 +214,7 @@ TEST(AnalyticShapes, DistancesMatchDenselySampledSurfaces) {
       for (int j = 0; j < n; ++j) {
         const double phi = 2.0 * kPi * j / n;
         const double radial = 1.0 + 0.3 * std::cos(phi);
-        samples.push_back(torus.centre() + Eigen::Vector3d(radial * std::cos(theta),
+        samples.push_back(torus.center() + Eigen::Vector3d(radial * std::cos(theta),
                                                            radial * std::sin(theta),
                                                            0.3 * std::sin(phi)));
       }
@@ -223,7 +223,7 @@ TEST(AnalyticShapes, DistancesMatchDenselySampledSurfaces) {
     expectMatchesSampledSurface(
         torus, samples, spacing,
         [&](const Eigen::Vector3d& p) {
-          const Eigen::Vector3d q = p - torus.centre();
+          const Eigen::Vector3d q = p - torus.center();
           return std::pow(std::hypot(q.x(), q.y()) - 1.0, 2) + q.z() * q.z() < 0.09;
         },
         Eigen::AlignedBox3d(Eigen::Vector3d(-1.2, -1.3, -0.6), Eigen::Vector3d(1.6, 1.5, 0.4)));
@@ -236,10 +236,10 @@ TEST(AnalyticShapes, DistancesMatchDenselySampledSurfaces) {
       const double theta = 2.0 * kPi * i / around;
       const Eigen::Vector3d radial(std::cos(theta), std::sin(theta), 0.0);
       for (int j = 0; j <= n; ++j) {
-        samples.push_back(cylinder.centre() + 0.6 * radial +
+        samples.push_back(cylinder.center() + 0.6 * radial +
                           Eigen::Vector3d(0, 0, -0.5 + 1.0 * j / n));
         for (const double cap : {-0.5, 0.5}) {  // concentric rings on both caps
-          samples.push_back(cylinder.centre() + 0.6 * j / n * radial + Eigen::Vector3d(0, 0, cap));
+          samples.push_back(cylinder.center() + 0.6 * j / n * radial + Eigen::Vector3d(0, 0, cap));
         }
       }
     }
@@ -247,7 +247,7 @@ TEST(AnalyticShapes, DistancesMatchDenselySampledSurfaces) {
     expectMatchesSampledSurface(
         cylinder, samples, spacing,
         [&](const Eigen::Vector3d& p) {
-          const Eigen::Vector3d q = p - cylinder.centre();
+          const Eigen::Vector3d q = p - cylinder.center();
           return std::hypot(q.x(), q.y()) < 0.6 && std::abs(q.z()) < 0.5;
         },
         Eigen::AlignedBox3d(Eigen::Vector3d(-1, -1, -0.4), Eigen::Vector3d(1, 1, 1.4)));

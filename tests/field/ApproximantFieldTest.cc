@@ -25,7 +25,7 @@
 namespace d2vdb {
 namespace {
 
-using test::bandCentres;
+using test::bandCenters;
 using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
@@ -60,9 +60,9 @@ SurfaceErrors surfaceErrors(const ApproximantField& field, const Shape& shape,
                             double curvatureScale) {
   SurfaceErrors errors;
   const double h = field.voxelSize();
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const Approximant a = field.approximantAt(centre);
-    const SurfacePoint exact = shape.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const Approximant a = field.approximantAt(center);
+    const SurfacePoint exact = shape.closestSurfacePoint(center);
     ++errors.voxels;
     if (a.flags & (kFlagCutLocus | kFlagDegradedEstimate)) ++errors.flagged;
     errors.curvature = std::max({errors.curvature, std::abs(a.k1 - exact.k1) / curvatureScale,
@@ -91,11 +91,11 @@ TEST(ApproximantField, SphereOfRadiusFortyVoxels) {
   EXPECT_LE(errors.footpoint, 0.064);
   EXPECT_EQ(errors.flagged, 0u);
   // Normals: the record's normal is the outward radial direction.
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const Approximant a = field.approximantAt(centre);
-    EXPECT_NEAR(a.distance, sphere.signedDistance(centre), 0.05 * h);
-    ASSERT_LT(lineAngleDegrees(a.normal, centre - sphere.centre()), 0.2);
-    EXPECT_GT(a.normal.dot(centre - sphere.centre()), 0.0);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const Approximant a = field.approximantAt(center);
+    EXPECT_NEAR(a.distance, sphere.signedDistance(center), 0.05 * h);
+    ASSERT_LT(lineAngleDegrees(a.normal, center - sphere.center()), 0.2);
+    EXPECT_GT(a.normal.dot(center - sphere.center()), 0.0);
   }
 }
 
@@ -109,10 +109,10 @@ TEST(ApproximantField, TorusWithRadiiSixtyAndTwentyVoxels) {
   const double r = 20 * h, R = 60 * h;
   SurfaceErrors errors = surfaceErrors(field, torus, 1.0 / r);
   double relativeK2 = 0.0;
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const SurfacePoint exact = torus.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const SurfacePoint exact = torus.closestSurfacePoint(center);
     if (std::abs(exact.k2) < 0.5 / (R + r)) continue;
-    const Approximant a = field.approximantAt(centre);
+    const Approximant a = field.approximantAt(center);
     relativeK2 = std::max(relativeK2, std::abs(a.k2 - exact.k2) / std::abs(exact.k2));
   }
   std::printf(
@@ -138,7 +138,7 @@ TriangleMesh torusMesh(const Torus& torus, double R, double r, int around, int a
       const double v = 2.0 * kPi * j / across;
       const Eigen::Vector3d p((R + r * std::cos(v)) * std::cos(u),
                               (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
-      mesh.positions.push_back((p + torus.centre()).cast<float>());
+      mesh.positions.push_back((p + torus.center()).cast<float>());
     }
   }
   const auto index = [&](int i, int j) {
@@ -170,9 +170,9 @@ TEST(ApproximantField, TessellatedTorusThroughMeshToLevelSet) {
   double footpoint = 0.0;             // voxels
   std::size_t flagged = 0;
   ApproximantField::Accessor accessor(field);
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const Approximant a = accessor.approximantAt(centre);
-    const SurfacePoint exact = torus.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const Approximant a = accessor.approximantAt(center);
+    const SurfacePoint exact = torus.closestSurfacePoint(center);
     if (a.flags & (kFlagCutLocus | kFlagDegradedEstimate | kFlagCurvatureClamped)) ++flagged;
     curvature.push_back(std::max(std::abs(a.k1 - exact.k1), std::abs(a.k2 - exact.k2)) * r);
     e1.push_back(lineAngleDegrees(a.tangent, exact.e1));
@@ -206,14 +206,14 @@ template <typename Shape>
 std::pair<double, double> formErrors(const ApproximantField& field, const Shape& shape,
                                      unsigned seed) {
   const double h = field.voxelSize();
-  const auto centres = bandCentres(field);
+  const auto centers = bandCenters(field);
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   double valueError = 0.0, hessianError = 0.0;
   for (int trial = 0; trial < 4000; ++trial) {
-    const Eigen::Vector3d& centre = centres[random() % centres.size()];
+    const Eigen::Vector3d& center = centers[random() % centers.size()];
     const Eigen::Vector3d x =
-        centre + 0.5 * h * Eigen::Vector3d(unit(random), unit(random), unit(random));
+        center + 0.5 * h * Eigen::Vector3d(unit(random), unit(random), unit(random));
     if (std::abs(shape.signedDistance(x)) > field.halfWidth() * h - h) continue;
     Eigen::Vector3d delta;
     do {
@@ -269,13 +269,13 @@ namespace d2vdb {
 namespace {
 
 /// A closed polyline of `count` vertices on the circle of `radius` about `centre` in z = 0.
-Polyline circlePolyline(const Eigen::Vector3d& centre, double radius, int count) {
+Polyline circlePolyline(const Eigen::Vector3d& center, double radius, int count) {
   Polyline polyline;
   polyline.closed = true;
   polyline.dimension = 2;
   for (int i = 0; i < count; ++i) {
     const double angle = 2.0 * kPi * i / count;
-    polyline.points.push_back(centre +
+    polyline.points.push_back(center +
                               radius * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0));
   }
   return polyline;
@@ -283,16 +283,16 @@ Polyline circlePolyline(const Eigen::Vector3d& centre, double radius, int count)
 
 TEST(ApproximantField, CircleCurveField) {
   const double h = 0.025, radius = 40 * h;
-  const Eigen::Vector3d centre(0.3, -0.1, 0.0);
-  const CurveTarget target(circlePolyline(centre, radius, 4000));
+  const Eigen::Vector3d center(0.3, -0.1, 0.0);
+  const CurveTarget target(circlePolyline(center, radius, 4000));
   const ApproximantField field = ApproximantField::fromCurve(target, h, 3.0);
   EXPECT_EQ(field.kind(), TargetKind::Curve);
   double curvatureError = 0.0, footpointError = 0.0;
   std::size_t voxels = 0;
-  for (const Eigen::Vector3d& p : bandCentres(field)) {
-    const Eigen::Vector3d planar(p.x() - centre.x(), p.y() - centre.y(), 0.0);
+  for (const Eigen::Vector3d& p : bandCenters(field)) {
+    const Eigen::Vector3d planar(p.x() - center.x(), p.y() - center.y(), 0.0);
     if (planar.norm() < 1e-9) continue;
-    const Eigen::Vector3d exactFoot = centre + radius * planar.normalized();
+    const Eigen::Vector3d exactFoot = center + radius * planar.normalized();
     const Approximant a = field.approximantAt(p);
     ++voxels;
     curvatureError = std::max(curvatureError, std::abs(a.k1 * radius - 1.0));
@@ -323,7 +323,7 @@ TEST(ApproximantField, HelixCurveField) {
   const double kappa = a / (a * a + b * b);
   double curvatureError = 0.0, footpointError = 0.0;
   std::size_t voxels = 0;
-  for (const Eigen::Vector3d& p : bandCentres(field)) {
+  for (const Eigen::Vector3d& p : bandCenters(field)) {
     const Approximant approx = field.approximantAt(p);
     if (approx.flags & kFlagEndPoint) continue;  // beyond the two ends
     // Exact closest point: Newton on (H(t) - p) . H'(t) = 0 from the field's own footpoint.
@@ -394,14 +394,14 @@ TEST(ApproximantField, PointFieldFootpointsAreTheNearestPoints) {
   const double h = 0.05;
   const ApproximantField field = ApproximantField::fromPoints(points, h, 2.0);
   std::size_t checked = 0;
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
     double best = 1e300;
-    for (const auto& p : points) best = std::min(best, (p - centre).norm());
-    const Approximant a = field.approximantAt(centre);
+    for (const auto& p : points) best = std::min(best, (p - center).norm());
+    const Approximant a = field.approximantAt(center);
     ASSERT_NEAR(a.distance, best, 1e-5 * h);
-    ASSERT_NEAR((a.footpoint - centre).norm(), best, 1e-3 * h);
+    ASSERT_NEAR((a.footpoint - center).norm(), best, 1e-3 * h);
     // The SDM and TDM forms of a point are the PDM form |x - q|^2.
-    const Eigen::Vector3d y = centre + Eigen::Vector3d(0.01, -0.02, 0.015);
+    const Eigen::Vector3d y = center + Eigen::Vector3d(0.01, -0.02, 0.015);
     EXPECT_NEAR(a.form(ErrorTerm::SDM)(y), (y - a.footpoint).squaredNorm(), 1e-12);
     ++checked;
   }
@@ -444,9 +444,9 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
     EXPECT_EQ(a.distance < 0.0, exact < 0.0);
     // One Newton step on the form moves the point toward the sphere.
     const Eigen::Vector3d gradient = form.gradient(x);
-    const Eigen::Vector3d outward = (x - sphere.centre()).normalized();
+    const Eigen::Vector3d outward = (x - sphere.center()).normalized();
     // Off the cut locus (the centre) the pull is along the radial direction.
-    if ((x - sphere.centre()).norm() < 0.2) continue;
+    if ((x - sphere.center()).norm() < 0.2) continue;
     EXPECT_GT(gradient.dot(outward) * (exact > 0 ? 1.0 : -1.0), 0.0);
     worstRelative =
         std::max(worstRelative, std::abs(std::sqrt(form(x)) - std::abs(exact)) / std::abs(exact));
@@ -476,7 +476,7 @@ TEST(ApproximantField, BeyondTheBandEveryPointOfTheDomainIsPulledTowardTheTarget
 // voxel within sqrt(3)/2 voxel of the surface) nearest to the centre of the cell the query fell in,
 // and a query answered at level L > 1 has no sample within level L-1's reach of its cell there
 // (else that finer level would have kept the cell).
-TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
+TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCenter) {
   const double h = 0.05;
   const Sphere sphere(Eigen::Vector3d(0.03, -0.02, 0.01), 0.5);
   ApproximantFieldOptions options;
@@ -484,8 +484,8 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
       ApproximantField::fromLevelSet(primitiveLevelSet(sphere, {h, 3.0}), options);
   const auto& grid = *field.distanceGrid();
   std::vector<Eigen::Vector3d> samples;
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const Approximant a = field.approximantAt(centre);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const Approximant a = field.approximantAt(center);
     if (std::abs(a.distance) <= 0.5 * std::sqrt(3.0) * h) samples.push_back(a.footpoint);
   }
   ASSERT_GT(samples.size(), 1000u);
@@ -504,13 +504,13 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
     }
     return std::pair<double, double>(best, second);
   };
-  const auto cellCentre = [&](const Eigen::Vector3d& point, int level) {
+  const auto cellCenter = [&](const Eigen::Vector3d& point, int level) {
     const double scale = std::ldexp(1.0, level);
     const openvdb::Vec3d index = grid.worldToIndex(openvdb::Vec3d(point.x(), point.y(), point.z()));
-    const openvdb::Vec3d centre(std::round(index.x() / scale) * scale,
+    const openvdb::Vec3d center(std::round(index.x() / scale) * scale,
                                 std::round(index.y() / scale) * scale,
                                 std::round(index.z() / scale) * scale);
-    const openvdb::Vec3d world = grid.indexToWorld(centre);
+    const openvdb::Vec3d world = grid.indexToWorld(center);
     return Eigen::Vector3d(world.x(), world.y(), world.z());
   };
   const Eigen::AlignedBox3d domain = field.domain();
@@ -521,7 +521,7 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
     const int level = accessor.lastLevel();
     if (level == 0) continue;
     Eigen::Vector3d expected = Eigen::Vector3d::Zero();
-    const auto [best, second] = nearest(cellCentre(x, level), expected);
+    const auto [best, second] = nearest(cellCenter(x, level), expected);
     if (second - best > 1e-6) {  // not a tie up to the footpoints' float rounding
       EXPECT_LT((a.footpoint - expected).norm(), 1e-6)
           << "level " << level << " at " << x.transpose();
@@ -530,7 +530,7 @@ TEST(ApproximantField, CoarseCellsHoldTheNearestSampleToTheirCentre) {
     if (level > 1) {
       Eigen::Vector3d unused = Eigen::Vector3d::Zero();
       const double finerReach = options.coarseHalfWidth * std::ldexp(1.0, level - 1) * h;
-      EXPECT_GT(nearest(cellCentre(x, level - 1), unused).first, finerReach * (1.0 - 1e-9))
+      EXPECT_GT(nearest(cellCenter(x, level - 1), unused).first, finerReach * (1.0 - 1e-9))
           << "level " << level - 1 << " dropped a cell within its reach at " << x.transpose();
       ++finerChecked;
     }

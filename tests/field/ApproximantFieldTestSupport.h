@@ -15,14 +15,14 @@
 namespace d2vdb::test {
 
 /// Every active voxel centre of the field's band (world).
-inline std::vector<Eigen::Vector3d> bandCentres(const ApproximantField& field) {
-  std::vector<Eigen::Vector3d> centres;
+inline std::vector<Eigen::Vector3d> bandCenters(const ApproximantField& field) {
+  std::vector<Eigen::Vector3d> centers;
   const auto& grid = *field.distanceGrid();
   for (auto voxel = grid.cbeginValueOn(); voxel; ++voxel) {
     const openvdb::Vec3d w = grid.indexToWorld(voxel.getCoord());
-    centres.emplace_back(w.x(), w.y(), w.z());
+    centers.emplace_back(w.x(), w.y(), w.z());
   }
-  return centres;
+  return centers;
 }
 
 /// `count` points uniformly distributed in `box`, from a generator seeded with `seed`.
@@ -42,7 +42,7 @@ inline std::vector<Eigen::Vector3d> randomPoints(const Eigen::AlignedBox3d& box,
 /// Every approximant at the band's voxel centres and at `extra` points, compared field by field.
 inline void expectSameAnswers(const ApproximantField& a, const ApproximantField& b,
                               const std::vector<Eigen::Vector3d>& extra) {
-  auto points = bandCentres(a);
+  auto points = bandCenters(a);
   points.insert(points.end(), extra.begin(), extra.end());
   const auto answersA = a.approximantsAt(points);
   const auto answersB = b.approximantsAt(points);

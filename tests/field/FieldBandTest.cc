@@ -26,7 +26,7 @@
 namespace d2vdb {
 namespace {
 
-using test::bandCentres;
+using test::bandCenters;
 using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
@@ -35,12 +35,12 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// The approximant of an analytic shape at `centre`: its exact closest-point data.
 template <typename Shape>
-Approximant exactApproximant(const Shape& shape, const Eigen::Vector3d& centre) {
-  return test::approximantFrom(shape.closestSurfacePoint(centre), centre);
+Approximant exactApproximant(const Shape& shape, const Eigen::Vector3d& center) {
+  return test::approximantFrom(shape.closestSurfacePoint(center), center);
 }
 
 /// Points on the torus (centre, radii R and r, axis z) spaced at most `spacing` apart.
-std::vector<Eigen::Vector3d> torusSeeds(const Eigen::Vector3d& centre, double R, double r,
+std::vector<Eigen::Vector3d> torusSeeds(const Eigen::Vector3d& center, double R, double r,
                                         double spacing) {
   const int around = static_cast<int>(std::ceil(2.0 * kPi * (R + r) / spacing));
   const int across = static_cast<int>(std::ceil(2.0 * kPi * r / spacing));
@@ -49,7 +49,7 @@ std::vector<Eigen::Vector3d> torusSeeds(const Eigen::Vector3d& centre, double R,
     const double u = 2.0 * kPi * i / around;
     for (int j = 0; j < across; ++j) {
       const double v = 2.0 * kPi * j / across;
-      seeds.push_back(centre + Eigen::Vector3d((R + r * std::cos(v)) * std::cos(u),
+      seeds.push_back(center + Eigen::Vector3d((R + r * std::cos(v)) * std::cos(u),
                                                (R + r * std::cos(v)) * std::sin(u),
                                                r * std::sin(v)));
     }
@@ -68,9 +68,9 @@ double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 ApproximantField exactTorusField(const Torus& torus, double R, double r, double h,
                                  double seedReach = 1.5) {
   FieldBand band = FieldBand::nearSeeds(
-      TargetKind::Surface, torusSeeds(torus.centre(), R, r, 0.7 * h), h, 3.0, seedReach);
-  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
-        return exactApproximant(torus, centre);
+      TargetKind::Surface, torusSeeds(torus.center(), R, r, 0.7 * h), h, 3.0, seedReach);
+  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
+        return exactApproximant(torus, center);
       })
       .setEstimator("exact projection onto the torus")
       .setLabel("analytic torus");
@@ -111,9 +111,9 @@ TEST(FieldBand, NearSeedsSurfaceFromAnExactProjection) {
   // The records hold the projection's data up to their quantisation.
   double distanceError = 0.0, normalError = 0.0, curvatureError = 0.0, e1Error = 0.0;
   ApproximantField::Accessor accessor(field);
-  for (const Eigen::Vector3d& centre : bandCentres(field)) {
-    const Approximant a = accessor.approximantAt(centre);
-    const SurfacePoint s = torus.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : bandCenters(field)) {
+    const Approximant a = accessor.approximantAt(center);
+    const SurfacePoint s = torus.closestSurfacePoint(center);
     distanceError = std::max(distanceError, std::abs(a.distance - s.signedDistance) / h);
     normalError = std::max(normalError, lineAngleDegrees(a.normal, s.normal));
     curvatureError =
@@ -131,10 +131,10 @@ TEST(FieldBand, NearSeedsSurfaceFromAnExactProjection) {
     const openvdb::Vec3d index = grid.worldToIndex(openvdb::Vec3d(world.x(), world.y(), world.z()));
     return grid.tree().getValue(openvdb::Coord::round(index));
   };
-  EXPECT_LT(valueAt(torus.centre() + Eigen::Vector3d(R, 0, 0)), 0.0f);
-  EXPECT_LT(valueAt(torus.centre() + Eigen::Vector3d(0, -R, 0)), 0.0f);
-  EXPECT_GT(valueAt(torus.centre()), 0.0f);
-  EXPECT_GT(valueAt(torus.centre() + Eigen::Vector3d(0, 0, 0.8)), 0.0f);
+  EXPECT_LT(valueAt(torus.center() + Eigen::Vector3d(R, 0, 0)), 0.0f);
+  EXPECT_LT(valueAt(torus.center() + Eigen::Vector3d(0, -R, 0)), 0.0f);
+  EXPECT_GT(valueAt(torus.center()), 0.0f);
+  EXPECT_GT(valueAt(torus.center() + Eigen::Vector3d(0, 0, 0.8)), 0.0f);
 }
 
 TEST(FieldBand, NearSeedsWithTheSeedsReachFindsTheSameBand) {
@@ -174,12 +174,12 @@ TEST(FieldBand, SameFieldForOneAndTwoThreads) {
 TEST(FieldBand, ActiveVoxelsOfAGridTakeTheApproximantsDistances) {
   const double h = 0.04;
   const Sphere sphere(Eigen::Vector3d(0.01, 0.0, -0.02), 0.7);
-  const Sphere larger(sphere.centre(), 0.7 + 0.25 * h);
+  const Sphere larger(sphere.center(), 0.7 + 0.25 * h);
   const auto levelSet = primitiveLevelSet(sphere, {h, 3.0});
   const auto original = levelSet->deepCopy();
   FieldBand band = FieldBand::activeVoxelsOf(TargetKind::Surface, levelSet);
-  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
-    return exactApproximant(larger, centre);
+  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
+    return exactApproximant(larger, center);
   });
   const ApproximantField field = ApproximantField::fromBand(band);
   test::expectBitwiseIdentical(*levelSet, *original);
@@ -196,8 +196,8 @@ TEST(FieldBand, ActiveVoxelsOfAGridTakeTheApproximantsDistances) {
   EXPECT_NEAR(field.domain().sizes().x(), 2.0 * (box.dim().x() - 1) * h, 1e-9);
   // Where the grid already holds the approximants' distances, it is shared, not copied.
   FieldBand same = FieldBand::activeVoxelsOf(TargetKind::Surface, levelSet);
-  same.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
-    Approximant a = exactApproximant(sphere, centre);
+  same.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
+    Approximant a = exactApproximant(sphere, center);
     a.distance = static_cast<float>(a.distance);
     return a;
   });
@@ -219,8 +219,8 @@ TEST(FieldBand, RefusesBadBandsWithClearErrors) {
       EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
     }
   };
-  const auto exact = [&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
-    return exactApproximant(sphere, centre);
+  const auto exact = [&](const openvdb::Coord&, const Eigen::Vector3d& center) {
+    return exactApproximant(sphere, center);
   };
   expectError(FieldBand::nearSeeds(TargetKind::Surface, seeds, h, 3.0).setLabel("no function"),
               "no function: the band has no approximant function");

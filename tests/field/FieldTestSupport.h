@@ -23,11 +23,11 @@ namespace d2vdb::test {
 /// Icosahedron subdivided `levels` times (each level splits every triangle into four) with all
 /// vertices on the sphere; triangles wound counter-clockwise seen from outside. The vertices lie
 /// on the sphere, the triangles inside it (chords).
-inline TriangleMesh makeIcosphere(const Eigen::Vector3d& centre, double radius, int levels) {
+inline TriangleMesh makeIcosphere(const Eigen::Vector3d& center, double radius, int levels) {
   UnitIcosphere unit = unitIcosphere(levels);
   TriangleMesh mesh;
   for (const Eigen::Vector3d& p : unit.positions)
-    mesh.positions.push_back((centre + radius * p).cast<float>());
+    mesh.positions.push_back((center + radius * p).cast<float>());
   mesh.triangles = std::move(unit.triangles);
   return mesh;
 }
@@ -35,13 +35,13 @@ inline TriangleMesh makeIcosphere(const Eigen::Vector3d& centre, double radius, 
 /// Largest distance between the sphere and the mesh's triangles (the chord error): the vertices
 /// lie on the sphere, so it is radius minus the smallest centre-to-triangle distance, reached at
 /// the foot of the perpendicular from the centre (inside each near-equilateral triangle).
-inline double icosphereChordError(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+inline double icosphereChordError(const TriangleMesh& mesh, const Eigen::Vector3d& center,
                                   double radius) {
   double smallest = radius;
   for (const TriangleMesh::Triangle& tri : mesh.triangles) {
-    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>() - centre;
-    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>() - centre;
-    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>() - centre;
+    const Eigen::Vector3d a = mesh.positions[tri[0]].cast<double>() - center;
+    const Eigen::Vector3d b = mesh.positions[tri[1]].cast<double>() - center;
+    const Eigen::Vector3d c = mesh.positions[tri[2]].cast<double>() - center;
     const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
     smallest = std::min(smallest, std::abs(normal.dot(a)));
   }

@@ -224,9 +224,9 @@ TEST(InsideOutside, SelfIntersectionBroadPhaseFindsWhatAllPairsFind) {
     std::vector<Eigen::Vector3d> points;
     std::vector<TriangleIndices> triangles;
     for (int t = 0; t < 24; ++t) {
-      const Eigen::Vector3d centre(unit(random), unit(random), unit(random));
+      const Eigen::Vector3d center(unit(random), unit(random), unit(random));
       const auto corner = [&] {
-        points.push_back(centre + size * Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5,
+        points.push_back(center + size * Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5,
                                                          unit(random) - 0.5));
         return static_cast<std::uint32_t>(points.size() - 1);
       };

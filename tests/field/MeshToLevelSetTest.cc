@@ -20,7 +20,7 @@
 namespace d2vdb {
 namespace {
 
-const Eigen::Vector3d kCentre(0.013, -0.021, 0.007);  // off the voxel lattice on purpose
+const Eigen::Vector3d kCenter(0.013, -0.021, 0.007);  // off the voxel lattice on purpose
 constexpr double kRadius = 1.0;
 constexpr double kVoxel = 0.05;  // the radius is 20 voxels
 
@@ -40,7 +40,7 @@ struct SphereComparison {
 };
 
 SphereComparison compareWithSphere(const openvdb::FloatGrid& grid, double halfWidth) {
-  const Sphere sphere(kCentre, kRadius);
+  const Sphere sphere(kCenter, kRadius);
   SphereComparison result;
   for (auto voxel = grid.cbeginValueOn(); voxel; ++voxel) {
     const openvdb::Vec3d world = grid.indexToWorld(voxel.getCoord());
@@ -60,9 +60,9 @@ SphereComparison compareWithSphere(const openvdb::FloatGrid& grid, double halfWi
 }
 
 TEST(MeshToLevelSet, TessellatedSphereMatchesAnalyticDistance) {
-  const TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 4);  // 5120 triangles
+  const TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 4);  // 5120 triangles
   // Vertices lie on the sphere and triangles inside it: the mesh is at most `chord` inside.
-  const double chord = test::icosphereChordError(mesh, kCentre, kRadius) / kVoxel;
+  const double chord = test::icosphereChordError(mesh, kCenter, kRadius) / kVoxel;
   ASSERT_LT(chord, 0.03);  // 0.023 voxels at this tessellation
 
   LevelSetOptions options;
@@ -134,7 +134,7 @@ TEST(MeshToLevelSet, TessellatedSphereMatchesAnalyticDistance) {
   EXPECT_EQ(comparison.wrongSigns, 0u);
   EXPECT_EQ(comparison.outsideBand, 0u);
   // Every voxel within 2.5 voxels of the sphere is in the band.
-  const Sphere sphere(kCentre, kRadius);
+  const Sphere sphere(kCenter, kRadius);
   const auto accessor = result.grid->getConstAccessor();
   std::size_t missing = 0;
   const int reach = static_cast<int>(std::ceil((kRadius + 3 * kVoxel) / kVoxel)) + 1;
@@ -155,7 +155,7 @@ TEST(MeshToLevelSet, TessellatedSphereMatchesAnalyticDistance) {
 }
 
 TEST(MeshToLevelSet, ResolutionSetsTheVoxelSize) {
-  const TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 2);
+  const TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 2);
   LevelSetOptions options;
   options.resolution = 40;
   const LevelSetResult result = meshToLevelSet(mesh, options);
@@ -172,7 +172,7 @@ TEST(MeshToLevelSet, ResolutionSetsTheVoxelSize) {
 }
 
 TEST(MeshToLevelSet, DamagedSphereStillSignedCorrectlyWithWarning) {
-  TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 4);
+  TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 4);
   // Flip six triangles and remove five others, spread over the sphere. Each hole is one
   // triangle, about 1.4 voxels across.
   for (const std::size_t index : {17u, 900u, 1801u, 2702u, 3603u, 4504u}) {
@@ -203,10 +203,10 @@ TEST(MeshToLevelSet, DamagedSphereStillSignedCorrectlyWithWarning) {
 TEST(MeshToLevelSet, OpenBowlIsInsideWhereItsWindingNumberIsAtLeastHalf) {
   // A sphere without its cap z > 0.6 R: OpenVDB's exterior sweep floods the whole inside; the
   // winding number keeps the deep part of the bowl inside and closes the opening smoothly.
-  TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 3);
+  TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 3);
   std::vector<TriangleMesh::Triangle> kept;
   for (const TriangleMesh::Triangle& t : mesh.triangles) {
-    if (mesh.positions[t[0]].z() - kCentre.z() < 0.6 * kRadius) kept.push_back(t);
+    if (mesh.positions[t[0]].z() - kCenter.z() < 0.6 * kRadius) kept.push_back(t);
   }
   mesh.triangles = kept;
   LevelSetOptions options;
@@ -289,7 +289,7 @@ TEST(MeshToLevelSet, UnsignedDistanceToASheetIsExact) {
 }
 
 TEST(MeshToLevelSet, OneAndTwoThreadsGiveBitwiseIdenticalGrids) {
-  TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 4);
+  TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 4);
   std::swap(mesh.triangles[7][0], mesh.triangles[7][1]);  // exercise the sign paths too
   LevelSetOptions options;
   options.voxelSize = 0.03;
@@ -330,7 +330,7 @@ void expectMonotoneFromZeroToOne(const std::vector<double>& fractions) {
 }
 
 TEST(MeshToLevelSet, ReportsMonotoneProgressEndingAtOne) {
-  const TriangleMesh mesh = test::makeIcosphere(kCentre, kRadius, 3);
+  const TriangleMesh mesh = test::makeIcosphere(kCenter, kRadius, 3);
   LevelSetOptions options;
   options.voxelSize = kVoxel;
   // The conversion, then the sign pass as a stage of its own from its start.
@@ -350,7 +350,7 @@ TEST(MeshToLevelSet, ReportsMonotoneProgressEndingAtOne) {
 }
 
 TEST(MeshToLevelSet, RejectsBadInput) {
-  const TriangleMesh sphere = test::makeIcosphere(kCentre, kRadius, 1);
+  const TriangleMesh sphere = test::makeIcosphere(kCenter, kRadius, 1);
   LevelSetOptions good;
   good.voxelSize = 0.1;
 

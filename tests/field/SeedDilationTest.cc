@@ -23,7 +23,7 @@ void forEachOffset(int extent, F&& f) {
   }
 }
 
-TEST(SeedDilation, CoversEveryVoxelCentreWithinTheRadiusOfAPointInTheSeedVoxel) {
+TEST(SeedDilation, CoversEveryVoxelCenterWithinTheRadiusOfAPointInTheSeedVoxel) {
   for (double radius = 0.3; radius <= 12.0; radius += 0.0625) {
     const SeedDilation dilation = seedDilation(radius);
     const int extent = static_cast<int>(std::ceil(radius)) + 2;

@@ -31,7 +31,7 @@ std::shared_ptr<const HalfEdgeMesh> torusMesh(const Torus& torus, double major, 
     const double u = 2.0 * kPi * i / around;
     for (int j = 0; j < across; ++j) {
       const double v = 2.0 * kPi * j / across;
-      positions.push_back(torus.centre() +
+      positions.push_back(torus.center() +
                           Eigen::Vector3d((major + minor * std::cos(v)) * std::cos(u),
                                           (major + minor * std::cos(v)) * std::sin(u),
                                           minor * std::sin(v)));
@@ -79,9 +79,9 @@ TorusFieldErrors torusFieldErrors(int around, int across, double halfWidth) {
   std::vector<double> curvature, e1;
   TorusFieldErrors errors;
   ApproximantField::Accessor accessor(field);
-  for (const Eigen::Vector3d& centre : test::bandCentres(field)) {
-    const Approximant a = accessor.approximantAt(centre);
-    const SurfacePoint exact = torus.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : test::bandCenters(field)) {
+    const Approximant a = accessor.approximantAt(center);
+    const SurfacePoint exact = torus.closestSurfacePoint(center);
     if (a.flags & (kFlagCutLocus | kFlagDegradedEstimate | kFlagCurvatureClamped)) {
       ++errors.flagged;
     }
@@ -97,7 +97,7 @@ TorusFieldErrors torusFieldErrors(int around, int across, double halfWidth) {
   const auto& grid = *field.distanceGrid();
   const auto accessorGrid = grid.getConstAccessor();
   const auto torusDistance = [&](const Eigen::Vector3d& p) {
-    const Eigen::Vector3d q = p - torus.centre();
+    const Eigen::Vector3d q = p - torus.center();
     return std::hypot(std::hypot(q.x(), q.y()) - R, q.z()) - r;
   };
   const int reach = static_cast<int>(std::ceil((R + r) / h + halfWidth + 2));
@@ -173,12 +173,12 @@ TEST(SmoothSurfaceField, SameFieldForAnyThreadCount) {
   const auto build = [&] { return smoothSurfaceField(surface, h, 3.0); };
   const ApproximantField one = test::withThreads(1, build);
   const ApproximantField two = test::withThreads(2, build);
-  const std::vector<Eigen::Vector3d> centres = test::bandCentres(one);
-  ASSERT_EQ(centres, test::bandCentres(two));
+  const std::vector<Eigen::Vector3d> centers = test::bandCenters(one);
+  ASSERT_EQ(centers, test::bandCenters(two));
   ApproximantField::Accessor a(one), b(two);
-  for (const Eigen::Vector3d& centre : centres) {
-    const Approximant x = a.approximantAt(centre);
-    const Approximant y = b.approximantAt(centre);
+  for (const Eigen::Vector3d& center : centers) {
+    const Approximant x = a.approximantAt(center);
+    const Approximant y = b.approximantAt(center);
     ASSERT_EQ(x.distance, y.distance);
     ASSERT_EQ(x.normal, y.normal);
     ASSERT_EQ(x.k1, y.k1);

@@ -63,8 +63,8 @@ struct Block {
         const int y0 = std::max(-kPad, oy * 8), y1 = std::min(7 + kPad, oy * 8 + 7);
         for (int oz = -1; oz <= 1; ++oz) {
           const int z0 = std::max(-kPad, oz * 8), z1 = std::min(7 + kPad, oz * 8 + 7);
-          const openvdb::Coord neighbour = origin + openvdb::Coord(ox * 8, oy * 8, oz * 8);
-          if (const LeafT* leaf = accessor.probeConstLeaf(neighbour)) {
+          const openvdb::Coord neighbor = origin + openvdb::Coord(ox * 8, oy * 8, oz * 8);
+          if (const LeafT* leaf = accessor.probeConstLeaf(neighbor)) {
             const float* data = leaf->buffer().data();
             const auto& mask = leaf->getValueMask();
             for (int x = x0; x <= x1; ++x) {
@@ -77,7 +77,7 @@ struct Block {
               }
             }
           } else {
-            const float fill = accessor.getValue(neighbour);
+            const float fill = accessor.getValue(neighbor);
             for (int x = x0; x <= x1; ++x) {
               for (int y = y0; y <= y1; ++y) {
                 for (int z = z0; z <= z1; ++z) {
@@ -96,8 +96,8 @@ struct Block {
 /// Pass 1 for one voxel at local (x, y, z) of a gathered block; `scale` converts values to voxels.
 StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
   StencilData result;
-  const double centre = block.values[Block::index(x, y, z)] * scale;
-  result.distance = static_cast<float>(centre);
+  const double center = block.values[Block::index(x, y, z)] * scale;
+  result.distance = static_cast<float>(center);
   bool full = true;
   for (int dx = -1; dx <= 1 && full; ++dx) {
     for (int dy = -1; dy <= 1 && full; ++dy) {
@@ -109,7 +109,7 @@ StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
       }
     }
   }
-  if (full && std::abs(centre) <= kNearSurface) {
+  if (full && std::abs(center) <= kNearSurface) {
     double gx = 0, gy = 0, gz = 0, sxx = 0, syy = 0, szz = 0, hxy = 0, hxz = 0, hyz = 0;
     double sumX0 = 0, sumY0 = 0, sumZ0 = 0, total = 0;
     for (int dx = -1; dx <= 1; ++dx) {
@@ -150,9 +150,9 @@ StencilData fitStencil(const Block& block, int x, int y, int z, double scale) {
     if (block.active[plus] && block.active[minus]) {
       derivative = 0.5 * (block.values[plus] - block.values[minus]) * scale;
     } else if (block.active[plus]) {
-      derivative = block.values[plus] * scale - centre;
+      derivative = block.values[plus] * scale - center;
     } else if (block.active[minus]) {
-      derivative = centre - block.values[minus] * scale;
+      derivative = center - block.values[minus] * scale;
     }
     result.gradient[axis] = static_cast<float>(derivative);
   }
@@ -172,9 +172,9 @@ class Interpolator {
   void setLeaf(const openvdb::Coord& origin) {
     origin_ = origin;
     for (int slot = 0; slot < 27; ++slot) {
-      const openvdb::Coord neighbour =
+      const openvdb::Coord neighbor =
           origin + openvdb::Coord((slot / 9 - 1) * 8, ((slot / 3) % 3 - 1) * 8, (slot % 3 - 1) * 8);
-      neighbours_[static_cast<std::size_t>(slot)] = band_.findLeaf(neighbour);
+      neighbors_[static_cast<std::size_t>(slot)] = band_.findLeaf(neighbor);
     }
     hasLeaf_ = true;
   }
@@ -258,7 +258,7 @@ class Interpolator {
                 sz = (ijk.z() - origin_.z()) >> 3;
       if (sx >= -1 && sx <= 1 && sy >= -1 && sy <= 1 && sz >= -1 && sz <= 1) {
         const std::int64_t leaf =
-            neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
+            neighbors_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
         if (leaf < 0) return -1;
         return LeafTable::recordIndex(band_.entries()[static_cast<std::size_t>(leaf)], ijk);
       }
@@ -271,7 +271,7 @@ class Interpolator {
   LeafCursor bandCursor_{band_};
   bool hasLeaf_ = false;
   openvdb::Coord origin_;
-  std::array<std::int64_t, 27> neighbours_{};
+  std::array<std::int64_t, 27> neighbors_{};
 };
 
 /// Eigen-decomposition of the Hessian restricted to the plane orthogonal to `normal`:

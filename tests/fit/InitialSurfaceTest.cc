@@ -28,7 +28,7 @@ TEST(InitialSurface, PeriodicCubicCircleFloorsMatchThePublishedValues) {
   EXPECT_THROW(periodicCircleFit(3, 3), InputError);
 }
 
-TEST(InitialSurface, PlaneSheetIsExactAndLinearlyParametrised) {
+TEST(InitialSurface, PlaneSheetIsExactAndLinearlyParametrized) {
   SurfaceLayout layout;
   layout.degreeU = 3;
   layout.degreeV = 2;

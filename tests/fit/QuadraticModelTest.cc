@@ -228,16 +228,16 @@ TEST_P(QuadraticModelSolvers, TwoSensorSetsRankOneTermsAndScaledSmoothingMatchAD
     const Eigen::MatrixXd smoothing = Eigen::MatrixXd(fixed) + 2e-4 * Eigen::MatrixXd(bending);
     const DenseModel dense = denseModel(sets, rankOneScale, smoothing, points);
     EXPECT_LT(backwardError(dense.H, step, -0.5 * dense.g), 1e-12) << rankOneScale;
-    const Eigen::VectorXd minimiser = dense.H.partialPivLu().solve(-0.5 * dense.g);
+    const Eigen::VectorXd minimizer = dense.H.partialPivLu().solve(-0.5 * dense.g);
     // The same system again (its factorisation is kept), and as a minimiser.
     EXPECT_EQ(model.solveAssembled(rankOneScale, 0.0), step);
-    const std::optional<std::vector<Eigen::Vector3d>> minimised =
+    const std::optional<std::vector<Eigen::Vector3d>> minimized =
         model.minimizeAssembled(rankOneScale, 0.0);
-    ASSERT_TRUE(minimised.has_value());
-    EXPECT_EQ(*minimised, step);
+    ASSERT_TRUE(minimized.has_value());
+    EXPECT_EQ(*minimized, step);
     // m(0) - m(c) for the solution and for another displacement.
-    const Eigen::VectorXd other = 0.3 * minimiser + 0.01 * Eigen::VectorXd::Ones(3 * n);
-    for (const Eigen::VectorXd& c : {minimiser, other}) {
+    const Eigen::VectorXd other = 0.3 * minimizer + 0.01 * Eigen::VectorXd::Ones(3 * n);
+    for (const Eigen::VectorXd& c : {minimizer, other}) {
       const double expected = -(dense.g.dot(c) + c.dot(dense.H * c));
       EXPECT_NEAR(model.predictedDecrease(unstack(c)), expected, 1e-9 * std::abs(expected));
     }

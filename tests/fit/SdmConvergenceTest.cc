@@ -241,7 +241,7 @@ TEST(SdmConvergence, ExactSecondOrderTermsRemoveTheSlidingDrift) {
   EXPECT_NEAR(exact.rms, drifting.rms, 0.1 * fNoise);
 }
 
-TEST(SdmConvergence, FootpointCorrectionStraightensTheReparametrisationValley) {
+TEST(SdmConvergence, FootpointCorrectionStraightensTheReparametrizationValley) {
   // Clean dense samples of an open helix: once the curve lies on the data, what is left is to
   // slide the control points along the curve (its parametrisation), a long curved valley of the
   // squared distance that Newton's steps alone follow in many short steps. Correcting every step

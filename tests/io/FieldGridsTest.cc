@@ -29,7 +29,7 @@
 namespace d2vdb {
 namespace {
 
-using test::bandCentres;
+using test::bandCenters;
 using test::expectSameAnswers;
 using test::randomPoints;
 
@@ -42,10 +42,10 @@ class FieldGridsTest : public test::ScratchDirectoryTest {};
 std::vector<Eigen::Vector3d> pointsAcrossLevels(const ApproximantField& field,
                                                 std::map<int, int>& levels) {
   std::vector<Eigen::Vector3d> points = randomPoints(field.domain(), 3000, 5);
-  const auto centres = bandCentres(field);
+  const auto centers = bandCenters(field);
   const double h = field.voxelSize();
-  for (std::size_t i = 0; i < centres.size(); i += 97) {
-    const Approximant a = field.approximantAt(centres[i]);
+  for (std::size_t i = 0; i < centers.size(); i += 97) {
+    const Approximant a = field.approximantAt(centers[i]);
     const double side = a.distance >= 0.0 ? 1.0 : -1.0;
     for (double d = 2.0; d < 1000.0; d *= 1.6) {
       const Eigen::Vector3d p = a.footpoint + side * d * h * a.normal;
@@ -137,8 +137,8 @@ TEST_F(FieldGridsTest, CompanionGridsArePairedVoxelByVoxel) {
   const double h = 0.03;
   const Torus torus(Eigen::Vector3d(0.05, -0.02, 0.0), 0.9, 0.3);
   const auto levelSet = primitiveLevelSet(torus, {h, 3.0});
-  const auto exact = [&](const Eigen::Vector3d& centre) {
-    const SurfacePoint s = torus.closestSurfacePoint(centre);
+  const auto exact = [&](const Eigen::Vector3d& center) {
+    const SurfacePoint s = torus.closestSurfacePoint(center);
     Approximant a;
     a.kind = TargetKind::Surface;
     a.distance = static_cast<float>(s.signedDistance);
@@ -150,7 +150,7 @@ TEST_F(FieldGridsTest, CompanionGridsArePairedVoxelByVoxel) {
   };
   FieldBand band = FieldBand::activeVoxelsOf(TargetKind::Surface, levelSet);
   band.setApproximants(
-          [&](const openvdb::Coord&, const Eigen::Vector3d& centre) { return exact(centre); })
+          [&](const openvdb::Coord&, const Eigen::Vector3d& center) { return exact(center); })
       .setEstimator("exact torus")
       .setLabel("exact torus");
   const ApproximantField direct = ApproximantField::fromBand(band);
@@ -203,9 +203,9 @@ TEST_F(FieldGridsTest, CompanionGridsArePairedVoxelByVoxel) {
   // Against the torus: a voxel paired with another voxel's data would be off by degrees.
   double normalError = 0.0, curvatureError = 0.0, distanceError = 0.0;
   ApproximantField::Accessor accessor(loaded);
-  for (const Eigen::Vector3d& centre : bandCentres(loaded)) {
-    const Approximant a = accessor.approximantAt(centre);
-    const SurfacePoint s = torus.closestSurfacePoint(centre);
+  for (const Eigen::Vector3d& center : bandCenters(loaded)) {
+    const Approximant a = accessor.approximantAt(center);
+    const SurfacePoint s = torus.closestSurfacePoint(center);
     normalError = std::max(normalError, std::acos(std::min(1.0, a.normal.dot(s.normal))));
     curvatureError =
         std::max({curvatureError, std::abs(a.k1 - s.k1) * 0.3, std::abs(a.k2 - s.k2) * 0.3});
@@ -325,13 +325,13 @@ TEST_F(FieldGridsTest, ReadsVersionOneFilesWithInt32FlagsAndRefusesBadFlags) {
   const ApproximantField today = fieldFromGrids(current, "version2.vdb");
   const ApproximantField loaded = fieldFromGrids(versionOne, "version1.vdb");
   std::size_t flagged = 0;
-  for (const Eigen::Vector3d& p : bandCentres(today)) {
+  for (const Eigen::Vector3d& p : bandCenters(today)) {
     const Approximant a = loaded.approximantAt(p);
     EXPECT_EQ(a.flags, today.approximantAt(p).flags);
     flagged += (a.flags & kFlagDegradedEstimate) != 0 ? 1 : 0;
   }
   EXPECT_GT(flagged, 0u);
-  expectSameAnswers(today, loaded, bandCentres(today));
+  expectSameAnswers(today, loaded, bandCenters(today));
   test::expectInputError([&] { fieldFromGrids(fractional, "bad.vdb"); },
                          {"bad.vdb", "'flags'", "whole number"});
 }

@@ -85,7 +85,7 @@ void expectSameAnswers(const ApproximantField& actual, const ApproximantField& e
   }
 }
 
-TEST_F(InputFileTest, MeshesAreRecognisedByContentWhateverTheExtension) {
+TEST_F(InputFileTest, MeshesAreRecognizedByContentWhateverTheExtension) {
   const TriangleMesh mesh = tetrahedron();
   writeMesh(file("t.obj"), mesh);
   writeMesh(file("t.ply"), mesh);
@@ -111,7 +111,7 @@ TEST_F(InputFileTest, MeshesAreRecognisedByContentWhateverTheExtension) {
   }
 }
 
-TEST_F(InputFileTest, PointSetsAreRecognisedByContent) {
+TEST_F(InputFileTest, PointSetsAreRecognizedByContent) {
   const std::vector<Vector3d> points = {{0.1, -2.5, 3.0}, {1e-300, 0.3, 7.0}, {-0.0, 4.0, 1.0 / 3}};
   writePointSet(file("cloud.xyz"), points);
   const std::filesystem::path named = copyAs(file("cloud.xyz"), "cloud-named.obj");

@@ -22,19 +22,19 @@ namespace {
 using Eigen::Vector3d;
 using test::expectInputError;
 
-const Vector3d kCentre(0.2, -0.1, 0.05);
+const Vector3d kCenter(0.2, -0.1, 0.05);
 constexpr double kRadius = 1.0;
 constexpr double kVoxel = 0.05;
 
 openvdb::FloatGrid::Ptr sphereLevelSet() {
-  return primitiveLevelSet(Sphere(kCentre, kRadius), {kVoxel, 3.0});
+  return primitiveLevelSet(Sphere(kCenter, kRadius), {kVoxel, 3.0});
 }
 
 // The largest deviation of the mesh's vertices from the sphere of radius `radius` about kCentre.
 double sphereError(const TriangleMesh& mesh, double radius) {
   double worst = 0.0;
   for (const Eigen::Vector3f& p : mesh.positions) {
-    worst = std::max(worst, std::abs((p.cast<double>() - kCentre).norm() - radius));
+    worst = std::max(worst, std::abs((p.cast<double>() - kCenter).norm() - radius));
   }
   return worst;
 }

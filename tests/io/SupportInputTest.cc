@@ -61,7 +61,7 @@ SupportFunctionDocument smallDocument() {
 
 class SupportInputTest : public test::ScratchDirectoryTest {};
 
-TEST_F(SupportInputTest, LoadInputRecognisesSupportFunctionFilesByContent) {
+TEST_F(SupportInputTest, LoadInputRecognizesSupportFunctionFilesByContent) {
   EXPECT_STREQ(inputKindName(InputKind::SupportFunction), "support function");
   EXPECT_EQ(describeInputKind(InputKind::SupportFunction), "a support function (.json)");
   const SupportFunctionDocument written = smallDocument();
@@ -178,13 +178,13 @@ TEST_F(SupportInputTest, LoadSupportInputTellsEveryKindApart) {
   EXPECT_TRUE(document.samples.points.empty());
 
   // A level set: band footpoints on the sphere, normals radial.
-  const Vector3d centre(0.1, -0.2, 0.3);
-  writeVdb(file("sphere.vdb"), {primitiveLevelSet(Sphere(centre, 1.0), {0.05, 3.0})});
+  const Vector3d center(0.1, -0.2, 0.3);
+  writeVdb(file("sphere.vdb"), {primitiveLevelSet(Sphere(center, 1.0), {0.05, 3.0})});
   const SupportInput levelSet = loadSupportInput(file("sphere.vdb"));
   EXPECT_EQ(levelSet.kind, SupportInputKind::LevelSet);
   ASSERT_GT(levelSet.samples.points.size(), 1000u);
   for (std::size_t i = 0; i < levelSet.samples.points.size(); ++i) {
-    const Vector3d radial = levelSet.samples.points[i] - centre;
+    const Vector3d radial = levelSet.samples.points[i] - center;
     ASSERT_NEAR(radial.norm(), 1.0, 5e-3) << "sample " << i;
     ASSERT_GT(radial.normalized().dot(levelSet.samples.normals[i]), 0.999) << "sample " << i;
   }
@@ -238,10 +238,10 @@ TEST_F(SupportInputTest, FitAndCheckRefusesASingularFitUnlessAllowed) {
   ASSERT_FALSE(kept.warnings.empty());
   EXPECT_NE(kept.warnings.back().find("(kept: --allow-singular)"), std::string::npos);
   // analyzeSupportDocument() reports on such a function without refusing it.
-  const CheckedSupport analysed = analyzeSupportDocument(kept.document);
-  EXPECT_EQ(analysed.validity.regular(), kept.validity.regular());
-  EXPECT_EQ(analysed.validity.minRadius, kept.validity.minRadius);
-  EXPECT_TRUE(analysed.warnings.empty());
+  const CheckedSupport analyzed = analyzeSupportDocument(kept.document);
+  EXPECT_EQ(analyzed.validity.regular(), kept.validity.regular());
+  EXPECT_EQ(analyzed.validity.minRadius, kept.validity.minRadius);
+  EXPECT_TRUE(analyzed.warnings.empty());
 }
 
 TEST_F(SupportInputTest, PatchesOfATorusLevelSet) {

@@ -191,7 +191,7 @@ TEST_F(VdbFileTest, ReadsLevelSetsWrittenByPlainOpenVdb) {
   EXPECT_EQ(readLevelSet(file("fog.vdb"))->getName(), "density");
 }
 
-TEST_F(VdbFileTest, DescribeSummarisesEachGrid) {
+TEST_F(VdbFileTest, DescribeSummarizesEachGrid) {
   const openvdb::FloatGrid::Ptr grid = torusLevelSet();
   const std::filesystem::path path = file("info.vdb");
   writeVdb(path, {grid});

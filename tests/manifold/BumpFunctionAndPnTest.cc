@@ -98,9 +98,9 @@ TEST(PnTriangles, InterpolatesVerticesTangentToTheirNormals) {
       b.bary[(twin + 1) % 3] = 1.0 - t;
       EXPECT_LT((pn.evaluate(a).position - pn.evaluate(b).position).norm(), 1e-15);
     }
-    const Eigen::Vector3d centre =
+    const Eigen::Vector3d center =
         pn.evaluate({HalfEdgeMesh::face(h), Eigen::Vector3d::Constant(1.0 / 3.0)}).position;
-    worstRadius = std::max(worstRadius, std::abs(centre.norm() - 1.0));
+    worstRadius = std::max(worstRadius, std::abs(center.norm() - 1.0));
   }
   // The flat triangles' centres lie 0.0625 inside; PN bulges them back to within 1 %.
   EXPECT_LT(worstRadius, 0.01);

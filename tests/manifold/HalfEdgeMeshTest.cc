@@ -38,7 +38,7 @@ TEST(HalfEdgeMesh, RingsAreCounterClockwiseAndTwinsMatch) {
     std::vector<int> expectedDegrees = test::degrees(m);
     for (Index v = 0; v < mesh->vertexCount(); ++v) {
       ASSERT_EQ(mesh->degree(v), expectedDegrees[v]);
-      const Eigen::Vector3d& centre = mesh->position(v);
+      const Eigen::Vector3d& center = mesh->position(v);
       for (int k = 0; k < mesh->degree(v); ++k) {
         const Index h = mesh->ring(v, k);
         EXPECT_EQ(mesh->from(h), v);
@@ -50,9 +50,9 @@ TEST(HalfEdgeMesh, RingsAreCounterClockwiseAndTwinsMatch) {
         // meshes are star-shaped around the origin).
         const Index next = mesh->ring(v, k + 1);
         EXPECT_EQ(HalfEdgeMesh::face(h), HalfEdgeMesh::face(HalfEdgeMesh::prev(mesh->twin(next))));
-        const Eigen::Vector3d a = mesh->position(mesh->to(h)) - centre;
-        const Eigen::Vector3d b = mesh->position(mesh->to(next)) - centre;
-        EXPECT_GT(a.cross(b).dot(centre), 0.0);
+        const Eigen::Vector3d a = mesh->position(mesh->to(h)) - center;
+        const Eigen::Vector3d b = mesh->position(mesh->to(next)) - center;
+        EXPECT_GT(a.cross(b).dot(center), 0.0);
       }
       // The ring starts with the outgoing half-edge of smallest index.
       for (int k = 1; k < mesh->degree(v); ++k) EXPECT_LT(mesh->ring(v, 0), mesh->ring(v, k));

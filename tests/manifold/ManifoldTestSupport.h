@@ -118,15 +118,15 @@ inline DoubleMesh torus(double major, double minor, int around, int across) {
 
 /// Vertex degrees of a triangle list.
 inline std::vector<int> degrees(const DoubleMesh& m) {
-  std::vector<std::set<std::uint32_t>> neighbours(m.positions.size());
+  std::vector<std::set<std::uint32_t>> neighbors(m.positions.size());
   for (const TriangleMesh::Triangle& t : m.triangles) {
     for (int k = 0; k < 3; ++k) {
-      neighbours[t[k]].insert(t[(k + 1) % 3]);
-      neighbours[t[k]].insert(t[(k + 2) % 3]);
+      neighbors[t[k]].insert(t[(k + 1) % 3]);
+      neighbors[t[k]].insert(t[(k + 2) % 3]);
     }
   }
   std::vector<int> result;
-  for (const auto& n : neighbours) result.push_back(static_cast<int>(n.size()));
+  for (const auto& n : neighbors) result.push_back(static_cast<int>(n.size()));
   return result;
 }
 
@@ -165,7 +165,7 @@ inline DoubleMesh mixedDegreeMesh() {
     m.triangles[f2] = {d, b, c};
     return true;
   };
-  const auto neighboursOf = [&](std::uint32_t v) {
+  const auto neighborsOf = [&](std::uint32_t v) {
     std::vector<std::uint32_t> result;
     for (const auto& t : m.triangles) {
       for (int k = 0; k < 3; ++k) {
@@ -177,7 +177,7 @@ inline DoubleMesh mixedDegreeMesh() {
   };
   // Raise `v` by one: flip the edge opposite v in one of its faces (whose ends keep >= 5).
   const auto raise = [&](std::uint32_t v) {
-    for (const std::uint32_t x : neighboursOf(v)) {
+    for (const std::uint32_t x : neighborsOf(v)) {
       const int f = findFace(v, x);
       const std::uint32_t y = third(f, v, x);
       if (degrees(m)[x] < 6 || degrees(m)[y] < 6) continue;
@@ -187,7 +187,7 @@ inline DoubleMesh mixedDegreeMesh() {
   };
   // Lower `v` by one: flip one of its edges.
   const auto lower = [&](std::uint32_t v) {
-    for (const std::uint32_t x : neighboursOf(v)) {
+    for (const std::uint32_t x : neighborsOf(v)) {
       if (degrees(m)[x] < 6) continue;
       if (flip(v, x)) return true;
     }
@@ -205,7 +205,7 @@ inline DoubleMesh mixedDegreeMesh() {
     std::vector<Eigen::Vector3d> next = m.positions;
     for (std::uint32_t v = 0; v < m.positions.size(); ++v) {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (const std::uint32_t x : neighboursOf(v)) sum += m.positions[x];
+      for (const std::uint32_t x : neighborsOf(v)) sum += m.positions[x];
       next[v] = sum.normalized();
     }
     m.positions = std::move(next);
@@ -223,23 +223,23 @@ inline double referenceBeta(int n) {
 }
 
 inline DoubleMesh referenceSubdivide(const DoubleMesh& m) {
-  std::vector<std::set<std::uint32_t>> neighbours(m.positions.size());
+  std::vector<std::set<std::uint32_t>> neighbors(m.positions.size());
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> opposite;
   for (const auto& t : m.triangles) {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = t[k];
       const std::uint32_t b = t[(k + 1) % 3];
-      neighbours[a].insert(b);
-      neighbours[b].insert(a);
+      neighbors[a].insert(b);
+      neighbors[b].insert(a);
       opposite[std::minmax(a, b)].push_back(t[(k + 2) % 3]);
     }
   }
   DoubleMesh fine;
   for (std::uint32_t v = 0; v < m.positions.size(); ++v) {
-    const int n = static_cast<int>(neighbours[v].size());
+    const int n = static_cast<int>(neighbors[v].size());
     const double beta = referenceBeta(n);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const std::uint32_t x : neighbours[v]) sum += m.positions[x];
+    for (const std::uint32_t x : neighbors[v]) sum += m.positions[x];
     fine.positions.push_back((1.0 - n * beta) * m.positions[v] + beta * sum);
   }
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edgeVertex;
@@ -269,19 +269,19 @@ inline DoubleMesh referenceSubdivide(const DoubleMesh& m) {
 /// Loop's limit position of every vertex: (1 - n chi) v + chi (sum of neighbours),
 /// chi = 1 / (3 / (8 beta) + n).
 inline std::vector<Eigen::Vector3d> referenceLimitPositions(const DoubleMesh& m) {
-  std::vector<std::set<std::uint32_t>> neighbours(m.positions.size());
+  std::vector<std::set<std::uint32_t>> neighbors(m.positions.size());
   for (const auto& t : m.triangles) {
     for (int k = 0; k < 3; ++k) {
-      neighbours[t[k]].insert(t[(k + 1) % 3]);
-      neighbours[t[k]].insert(t[(k + 2) % 3]);
+      neighbors[t[k]].insert(t[(k + 1) % 3]);
+      neighbors[t[k]].insert(t[(k + 2) % 3]);
     }
   }
   std::vector<Eigen::Vector3d> limits;
   for (std::uint32_t v = 0; v < m.positions.size(); ++v) {
-    const int n = static_cast<int>(neighbours[v].size());
+    const int n = static_cast<int>(neighbors[v].size());
     const double chi = 1.0 / (3.0 / (8.0 * referenceBeta(n)) + n);
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (const std::uint32_t x : neighbours[v]) sum += m.positions[x];
+    for (const std::uint32_t x : neighbors[v]) sum += m.positions[x];
     limits.push_back((1.0 - n * chi) * m.positions[v] + chi * sum);
   }
   return limits;

@@ -87,10 +87,10 @@ TEST(PseudoManifold, EdgesAndVerticesAgreeToRoundOff) {
     }
     // Every face around every vertex gives the vertex's own shape function value psi_v(0).
     for (Index v = 0; v < mesh.vertexCount(); ++v) {
-      const Eigen::Vector3d centre = b.pps->shapeFunction({v, Eigen::Vector2d::Zero()});
+      const Eigen::Vector3d center = b.pps->shapeFunction({v, Eigen::Vector2d::Zero()});
       for (int k = 0; k < mesh.degree(v); ++k) {
         const SmoothPoint p = b.pps->evaluate(onEdge(mesh.ring(v, k), 0.0), Derivatives::First);
-        worstPosition = std::max(worstPosition, (p.position - centre).norm() / diagonal);
+        worstPosition = std::max(worstPosition, (p.position - center).norm() / diagonal);
         const SmoothPoint q = b.pps->evaluate(onEdge(mesh.ring(v, 0), 0.0), Derivatives::First);
         worstNormal = std::max(worstNormal, angleBetween(p.normal, q.normal));
       }
@@ -114,14 +114,14 @@ double largestStep(const PseudoManifold& pps, long g) {
     const double s = static_cast<double>(g);
     return pps.position({face, Eigen::Vector3d((g - i - j) / s, i / s, j / s)});
   };
-  const long neighbours[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+  const long neighbors[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
   const auto stepsAround = [&](Index face, long i, long j) {
-    const Eigen::Vector3d centre = point(face, i, j);
-    for (const auto& n : neighbours) {
+    const Eigen::Vector3d center = point(face, i, j);
+    for (const auto& n : neighbors) {
       const long a = i + n[0];
       const long b = j + n[1];
       if (a < 0 || b < 0 || a + b > g) continue;
-      worst = std::max(worst, (point(face, a, b) - centre).norm());
+      worst = std::max(worst, (point(face, a, b) - center).norm());
     }
   };
   for (Index f = 0; f < mesh.faceCount(); ++f) {
@@ -198,8 +198,8 @@ TEST(PseudoManifold, NormalsAndCurvaturesVaryContinuouslyAcrossEdges) {
 /// chart coordinates of `centre`: psi_centre must reproduce it.
 class PolynomialSource final : public SourceSurface {
  public:
-  PolynomialSource(std::shared_ptr<const HalfEdgeMesh> mesh, Index centre, int bidegree)
-      : mesh_(std::move(mesh)), atlas_(*mesh_), centre_(centre), bidegree_(bidegree) {}
+  PolynomialSource(std::shared_ptr<const HalfEdgeMesh> mesh, Index center, int bidegree)
+      : mesh_(std::move(mesh)), atlas_(*mesh_), center_(center), bidegree_(bidegree) {}
   const HalfEdgeMesh& mesh() const override { return *mesh_; }
   std::shared_ptr<const HalfEdgeMesh> sharedMesh() const override { return mesh_; }
   void positions(Index face, const Eigen::Vector3d* bary, std::size_t count,
@@ -208,7 +208,7 @@ class PolynomialSource final : public SourceSurface {
   }
   SourceJet evaluate(const FacePoint& point) const override {
     for (int corner = 0; corner < 3; ++corner) {
-      if (mesh_->corner(point.face, corner) == centre_) {
+      if (mesh_->corner(point.face, corner) == center_) {
         return {polynomial(atlas_.toChart(point, corner).p), {}, {}, true};
       }
     }
@@ -230,7 +230,7 @@ class PolynomialSource final : public SourceSurface {
  private:
   std::shared_ptr<const HalfEdgeMesh> mesh_;
   ChartAtlas atlas_;
-  Index centre_;
+  Index center_;
   int bidegree_;
 };
 
@@ -749,21 +749,21 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
   SmoothProjectionOptions cubic;
   cubic.cubicFinish = true;
   cubic.startFromModel = true;
-  const PseudoManifold::Projection modelled =
+  const PseudoManifold::Projection modeled =
       b.pps->project(near, samples.nearest(near).first, cubic);
-  ASSERT_TRUE(modelled.model.has_value());
+  ASSERT_TRUE(modeled.model.has_value());
   const Eigen::Vector3d next = near + Eigen::Vector3d(0.01, -0.005, 0.008);
-  const PseudoManifold::Projection returned = b.pps->project(next, modelled, cubic);
+  const PseudoManifold::Projection returned = b.pps->project(next, modeled, cubic);
   EXPECT_TRUE(returned.converged);
   PseudoManifold::Projection written = stopped;
-  b.pps->project(next, modelled, cubic, written);
+  b.pps->project(next, modeled, cubic, written);
   expectSame(written, returned);
   SmoothProjectionOptions cubicBounded = cubic;
   cubicBounded.stopBeyond = 0.05;
-  const PseudoManifold::Projection returnedBeyond = b.pps->project(next, modelled, cubicBounded);
+  const PseudoManifold::Projection returnedBeyond = b.pps->project(next, modeled, cubicBounded);
   EXPECT_TRUE(returnedBeyond.beyond);
-  written = modelled;
-  b.pps->project(next, modelled, cubicBounded, written);
+  written = modeled;
+  b.pps->project(next, modeled, cubicBounded, written);
   expectSame(written, returnedBeyond);
   EXPECT_THROW(b.pps->project(next, written, cubic, written), InputError);
   EXPECT_THROW(b.pps->project(Eigen::Vector3d(std::nan(""), 0.0, 0.0), reference), InputError);
@@ -780,7 +780,7 @@ TEST(PseudoManifold, ProjectionFromANearbyProjection) {
 // footpoints as the projections from the nearest samples; the corrected first steps land much
 // nearer their footpoints than the plain ones; a correction in another vertex's chart is not
 // used.
-TEST(PseudoManifold, SecondOrderStartFromTheNeighboursMiss) {
+TEST(PseudoManifold, SecondOrderStartFromTheNeighborsMiss) {
   const Built b = buildLoop(test::icosphere(1));
   const DenseSurfaceSamples samples(b);
   const Eigen::Vector3d direction = Eigen::Vector3d(0.3, 1.0, 0.2).normalized();

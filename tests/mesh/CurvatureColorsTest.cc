@@ -39,7 +39,7 @@ TEST(CurvatureColors, ASphereIsConvexEverywhere) {
   for (std::size_t i = 0; i < 10; ++i) {
     EXPECT_EQ(sphere.attributes.scalars[i], 0.5f);
     EXPECT_EQ(sphere.attributes.moreScalars[0].second[i], 0.5f);
-    EXPECT_EQ(sphere.attributes.colours[i], (Rgb{255, 0, 0}));
+    EXPECT_EQ(sphere.attributes.colors[i], (Rgb{255, 0, 0}));
   }
   EXPECT_EQ(sphere.summary.colorScale, 0.5);
   EXPECT_EQ(sphere.summary.meanRange, (std::array<double, 2>{0.5, 0.5}));
@@ -62,7 +62,7 @@ TEST(CurvatureColors, MixedCurvaturesScaleByTheNinetyNinthPercentileOfTheMean) {
       {191, 191, 255},  // a quarter of the scale, concave: 255 * 0.75 rounded
       {255, 0, 0},
       {0, 0, 255}};
-  EXPECT_EQ(mixed.attributes.colours, expected);
+  EXPECT_EQ(mixed.attributes.colors, expected);
 }
 
 TEST(CurvatureColors, RefusesMismatchedOrNonFiniteCurvatures) {
@@ -70,7 +70,7 @@ TEST(CurvatureColors, RefusesMismatchedOrNonFiniteCurvatures) {
   EXPECT_THROW(curvatureAttributes({1, std::numeric_limits<double>::quiet_NaN()}, {1, 1}),
                InputError);
   const CurvatureAttributes none = curvatureAttributes({}, {});
-  EXPECT_TRUE(none.attributes.colours.empty());
+  EXPECT_TRUE(none.attributes.colors.empty());
   EXPECT_EQ(none.summary.colorScale, 0.0);
 }
 

@@ -39,8 +39,8 @@ TEST(DistanceColors, AttributesCarryDistancesAndTheLargestSetsTheScale) {
   EXPECT_EQ(attributes.scalars[1], 1.0f);
   EXPECT_EQ(attributes.scalars[2], -2.0f);
   EXPECT_EQ(attributes.scalars[3], 0.0f);  // not finite: 0
-  EXPECT_EQ(attributes.colours[2], (Rgb{0, 0, 255}));
-  EXPECT_EQ(attributes.colours[0], (Rgb{255, 255, 255}));
+  EXPECT_EQ(attributes.colors[2], (Rgb{0, 0, 255}));
+  EXPECT_EQ(attributes.colors[0], (Rgb{255, 255, 255}));
 }
 
 }  // namespace

@@ -88,11 +88,11 @@ TEST(VertexNormals, ZeroAreaAndUnusedVerticesGetPlusZ) {
 TEST(VertexNormals, CubeNormalsAreUnitAndPointOutward) {
   TriangleMesh mesh = cube();
   d2vdb::computeVertexNormals(mesh);
-  const Eigen::Vector3f centre(0.5f, 0.5f, 0.5f);
+  const Eigen::Vector3f center(0.5f, 0.5f, 0.5f);
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     EXPECT_NEAR(mesh.normals[v].norm(), 1.0f, 1e-6f);
     // Each corner's normal has a positive component along each of its three outward face axes.
-    const Eigen::Vector3f outward = mesh.positions[v] - centre;
+    const Eigen::Vector3f outward = mesh.positions[v] - center;
     for (int axis = 0; axis < 3; ++axis) EXPECT_GT(mesh.normals[v][axis] * outward[axis], 0.0f);
   }
 }

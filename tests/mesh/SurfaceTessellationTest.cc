@@ -148,8 +148,8 @@ TEST(SurfaceTessellation,
   int outward = 0;
   for (std::size_t index = 0; index < mesh.vertexCount(); ++index) {
     const Vector3d p = mesh.positions[index].cast<double>();
-    const Vector3d centre = 3.0 * Vector3d(p.x(), p.y(), 0.0).normalized();
-    if ((p - centre).dot(mesh.normals[index].cast<double>()) > 0.0)
+    const Vector3d center = 3.0 * Vector3d(p.x(), p.y(), 0.0).normalized();
+    if ((p - center).dot(mesh.normals[index].cast<double>()) > 0.0)
       ++outward;
   }
   EXPECT_TRUE(outward == 0 || outward == static_cast<int>(mesh.vertexCount()))

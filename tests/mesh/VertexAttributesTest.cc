@@ -23,12 +23,12 @@ VertexAttributes attributesFor(const TriangleMesh& mesh) {
   attributes.scalarName = "distance";
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     attributes.scalars.push_back(0.25f * static_cast<float>(v) - 0.5f);
-    attributes.colours.push_back({static_cast<std::uint8_t>(10 * v), 128, 255});
+    attributes.colors.push_back({static_cast<std::uint8_t>(10 * v), 128, 255});
   }
   return attributes;
 }
 
-TEST_F(VertexAttributesTest, AsciiPlyHoldsTheScalarAndColoursAfterThePosition) {
+TEST_F(VertexAttributesTest, AsciiPlyHoldsTheScalarAndColorsAfterThePosition) {
   const TriangleMesh mesh = test::tetrahedron();
   const fs::path path = scratch_ / "a.ply";
   MeshWriteOptions options;
@@ -94,7 +94,7 @@ TEST_F(VertexAttributesTest, BinaryPlyRecordsHaveTheDeclaredLayout) {
   EXPECT_EQ(readMesh(path).positions, mesh.positions);
 }
 
-TEST_F(VertexAttributesTest, ObjGetsVertexColoursOnly) {
+TEST_F(VertexAttributesTest, ObjGetsVertexColorsOnly) {
   const TriangleMesh mesh = test::tetrahedron();
   const fs::path path = scratch_ / "c.obj";
   writeMesh(path, mesh, attributesFor(mesh));
@@ -116,7 +116,7 @@ TEST_F(VertexAttributesTest, MismatchedOrBadAttributesWriteNothing) {
   attributes.scalars[1] = std::nanf("");
   EXPECT_THROW(writeMesh(path, mesh, attributes), InputError);
   attributes = attributesFor(mesh);
-  attributes.colours.resize(2);
+  attributes.colors.resize(2);
   EXPECT_THROW(writeMesh(path, mesh, attributes), InputError);
   EXPECT_FALSE(fs::exists(path));
 }

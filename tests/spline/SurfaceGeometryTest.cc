@@ -119,7 +119,7 @@ TEST(SurfaceGeometry, PrincipalCurvaturesAreTheExtremeNormalCurvatures) {
   }
 }
 
-TEST(SurfaceGeometry, DegenerateParametrisationIsReportedNotInvented) {
+TEST(SurfaceGeometry, DegenerateParametrizationIsReportedNotInvented) {
   SurfaceDerivatives d = sphere(1.0, 0.2, kPi / 2);  // the pole: Su = 0
   const SurfaceFrame frame = surfaceFrame(d);
   EXPECT_FALSE(frame.regular);

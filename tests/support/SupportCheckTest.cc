@@ -70,12 +70,12 @@ TEST(SupportCheck, FitOverADomainTakesItsDefaultWeightAndMatchesTheEllipsoid) {
   // Normals of length 1.5 are normalised, with a warning that says how many.
   OrientedSamples longNormals = samples;
   for (Vector3d& n : longNormals.normals) n *= 1.5;
-  const DomainSupportFit normalised = fitSupportOverDomain(longNormals, false, 12, -1.0, "'e'");
-  ASSERT_EQ(normalised.warnings.size(), 1u);
-  EXPECT_NE(normalised.warnings[0].find("3000 sample normals were not unit length (off by up to "
+  const DomainSupportFit normalized = fitSupportOverDomain(longNormals, false, 12, -1.0, "'e'");
+  ASSERT_EQ(normalized.warnings.size(), 1u);
+  EXPECT_NE(normalized.warnings[0].find("3000 sample normals were not unit length (off by up to "
                                         "0.5)"),
             std::string::npos)
-      << normalised.warnings[0];
+      << normalized.warnings[0];
 }
 
 TEST(SupportCheck, AcceptsTheEllipsoidWithItsRadiiAndSafeOffsets) {

@@ -27,20 +27,20 @@ double maxSurfaceError(const SupportFunction& h, const test::Ellipsoid& ellipsoi
 }
 
 TEST(SupportFit, ReproducesASphereExactly) {
-  const Eigen::Vector3d centre(1.0, -0.5, 2.0);
+  const Eigen::Vector3d center(1.0, -0.5, 2.0);
   const double radius = 0.8;
   OrientedSamples samples;
   samples.normals = test::randomUnitVectors(500, 3);
-  for (const auto& n : samples.normals) samples.points.push_back(centre + radius * n);
+  for (const auto& n : samples.normals) samples.points.push_back(center + radius * n);
   SupportFitReport report;
   const SupportFunction h = fitSupportFunction(samples, {8, 0.0}, &report);
   const Eigen::VectorXd& c = h.coefficients();
   EXPECT_NEAR(c[0], radius * std::sqrt(4 * kPi), 1e-12);
-  EXPECT_LT((h.linearPart() - centre).norm(), 1e-12);
+  EXPECT_LT((h.linearPart() - center).norm(), 1e-12);
   EXPECT_LT(c.tail(c.size() - 4).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT(report.maxResidual, 1e-12);
   for (const auto& n : test::randomUnitVectors(100, 4)) {
-    EXPECT_LT((h.point(n) - (centre + radius * n)).norm(), 1e-12);
+    EXPECT_LT((h.point(n) - (center + radius * n)).norm(), 1e-12);
   }
 }
 
@@ -159,7 +159,7 @@ TEST(SupportFit, RejectsBadSamples) {
   for (int i = 0; i < 5; ++i) scaled.normals[static_cast<std::size_t>(i)] *= 3.0;
   SupportFitReport report;
   const SupportFunction h = fitSupportFunction(scaled, {4}, &report);
-  EXPECT_EQ(report.renormalisedNormals, 5u);
+  EXPECT_EQ(report.renormalizedNormals, 5u);
   EXPECT_NEAR(report.largestNormalDeviation, 2.0, 1e-12);
   EXPECT_LT((h.coefficients() - fitSupportFunction(good, {4}).coefficients()).cwiseAbs().maxCoeff(),
             1e-13);

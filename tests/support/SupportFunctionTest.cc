@@ -30,13 +30,13 @@ SupportFunction randomFunction(int degree, unsigned seed, double decay = 0.7) {
 }
 
 TEST(SupportFunction, SphereIsExact) {
-  const Eigen::Vector3d centre(0.25, -1.5, 3.0);
+  const Eigen::Vector3d center(0.25, -1.5, 3.0);
   const double radius = 1.75;
-  const SupportFunction h = SupportFunction::sphere(centre, radius, 6);
+  const SupportFunction h = SupportFunction::sphere(center, radius, 6);
   for (const Eigen::Vector3d& n : test::randomUnitVectors(200, 1)) {
     const SupportPoint sp = h.evaluate(n);
-    EXPECT_NEAR(sp.value, radius + centre.dot(n), 1e-13);
-    EXPECT_LT((sp.point - (centre + radius * n)).norm(), 1e-13);
+    EXPECT_NEAR(sp.value, radius + center.dot(n), 1e-13);
+    EXPECT_LT((sp.point - (center + radius * n)).norm(), 1e-13);
     EXPECT_NEAR(sp.radius1, radius, 1e-13);
     EXPECT_NEAR(sp.radius2, radius, 1e-13);
     EXPECT_NEAR(sp.gaussianCurvature(), 1.0 / (radius * radius), 1e-13);
@@ -44,9 +44,9 @@ TEST(SupportFunction, SphereIsExact) {
   }
   // Exactly at the poles, where polar coordinates would be singular.
   for (const Eigen::Vector3d& n : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0, -1)}) {
-    EXPECT_LT((h.point(n) - (centre + radius * n)).norm(), 1e-13);
+    EXPECT_LT((h.point(n) - (center + radius * n)).norm(), 1e-13);
   }
-  EXPECT_LT((h.linearPart() - centre).norm(), 1e-14);
+  EXPECT_LT((h.linearPart() - center).norm(), 1e-14);
   EXPECT_NEAR(h.meanValue(), radius, 1e-14);
 }
 

@@ -46,12 +46,12 @@ TEST(SupportSamples, MissingNormalsAreComputedAndUnusedVerticesSkipped) {
   EXPECT_THROW(meshGaussImage(points, "points"), InputError);  // no triangles
 }
 
-TEST(SupportSamples, CheckNormalisesAndCountsUnnormalisedNormals) {
+TEST(SupportSamples, CheckNormalizesAndCountsUnnormalizedNormals) {
   OrientedSamples samples;
   samples.points = {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
   samples.normals = {Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(0, 1.0000001, 0)};
   const SampleCheck check = checkOrientedSamples(samples, "two");
-  EXPECT_EQ(check.renormalised, 1u);
+  EXPECT_EQ(check.renormalized, 1u);
   EXPECT_NEAR(check.largestDeviation, 1.0, 1e-15);
   EXPECT_NEAR(samples.normals[0].norm(), 1.0, 1e-15);
   EXPECT_NEAR(samples.normals[1].norm(), 1.0, 1e-15);

@@ -37,14 +37,14 @@ struct Ellipsoid {
   double a = 2.0;
   double b = 1.5;
   double c = 1.0;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
 
   double support(const Eigen::Vector3d& n) const {
-    return Eigen::Vector3d(a * n.x(), b * n.y(), c * n.z()).norm() + centre.dot(n);
+    return Eigen::Vector3d(a * n.x(), b * n.y(), c * n.z()).norm() + center.dot(n);
   }
   Eigen::Vector3d point(const Eigen::Vector3d& n) const {
     const Eigen::Vector3d an(a * n.x(), b * n.y(), c * n.z());
-    return centre + Eigen::Vector3d(a * an.x(), b * an.y(), c * an.z()) / an.norm();
+    return center + Eigen::Vector3d(a * an.x(), b * an.y(), c * an.z()) / an.norm();
   }
   /// Oriented samples x_h(n_i), n_i at `count` random normals.
   OrientedSamples samples(std::size_t count, unsigned seed) const {
@@ -64,7 +64,7 @@ namespace d2vdb::test {
 /// (-min e_i^2, inf) of sum (e_i p_i / (t + e_i^2))^2 = 1 (Eberly, "Distance from a point to an
 /// ellipse, an ellipsoid, or a hyperellipsoid", 2013).
 inline double signedDistanceToEllipsoid(const Ellipsoid& e, const Eigen::Vector3d& point) {
-  const Eigen::Vector3d p = point - e.centre;
+  const Eigen::Vector3d p = point - e.center;
   const double axes[3] = {e.a, e.b, e.c};
   double smallest = std::min({e.a, e.b, e.c});
   // Nudge coordinates off the symmetry planes: the root is then unique and simple.

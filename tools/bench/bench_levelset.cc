@@ -125,7 +125,7 @@ d2vdb::TriangleMesh scannedBunny() {
   const d2vdb::TriangleMesh& source = bunny();
   const d2vdb::BoundingBox box = d2vdb::boundingBox(source);
   const float diagonal = static_cast<float>(box.extent().norm());
-  const Eigen::Vector3f centre = (0.5 * (box.min + box.max)).cast<float>();
+  const Eigen::Vector3f center = (0.5 * (box.min + box.max)).cast<float>();
   const auto centroid = [&](const d2vdb::TriangleMesh::Triangle& t) {
     return Eigen::Vector3f(
         (source.positions[t[0]] + source.positions[t[1]] + source.positions[t[2]]) / 3.0f);
@@ -151,7 +151,7 @@ d2vdb::TriangleMesh scannedBunny() {
       const auto base = static_cast<d2vdb::TriangleMesh::Index>(mesh.positions.size());
       for (const auto corner : t) {
         const Eigen::Vector3f p = source.positions[corner];
-        mesh.positions.push_back(p + depth * (centre - p).normalized());
+        mesh.positions.push_back(p + depth * (center - p).normalized());
       }
       mesh.triangles.push_back({base, base + 1, base + 2});
     }

@@ -163,12 +163,12 @@ class ExactPatchTarget final : public d2vdb::SquaredDistanceTarget {
     }
     Eigen::Vector3d best = Eigen::Vector3d::Zero();
     double bestDistance = std::numeric_limits<double>::infinity();
-    const auto arc = [&](const Eigen::Vector3d& centre, const Eigen::Vector3d& e1,
+    const auto arc = [&](const Eigen::Vector3d& center, const Eigen::Vector3d& e1,
                          const Eigen::Vector3d& e2, double radius, double t0, double t1) {
-      const Eigen::Vector3d w = x - centre;
+      const Eigen::Vector3d w = x - center;
       const double t = std::clamp(std::atan2(w.dot(e2), w.dot(e1)), t0, t1);
       for (const double angle : {t, t0, t1}) {
-        const Eigen::Vector3d p = centre + radius * (std::cos(angle) * e1 + std::sin(angle) * e2);
+        const Eigen::Vector3d p = center + radius * (std::cos(angle) * e1 + std::sin(angle) * e2);
         const double d = (x - p).norm();
         if (d < bestDistance) bestDistance = d, best = p;
       }

@@ -13,7 +13,7 @@ namespace {
 
 struct PrimitiveArguments {
   std::string shape, output, gridName = "surface";
-  std::array<double, 3> centre{0, 0, 0}, min{-1, -1, -1}, max{1, 1, 1};
+  std::array<double, 3> center{0, 0, 0}, min{-1, -1, -1}, max{1, 1, 1};
   double radius = 1, majorRadius = 1, minorRadius = 0.25, height = 2;
   BandArguments band;
   VdbOutputArguments vdb;
@@ -35,7 +35,7 @@ std::unique_ptr<AnalyticShape> makeShape(const PrimitiveArguments& args,
   };
   if (args.shape == "sphere") {
     reject({"--min", "--max", "--major", "--minor", "--height"});
-    return std::make_unique<Sphere>(toEigen(args.centre), args.radius);
+    return std::make_unique<Sphere>(toEigen(args.center), args.radius);
   }
   if (args.shape == "box") {
     reject({"--center", "--radius", "--major", "--minor", "--height"});
@@ -43,10 +43,10 @@ std::unique_ptr<AnalyticShape> makeShape(const PrimitiveArguments& args,
   }
   if (args.shape == "torus") {
     reject({"--min", "--max", "--radius", "--height"});
-    return std::make_unique<Torus>(toEigen(args.centre), args.majorRadius, args.minorRadius);
+    return std::make_unique<Torus>(toEigen(args.center), args.majorRadius, args.minorRadius);
   }
   reject({"--min", "--max", "--major", "--minor"});
-  return std::make_unique<CappedCylinder>(toEigen(args.centre), args.radius, args.height);
+  return std::make_unique<CappedCylinder>(toEigen(args.center), args.radius, args.height);
 }
 
 void declarePrimitive(CLI::App& command, PrimitiveArguments& args) {
@@ -54,7 +54,7 @@ void declarePrimitive(CLI::App& command, PrimitiveArguments& args) {
       ->required()
       ->check(CLI::IsMember({"sphere", "box", "torus", "cylinder"}));
   command.add_option("output", args.output, "Output .vdb file (written atomically)")->required();
-  addVector3Option(command, "--center", args.centre, "Centre (sphere, torus, cylinder)")
+  addVector3Option(command, "--center", args.center, "Centre (sphere, torus, cylinder)")
       ->default_str("0,0,0");
   addVector3Option(command, "--min", args.min, "Minimum corner (box)")->default_str("-1,-1,-1");
   addVector3Option(command, "--max", args.max, "Maximum corner (box)")->default_str("1,1,1");

@@ -70,7 +70,7 @@ Report runSlice(const SliceArguments& args, const CommandContext& context) {
   SliceOptions options = args.slice;
   options.axis = args.axis == "x" ? 0 : (args.axis == "y" ? 1 : 2);
   if (context.count("--offset") == 0) {
-    options.offset = activeVoxelCentreOffset(*grid, options.axis).value_or(options.offset);
+    options.offset = activeVoxelCenterOffset(*grid, options.axis).value_or(options.offset);
   }
   const Slice slice = sliceIsoLines(*grid, options);
   const SliceLineCounts counts = countSliceLines(slice);

@@ -39,7 +39,7 @@ nlohmann::json supportJson(const CheckedSupport& support) {
       report["fit"]["relative_max_residual"] =
           support.fit->size > 0 ? support.fit->maxResidual / support.fit->size : 0.0;
       report["fit"]["reciprocal_condition"] = support.fit->reciprocalCondition;
-      report["fit"]["renormalised_normals"] = support.fit->renormalisedNormals;
+      report["fit"]["renormalised_normals"] = support.fit->renormalizedNormals;
     }
   }
   report["regular"] = v.regular();

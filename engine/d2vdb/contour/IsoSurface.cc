@@ -65,7 +65,7 @@ constexpr int edgeKey(int x, int y, int z, int axis) {
 }
 
 /// Slot (0..26) of the neighbour block at offset (ox, oy, oz) in {-1, 0, 1}^3.
-constexpr int neighbourSlot(int ox, int oy, int oz) {
+constexpr int neighborSlot(int ox, int oy, int oz) {
   return (ox + 1) * 9 + (oy + 1) * 3 + (oz + 1);
 }
 
@@ -180,7 +180,7 @@ constexpr std::array<std::array<int, 4>, 27> kCandidateSlots = [] {
           std::array<int, 3> step{0, 0, 0};
           step[b] = blockStep(kRepresentative[classB] - kCandidates[i][0]);
           step[c] = blockStep(kRepresentative[classC] - kCandidates[i][1]);
-          slots[9 * axis + 3 * classB + classC][i] = neighbourSlot(step[0], step[1], step[2]);
+          slots[9 * axis + 3 * classB + classC][i] = neighborSlot(step[0], step[1], step[2]);
         }
       }
     }
@@ -237,7 +237,7 @@ struct BlockCounts {
   std::unique_ptr<CrossedBlock> crossed;  ///< null when no edge of the block's cells is crossed
   std::uint32_t ownership = 0;            ///< index of the block's ownership rule
   std::uint32_t ownedVertices = 0;
-  std::uint32_t centreVertices = 0;
+  std::uint32_t centerVertices = 0;
   std::uint32_t triangles = 0;
   std::uint32_t gapEdges = 0;
 };
@@ -245,11 +245,11 @@ struct BlockCounts {
 /// Reads of the values around one block: local coordinates -1..9 fall into the 27 neighbour
 /// slots, each either a leaf buffer or one tile or background value.
 template <typename ValueT>
-class NeighbourValues {
+class NeighborValues {
  public:
-  NeighbourValues() = default;
-  NeighbourValues(const NeighbourValues&) = delete;
-  NeighbourValues& operator=(const NeighbourValues&) = delete;
+  NeighborValues() = default;
+  NeighborValues(const NeighborValues&) = delete;
+  NeighborValues& operator=(const NeighborValues&) = delete;
 
   /// Reads slot `slot` from a leaf buffer.
   void setLeaf(int slot, const ValueT* data) {
@@ -309,7 +309,7 @@ class Region {
   }
   /// Copies the values at local coordinates 0..8, and with `outer` -1..9, along every axis from
   /// `source`.
-  void gather(const NeighbourValues<ValueT>& source, bool outer) {
+  void gather(const NeighborValues<ValueT>& source, bool outer) {
     const int low = outer ? -1 : 0, high = outer ? kCornerSpan : kBlockSize;
     for (int x = low; x <= high; ++x) {
       for (int y = low; y <= high; ++y) source.copyRow(x, y, outer, &values_[index(x, y, -1)]);
@@ -395,7 +395,7 @@ void withConcreteMap(const openvdb::math::MapBase& map, Visit&& visit) {
 template <typename LeafT>
 struct BlockSet {
   std::vector<Coord> origins;
-  std::vector<std::array<std::int32_t, 27>> neighbours;
+  std::vector<std::array<std::int32_t, 27>> neighbors;
   std::vector<std::uint32_t> memberMask;  ///< bit slot set when that neighbour is a block
   std::vector<const LeafT*> leaves;       ///< the block's leaf node, or null
 };
@@ -492,8 +492,8 @@ class BlockGridIndex {
 
 /// Fills the neighbour tables of `set` with `find` (block origin to index or -1).
 template <typename LeafT, typename Find>
-void findNeighbours(BlockSet<LeafT>& set, const Find& find) {
-  set.neighbours.resize(set.origins.size());
+void findNeighbors(BlockSet<LeafT>& set, const Find& find) {
+  set.neighbors.resize(set.origins.size());
   set.memberMask.resize(set.origins.size());
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, set.origins.size(), 256),
@@ -503,10 +503,10 @@ void findNeighbours(BlockSet<LeafT>& set, const Find& find) {
           for (int ox = -1; ox <= 1; ++ox) {
             for (int oy = -1; oy <= 1; ++oy) {
               for (int oz = -1; oz <= 1; ++oz) {
-                const int slot = neighbourSlot(ox, oy, oz);
+                const int slot = neighborSlot(ox, oy, oz);
                 const std::int32_t found =
                     find(set.origins[b] + Coord(ox * kBlockSize, oy * kBlockSize, oz * kBlockSize));
-                set.neighbours[b][slot] = found;
+                set.neighbors[b][slot] = found;
                 if (found >= 0) mask |= 1u << slot;
               }
             }
@@ -550,7 +550,7 @@ BlockSet<typename TreeT::LeafNodeType> collectBlocks(const TreeT& tree) {
     }
     set.origins.reserve(leaves.size() * 4);
     grid.number(set.origins);
-    findNeighbours(set, [&grid](const Coord& origin) { return grid.find(origin); });
+    findNeighbors(set, [&grid](const Coord& origin) { return grid.find(origin); });
     set.leaves.assign(set.origins.size(), nullptr);
     for (const LeafT* leaf : leaves) set.leaves[grid.find(leaf->origin())] = leaf;
     return set;
@@ -562,7 +562,7 @@ BlockSet<typename TreeT::LeafNodeType> collectBlocks(const TreeT& tree) {
   tbb::parallel_sort(set.origins.begin(), set.origins.end(), coordLess);
   set.origins.erase(std::unique(set.origins.begin(), set.origins.end()), set.origins.end());
   const BlockHashIndex index(set.origins);
-  findNeighbours(set, [&index](const Coord& origin) { return index.find(origin); });
+  findNeighbors(set, [&index](const Coord& origin) { return index.find(origin); });
   set.leaves.assign(set.origins.size(), nullptr);
   for (const LeafT* leaf : leaves) set.leaves[index.find(leaf->origin())] = leaf;
   return set;
@@ -616,7 +616,7 @@ class Extractor {
     for (std::size_t b = 0; b < blockCount; ++b) {
       vertexBase_[b] = vertices;
       triangleBase_[b] = triangles;
-      vertices += counts_[b].ownedVertices + counts_[b].centreVertices;
+      vertices += counts_[b].ownedVertices + counts_[b].centerVertices;
       triangles += counts_[b].triangles;
       gaps += counts_[b].gapEdges;
     }
@@ -794,11 +794,11 @@ class Extractor {
     std::array<const InsideWords*, 8> words{};
     unsigned sides = 0;  // bit kOutside / kInside / kMixed of each neighbour's side
     for (int i = 0; i < 8; ++i) {
-      const int slot = neighbourSlot(i & 1, (i >> 1) & 1, i >> 2);
-      const std::int32_t neighbour = blocks_.neighbours[block][slot];
-      if (neighbour >= 0) {
-        words[i] = &inside_[neighbour];
-        sides |= 1u << side_[neighbour];
+      const int slot = neighborSlot(i & 1, (i >> 1) & 1, i >> 2);
+      const std::int32_t neighbor = blocks_.neighbors[block][slot];
+      if (neighbor >= 0) {
+        words[i] = &inside_[neighbor];
+        sides |= 1u << side_[neighbor];
       } else {
         const bool inside = isInside(accessor.getValue(slotOrigin(block, slot)));
         words[i] = inside ? &kAllInside : &kAllOutside;
@@ -828,16 +828,16 @@ class Extractor {
   /// Points `values` at the neighbours of block `block`: all 27, or with `upperOnly` the 8 at
   /// offsets 0 and +1 (enough for local coordinates 0..8).
   void loadValues(std::size_t block, AccessorT& accessor, bool upperOnly,
-                  NeighbourValues<ValueT>& values) const {
+                  NeighborValues<ValueT>& values) const {
     for (int ox = upperOnly ? 0 : -1; ox <= 1; ++ox) {
       for (int oy = upperOnly ? 0 : -1; oy <= 1; ++oy) {
         for (int oz = upperOnly ? 0 : -1; oz <= 1; ++oz) {
-          const int slot = neighbourSlot(ox, oy, oz);
-          const std::int32_t neighbour = blocks_.neighbours[block][slot];
-          if (neighbour >= 0 && leafData_[neighbour]) {
-            values.setLeaf(slot, leafData_[neighbour]);
+          const int slot = neighborSlot(ox, oy, oz);
+          const std::int32_t neighbor = blocks_.neighbors[block][slot];
+          if (neighbor >= 0 && leafData_[neighbor]) {
+            values.setLeaf(slot, leafData_[neighbor]);
           } else {
-            values.setFill(slot, neighbour >= 0 ? fillValue_[neighbour]
+            values.setFill(slot, neighbor >= 0 ? fillValue_[neighbor]
                                                 : accessor.getValue(slotOrigin(block, slot)));
           }
         }
@@ -860,7 +860,7 @@ class Extractor {
   void countBlocks(const tbb::blocked_range<std::size_t>& range) {
     auto accessor = grid_.getConstAccessor();
     CornerRows rows;
-    NeighbourValues<ValueT> values;
+    NeighborValues<ValueT> values;
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
       if (!buildRows(b, accessor, rows)) continue;
       BlockCounts& counts = counts_[b];
@@ -887,7 +887,7 @@ class Extractor {
       counts.ownedVertices = owned;
       counts.gapEdges = gaps;
       bool loaded = false;
-      const auto upperValues = [&]() -> const NeighbourValues<ValueT>& {
+      const auto upperValues = [&]() -> const NeighborValues<ValueT>& {
         if (!loaded) loadValues(b, accessor, true, values);
         loaded = true;
         return values;
@@ -895,7 +895,7 @@ class Extractor {
       forEachCrossedCell(rows, [&](int x, int y, int z, int caseIndex) {
         const auto& cell = cellTriangulation(x, y, z, caseIndex, upperValues);
         counts.triangles += cell.triangleCount;
-        if (cell.centreEdges) ++counts.centreVertices;
+        if (cell.centerEdges) ++counts.centerVertices;
       });
     }
   }
@@ -964,7 +964,7 @@ class Extractor {
   template <typename MapT>
   void meshBlocks(const tbb::blocked_range<std::size_t>& range, const MapT& map) {
     auto accessor = grid_.getConstAccessor();
-    NeighbourValues<ValueT> neighbourValues;
+    NeighborValues<ValueT> neighborValues;
     auto region = std::make_unique<Region<ValueT>>();
     const auto& cellEdgeOffsets = cellEdgeKeyOffsets();
     std::vector<TriangleMesh::Index> vertexOfEdge(kEdgeKeyCount);
@@ -974,8 +974,8 @@ class Extractor {
       if (!counts.crossed) continue;
       const CornerRows& rows = counts.crossed->rows;
       const Ownership& ownership = ownerships_[counts.ownership];
-      loadValues(b, accessor, !normals, neighbourValues);
-      region->gather(neighbourValues, normals);
+      loadValues(b, accessor, !normals, neighborValues);
+      region->gather(neighborValues, normals);
       const Coord origin = blocks_.origins[b];
       const openvdb::Vec3d originIndex(origin.x(), origin.y(), origin.z());
       auto nextVertex = static_cast<TriangleMesh::Index>(vertexBase_[b]);
@@ -1009,13 +1009,13 @@ class Extractor {
       forEachCrossedCell(rows, [&](int x, int y, int z, int caseIndex) {
         const auto& cell = cellTriangulation(x, y, z, caseIndex, regionValues);
         const int cellKey = edgeKey(x, y, z, 0);
-        TriangleMesh::Index centre = 0;
-        if (cell.centreEdges) {
-          centre = nextVertex++;
-          writeCentreVertex(map, *region, originIndex, x, y, z, cell.centreEdges, centre);
+        TriangleMesh::Index center = 0;
+        if (cell.centerEdges) {
+          center = nextVertex++;
+          writeCenterVertex(map, *region, originIndex, x, y, z, cell.centerEdges, center);
         }
         const auto vertexAt = [&](int edge) {
-          return edge == detail::kCellCentre ? centre
+          return edge == detail::kCellCenter ? center
                                              : vertexOfEdge[cellKey + cellEdgeOffsets[edge]];
         };
         for (int i = 0; i < cell.triangleCount; ++i) {
@@ -1032,7 +1032,7 @@ class Extractor {
   TriangleMesh::Index lookUpVertex(std::size_t block, int ownerSlot, int x, int y, int z,
                                    int axis) const {
     const int ox = ownerSlot / 9 - 1, oy = (ownerSlot / 3) % 3 - 1, oz = ownerSlot % 3 - 1;
-    const std::int32_t owner = ownerSlot >= 0 ? blocks_.neighbours[block][ownerSlot] : -1;
+    const std::int32_t owner = ownerSlot >= 0 ? blocks_.neighbors[block][ownerSlot] : -1;
     const CrossedBlock* edges = owner >= 0 ? counts_[owner].crossed.get() : nullptr;
     const int row = (x - ox * kBlockSize) * kCornerSpan + (y - oy * kBlockSize);
     const int bit = 3 * (z - oz * kBlockSize) + axis;
@@ -1047,7 +1047,7 @@ class Extractor {
   /// Places a cell's centre vertex at the mean of its contour's edge vertices; its normal is the
   /// gradient of the cell's trilinear interpolant there.
   template <typename MapT>
-  void writeCentreVertex(const MapT& map, const Region<ValueT>& region,
+  void writeCenterVertex(const MapT& map, const Region<ValueT>& region,
                          const openvdb::Vec3d& originIndex, int x, int y, int z,
                          std::uint16_t edges, TriangleMesh::Index vertex) {
     openvdb::Vec3d sum(0.0);

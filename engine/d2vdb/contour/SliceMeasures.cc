@@ -4,7 +4,7 @@
 
 namespace d2vdb {
 
-std::optional<double> activeVoxelCentreOffset(const openvdb::GridBase& grid, int axis) {
+std::optional<double> activeVoxelCenterOffset(const openvdb::GridBase& grid, int axis) {
   if (axis < 0 || axis > 2) throw InputError("the slice axis must be x, y or z (0, 1 or 2)");
   const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
   if (box.empty()) return std::nullopt;

@@ -16,7 +16,7 @@ namespace d2vdb {
 /// centre of their index-space bounding box (openvdb::CoordBBox::getCenter()) mapped by the
 /// grid's transform. std::nullopt when the grid has no active voxel. Throws InputError for an
 /// axis outside 0..2.
-std::optional<double> activeVoxelCentreOffset(const openvdb::GridBase& grid, int axis);
+std::optional<double> activeVoxelCenterOffset(const openvdb::GridBase& grid, int axis);
 
 /// How many lines a slice holds, how many of them are closed, and their points in total.
 struct SliceLineCounts {

@@ -41,18 +41,18 @@ Eigen::Vector3d perpendicularUnit(const Eigen::Vector3d& n) {
 
 // ---------------------------------------------------------------------------------------- Sphere
 
-Sphere::Sphere(const Eigen::Vector3d& centre, double radius) : centre_(centre), radius_(radius) {
-  requireFinitePoint(centre, "sphere", "centre");
+Sphere::Sphere(const Eigen::Vector3d& center, double radius) : center_(center), radius_(radius) {
+  requireFinitePoint(center, "sphere", "centre");
   requirePositive(radius, "sphere", "radius");
 }
 
 double Sphere::signedDistance(const Eigen::Vector3d& point) const {
-  return (point - centre_).norm() - radius_;
+  return (point - center_).norm() - radius_;
 }
 
 Eigen::AlignedBox3d Sphere::bounds() const {
   const Eigen::Vector3d half = Eigen::Vector3d::Constant(radius_);
-  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+  return Eigen::AlignedBox3d(center_ - half, center_ + half);
 }
 
 double Sphere::surfaceArea() const {
@@ -60,22 +60,22 @@ double Sphere::surfaceArea() const {
 }
 
 std::string Sphere::describe() const {
-  return "sphere(centre " + formatPoint(centre_, kDigits) + ", radius " +
+  return "sphere(centre " + formatPoint(center_, kDigits) + ", radius " +
          formatNumber(radius_, kDigits) + ")";
 }
 
 SurfacePoint Sphere::closestSurfacePoint(const Eigen::Vector3d& point) const {
-  const Eigen::Vector3d offset = point - centre_;
-  const double distanceToCentre = offset.norm();
+  const Eigen::Vector3d offset = point - center_;
+  const double distanceToCenter = offset.norm();
   SurfacePoint result;
-  result.normal = distanceToCentre > 0.0 ? Eigen::Vector3d(offset / distanceToCentre)
+  result.normal = distanceToCenter > 0.0 ? Eigen::Vector3d(offset / distanceToCenter)
                                          : Eigen::Vector3d::UnitZ();
-  result.point = centre_ + radius_ * result.normal;
+  result.point = center_ + radius_ * result.normal;
   result.e1 = perpendicularUnit(result.normal);
   result.e2 = result.normal.cross(result.e1);
   result.k1 = 1.0 / radius_;
   result.k2 = 1.0 / radius_;
-  result.signedDistance = distanceToCentre - radius_;
+  result.signedDistance = distanceToCenter - radius_;
   return result;
 }
 
@@ -92,10 +92,10 @@ Box::Box(const Eigen::Vector3d& min, const Eigen::Vector3d& max) : min_(min), ma
 }
 
 double Box::signedDistance(const Eigen::Vector3d& point) const {
-  const Eigen::Vector3d centre = 0.5 * (min_ + max_);
+  const Eigen::Vector3d center = 0.5 * (min_ + max_);
   const Eigen::Vector3d halfExtent = 0.5 * (max_ - min_);
   // Per-axis distance beyond the faces (negative inside the slab of that axis).
-  const Eigen::Vector3d beyond = (point - centre).cwiseAbs() - halfExtent;
+  const Eigen::Vector3d beyond = (point - center).cwiseAbs() - halfExtent;
   const double outside = beyond.cwiseMax(0.0).norm();
   const double inside = std::min(beyond.maxCoeff(), 0.0);
   return outside + inside;
@@ -116,9 +116,9 @@ std::string Box::describe() const {
 
 // ----------------------------------------------------------------------------------------- Torus
 
-Torus::Torus(const Eigen::Vector3d& centre, double majorRadius, double minorRadius)
-    : centre_(centre), majorRadius_(majorRadius), minorRadius_(minorRadius) {
-  requireFinitePoint(centre, "torus", "centre");
+Torus::Torus(const Eigen::Vector3d& center, double majorRadius, double minorRadius)
+    : center_(center), majorRadius_(majorRadius), minorRadius_(minorRadius) {
+  requireFinitePoint(center, "torus", "centre");
   requirePositive(majorRadius, "torus", "major radius");
   requirePositive(minorRadius, "torus", "minor radius");
   if (!(minorRadius < majorRadius)) {
@@ -129,7 +129,7 @@ Torus::Torus(const Eigen::Vector3d& centre, double majorRadius, double minorRadi
 }
 
 double Torus::signedDistance(const Eigen::Vector3d& point) const {
-  const Eigen::Vector3d offset = point - centre_;
+  const Eigen::Vector3d offset = point - center_;
   const double radial = std::hypot(offset.x(), offset.y());
   return std::hypot(radial - majorRadius_, offset.z()) - minorRadius_;
 }
@@ -137,7 +137,7 @@ double Torus::signedDistance(const Eigen::Vector3d& point) const {
 Eigen::AlignedBox3d Torus::bounds() const {
   const double outer = majorRadius_ + minorRadius_;
   const Eigen::Vector3d half(outer, outer, minorRadius_);
-  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+  return Eigen::AlignedBox3d(center_ - half, center_ + half);
 }
 
 double Torus::surfaceArea() const {
@@ -145,19 +145,19 @@ double Torus::surfaceArea() const {
 }
 
 std::string Torus::describe() const {
-  return "torus(centre " + formatPoint(centre_, kDigits) + ", major radius " +
+  return "torus(centre " + formatPoint(center_, kDigits) + ", major radius " +
          formatNumber(majorRadius_, kDigits) + ", minor radius " +
          formatNumber(minorRadius_, kDigits) + ", axis +z)";
 }
 
 SurfacePoint Torus::closestSurfacePoint(const Eigen::Vector3d& point) const {
-  const Eigen::Vector3d offset = point - centre_;
+  const Eigen::Vector3d offset = point - center_;
   const double radial = std::hypot(offset.x(), offset.y());
   // Unit vector from the axis towards the point, in the equatorial plane.
   const Eigen::Vector3d outward =
       radial > 0.0 ? Eigen::Vector3d(offset.x() / radial, offset.y() / radial, 0.0)
                    : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d corePoint = centre_ + majorRadius_ * outward;
+  const Eigen::Vector3d corePoint = center_ + majorRadius_ * outward;
   const Eigen::Vector3d fromCore = point - corePoint;
   const double distanceToCore = fromCore.norm();
 
@@ -176,15 +176,15 @@ SurfacePoint Torus::closestSurfacePoint(const Eigen::Vector3d& point) const {
 
 // -------------------------------------------------------------------------------- CappedCylinder
 
-CappedCylinder::CappedCylinder(const Eigen::Vector3d& centre, double radius, double height)
-    : centre_(centre), radius_(radius), height_(height) {
-  requireFinitePoint(centre, "capped cylinder", "centre");
+CappedCylinder::CappedCylinder(const Eigen::Vector3d& center, double radius, double height)
+    : center_(center), radius_(radius), height_(height) {
+  requireFinitePoint(center, "capped cylinder", "centre");
   requirePositive(radius, "capped cylinder", "radius");
   requirePositive(height, "capped cylinder", "height");
 }
 
 double CappedCylinder::signedDistance(const Eigen::Vector3d& point) const {
-  const Eigen::Vector3d offset = point - centre_;
+  const Eigen::Vector3d offset = point - center_;
   const double beyondSide = std::hypot(offset.x(), offset.y()) - radius_;
   const double beyondCap = std::abs(offset.z()) - 0.5 * height_;
   const double outside = std::hypot(std::max(beyondSide, 0.0), std::max(beyondCap, 0.0));
@@ -194,7 +194,7 @@ double CappedCylinder::signedDistance(const Eigen::Vector3d& point) const {
 
 Eigen::AlignedBox3d CappedCylinder::bounds() const {
   const Eigen::Vector3d half(radius_, radius_, 0.5 * height_);
-  return Eigen::AlignedBox3d(centre_ - half, centre_ + half);
+  return Eigen::AlignedBox3d(center_ - half, center_ + half);
 }
 
 double CappedCylinder::surfaceArea() const {
@@ -202,7 +202,7 @@ double CappedCylinder::surfaceArea() const {
 }
 
 std::string CappedCylinder::describe() const {
-  return "capped cylinder(centre " + formatPoint(centre_, kDigits) + ", radius " +
+  return "capped cylinder(centre " + formatPoint(center_, kDigits) + ", radius " +
          formatNumber(radius_, kDigits) + ", height " + formatNumber(height_, kDigits) +
          ", axis +z)";
 }

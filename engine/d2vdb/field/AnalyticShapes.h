@@ -48,7 +48,7 @@ class AnalyticShape {
 /// Throws InputError unless the centre is finite and the radius finite and positive.
 class Sphere final : public AnalyticShape {
  public:
-  Sphere(const Eigen::Vector3d& centre, double radius);
+  Sphere(const Eigen::Vector3d& center, double radius);
 
   double signedDistance(const Eigen::Vector3d& point) const override;
   Eigen::AlignedBox3d bounds() const override;
@@ -60,11 +60,11 @@ class Sphere final : public AnalyticShape {
   /// surface point is closest; the point in direction +z is returned.
   SurfacePoint closestSurfacePoint(const Eigen::Vector3d& point) const;
 
-  const Eigen::Vector3d& centre() const { return centre_; }
+  const Eigen::Vector3d& center() const { return center_; }
   double radius() const { return radius_; }
 
  private:
-  Eigen::Vector3d centre_;
+  Eigen::Vector3d center_;
   double radius_;
 };
 
@@ -92,7 +92,7 @@ class Box final : public AnalyticShape {
 /// Throws InputError unless parameters are finite and 0 < minorRadius < majorRadius.
 class Torus final : public AnalyticShape {
  public:
-  Torus(const Eigen::Vector3d& centre, double majorRadius, double minorRadius);
+  Torus(const Eigen::Vector3d& center, double majorRadius, double minorRadius);
 
   double signedDistance(const Eigen::Vector3d& point) const override;
   Eigen::AlignedBox3d bounds() const override;
@@ -106,12 +106,12 @@ class Torus final : public AnalyticShape {
   /// unique; the one in the direction of +x, respectively of +z, is returned.
   SurfacePoint closestSurfacePoint(const Eigen::Vector3d& point) const;
 
-  const Eigen::Vector3d& centre() const { return centre_; }
+  const Eigen::Vector3d& center() const { return center_; }
   double majorRadius() const { return majorRadius_; }
   double minorRadius() const { return minorRadius_; }
 
  private:
-  Eigen::Vector3d centre_;
+  Eigen::Vector3d center_;
   double majorRadius_;
   double minorRadius_;
 };
@@ -121,19 +121,19 @@ class Torus final : public AnalyticShape {
 /// Throws InputError unless parameters are finite and radius, height > 0.
 class CappedCylinder final : public AnalyticShape {
  public:
-  CappedCylinder(const Eigen::Vector3d& centre, double radius, double height);
+  CappedCylinder(const Eigen::Vector3d& center, double radius, double height);
 
   double signedDistance(const Eigen::Vector3d& point) const override;
   Eigen::AlignedBox3d bounds() const override;
   double surfaceArea() const override;
   std::string describe() const override;
 
-  const Eigen::Vector3d& centre() const { return centre_; }
+  const Eigen::Vector3d& center() const { return center_; }
   double radius() const { return radius_; }
   double height() const { return height_; }
 
  private:
-  Eigen::Vector3d centre_;
+  Eigen::Vector3d center_;
   double radius_;
   double height_;
 };

@@ -147,7 +147,7 @@ void countFlags(const std::vector<BandRecord>& records, FieldStatistics& stats) 
 // ---- building the band -------------------------------------------------------------------------
 
 /// World centre of voxel `ijk`.
-Eigen::Vector3d voxelCentre(const IndexFrame& frame, const openvdb::Coord& ijk) {
+Eigen::Vector3d voxelCenter(const IndexFrame& frame, const openvdb::Coord& ijk) {
   return frame.indexToWorld(Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()));
 }
 
@@ -181,7 +181,7 @@ Eigen::AlignedBox3d activeVoxelBounds(const BandLayout& layout) {
     const openvdb::Coord c((corner & 1) ? box.max().x() : box.min().x(),
                            (corner & 2) ? box.max().y() : box.min().y(),
                            (corner & 4) ? box.max().z() : box.min().z());
-    bounds.extend(voxelCentre(layout.frame(), c));
+    bounds.extend(voxelCenter(layout.frame(), c));
   }
   return bounds;
 }
@@ -200,7 +200,7 @@ std::vector<BandRecord> recordsOfGridBand(const FieldBand& band, const BandLayou
                         std::uint32_t record = entry.base;
                         entry.forEachOn([&](int offset) {
                           const openvdb::Coord ijk = entry.voxel(offset);
-                          const Approximant a = approximant(ijk, voxelCentre(layout.frame(), ijk));
+                          const Approximant a = approximant(ijk, voxelCenter(layout.frame(), ijk));
                           checkApproximant(a, ijk, source);
                           records[record++] = encodeWorld(codec, a);
                         });
@@ -259,7 +259,7 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
                           for (auto voxel = leaves[i]->cbeginValueOn(); voxel; ++voxel) {
                             const openvdb::Coord ijk = voxel.getCoord();
-                            const Approximant a = approximant(ijk, voxelCentre(frame, ijk));
+                            const Approximant a = approximant(ijk, voxelCenter(frame, ijk));
                             if (std::abs(a.distance) >= limit) continue;  // NaN is checked
                             checkApproximant(a, ijk, source);
                             kept[i].offsets.push_back(static_cast<std::uint16_t>(voxel.pos()));
@@ -437,8 +437,8 @@ ApproximantField ApproximantField::fromCurve(const CurveTarget& curve, double vo
               options.maxActiveVoxels, "the field of the " + curve.describe());
   FieldBand band = FieldBand::nearSeeds(TargetKind::Curve, curve.samplePoints(0.5 * voxelSize),
                                         voxelSize, halfWidth);
-  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
-        return curve.approximantAtAnyPoint(centre);
+  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
+        return curve.approximantAtAnyPoint(center);
       })
       .setEstimator(kCurveEstimator)
       .setLabel(curve.describe())
@@ -471,18 +471,18 @@ ApproximantField ApproximantField::fromPoints(const std::vector<Eigen::Vector3d>
   // The constructor builds the index.
   const PointTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   FieldBand band = FieldBand::nearSeeds(TargetKind::Points, points, voxelSize, halfWidth);
-  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& centre) {
+  band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
         std::uint32_t index = 0;
         double squared = 0.0;
         nanoflann::KNNResultSet<double, std::uint32_t> result(1);
         result.init(&index, &squared);
-        const double query[3] = {centre.x(), centre.y(), centre.z()};
+        const double query[3] = {center.x(), center.y(), center.z()};
         tree.findNeighbors(result, query, nanoflann::SearchParams());
         Approximant a;
         a.kind = TargetKind::Points;
-        a.origin = centre;
+        a.origin = center;
         a.footpoint = points[index];
-        const Eigen::Vector3d offset = centre - a.footpoint;
+        const Eigen::Vector3d offset = center - a.footpoint;
         a.distance = offset.norm();
         a.normal =
             a.distance > 0.0 ? Eigen::Vector3d(offset / a.distance) : Eigen::Vector3d::UnitZ();

@@ -120,9 +120,9 @@ CurveTarget::CurveTarget(Polyline polyline, double domainPadding) : dimension_(p
     const double denominator = 2.0 * axb.squaredNorm();
     if (!(denominator > 0.0)) continue;  // collinear: zero curvature
     // Circumcentre relative to v[i].
-    const Eigen::Vector3d centre =
+    const Eigen::Vector3d center =
         (a.squaredNorm() * b - b.squaredNorm() * a).cross(axb) / denominator;
-    vertexCurvature_[i] = centre / centre.squaredNorm();  // kappa N = (c - v) / |c - v|^2
+    vertexCurvature_[i] = center / center.squaredNorm();  // kappa N = (c - v) / |c - v|^2
   }
 
   // Open ends: the curvature of the nearest interior vertex (a polyline sampled from a smooth

@@ -28,8 +28,8 @@ FieldBand& FieldBand::setApproximants(VoxelApproximant approximant) {
   // Workers share the one function (a copy per worker could copy what it captures by value).
   auto shared = std::make_shared<const VoxelApproximant>(std::move(approximant));
   factory_ = [shared] {
-    return VoxelApproximant([shared](const openvdb::Coord& ijk, const Eigen::Vector3d& centre) {
-      return (*shared)(ijk, centre);
+    return VoxelApproximant([shared](const openvdb::Coord& ijk, const Eigen::Vector3d& center) {
+      return (*shared)(ijk, center);
     });
   };
   return *this;

@@ -86,7 +86,7 @@ class FieldBand {
  public:
   /// The approximant at one band voxel: index coordinates and centre (world) in, Approximant out.
   using VoxelApproximant =
-      std::function<Approximant(const openvdb::Coord& ijk, const Eigen::Vector3d& centre)>;
+      std::function<Approximant(const openvdb::Coord& ijk, const Eigen::Vector3d& center)>;
   /// Makes one VoxelApproximant for one worker (called once per block of voxels).
   using VoxelApproximantFactory = std::function<VoxelApproximant()>;
 

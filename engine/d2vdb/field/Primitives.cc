@@ -47,19 +47,19 @@ struct BandGeometry {
 // holds none if |d(c)| >= band + h, since an exact signed distance is 1-Lipschitz.
 void collectCandidateBlocks(const AnalyticShape& shape, const BandGeometry& geometry,
                             const BlockRange& range, std::vector<openvdb::Coord>& blocks) {
-  Eigen::Vector3d firstCentre;
-  Eigen::Vector3d lastCentre;
+  Eigen::Vector3d firstCenter;
+  Eigen::Vector3d lastCenter;
   for (int axis = 0; axis < 3; ++axis) {
-    firstCentre[axis] = static_cast<double>(range.lo[axis] * kLeafDim) * geometry.voxelSize;
-    lastCentre[axis] =
+    firstCenter[axis] = static_cast<double>(range.lo[axis] * kLeafDim) * geometry.voxelSize;
+    lastCenter[axis] =
         static_cast<double>(range.hi[axis] * kLeafDim + kLeafDim - 1) * geometry.voxelSize;
   }
-  const Eigen::Vector3d centre = 0.5 * (firstCentre + lastCentre);
-  const double halfDiagonal = 0.5 * (lastCentre - firstCentre).norm();
+  const Eigen::Vector3d center = 0.5 * (firstCenter + lastCenter);
+  const double halfDiagonal = 0.5 * (lastCenter - firstCenter).norm();
   // Slack for rounding in the distance evaluation: conservative, it only reduces skipping.
   const double slack =
-      1e-9 * (geometry.band + halfDiagonal + centre.cwiseAbs().maxCoeff() + geometry.voxelSize);
-  if (std::abs(shape.signedDistance(centre)) >= geometry.band + halfDiagonal + slack) return;
+      1e-9 * (geometry.band + halfDiagonal + center.cwiseAbs().maxCoeff() + geometry.voxelSize);
+  if (std::abs(shape.signedDistance(center)) >= geometry.band + halfDiagonal + slack) return;
 
   int longestAxis = 0;
   std::int64_t longestCount = 0;

@@ -336,7 +336,7 @@ class SeedBlocks {
 /// Displacements (within a leaf) of the voxels a voxel's projection may start from: the face
 /// neighbours at -z, -y, -x (the first kFaceNeighbours), then the edge and corner neighbours among
 /// the voxels visited before it in offset order (x, then y, then z ascending).
-constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
+constexpr std::array<std::array<int, 3>, 13> kStartNeighbors = {{{0, 0, -1},
                                                                   {0, -1, 0},
                                                                   {-1, 0, 0},
                                                                   {0, -1, -1},
@@ -349,7 +349,7 @@ constexpr std::array<std::array<int, 3>, 13> kStartNeighbours = {{{0, 0, -1},
                                                                   {-1, -1, 1},
                                                                   {-1, 1, -1},
                                                                   {-1, 1, 1}}};
-constexpr std::size_t kFaceNeighbours = 3;
+constexpr std::size_t kFaceNeighbors = 3;
 
 /// The number of lattice points of faces with these intervals per edge.
 double latticePointCount(const std::vector<long>& intervals) {
@@ -476,10 +476,10 @@ SmoothProjectionOptions bandProjectionOptions(double stopBeyond) {
 
 /// The approximant of a voxel outside the band: its `distance`, above the half-width (the band
 /// discards it).
-Approximant outsideBand(const Eigen::Vector3d& centre, double distance) {
+Approximant outsideBand(const Eigen::Vector3d& center, double distance) {
   Approximant outside;
   outside.kind = TargetKind::Surface;
-  outside.origin = centre;
+  outside.origin = center;
   outside.distance = distance;
   return outside;
 }
@@ -522,7 +522,7 @@ class VoxelProjector {
         clamp_(1.0 / voxelSize) {}
 
   Approximant operator()(LeafState& state, const openvdb::Coord& ijk,
-                         const Eigen::Vector3d& centre) const {
+                         const Eigen::Vector3d& center) const {
     const openvdb::Coord leaf(ijk.x() & ~7, ijk.y() & ~7, ijk.z() & ~7);
     if (leaf != state.leaf) {
       state.leaf = leaf;
@@ -530,10 +530,10 @@ class VoxelProjector {
       blocks_.near(leaf, skipBeyond_, state.subNear);
     }
     const int sub = ((ijk.x() & 4) >> 0) | ((ijk.y() & 4) >> 1) | ((ijk.z() & 4) >> 2);
-    const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(centre);
+    const SeedBlocks::Nearest nearest = state.subNear[sub].nearest(center);
     if (!(nearest.distance <= skipBeyond_)) {
       // Outside the band (a lower bound of the distance).
-      return outsideBand(centre, std::isfinite(nearest.distance) ? nearest.distance - seedReach_
+      return outsideBand(center, std::isfinite(nearest.distance) ? nearest.distance - seedReach_
                                                                  : skipBeyond_ - seedReach_);
     }
     const int offset = ((ijk.x() & 7) << 6) | ((ijk.y() & 7) << 3) | (ijk.z() & 7);
@@ -542,14 +542,14 @@ class VoxelProjector {
     const auto at = static_cast<std::size_t>(offset);
     PseudoManifold::Projection& projection = state.projections[at];
     state.startedFrom[at] =
-        project(state, startOf(state, ijk, offset, centre), centre, nearest, projection);
+        project(state, startOf(state, ijk, offset, center), center, nearest, projection);
     state.stamp[at] = state.generation;
     if (projection.beyond) {
       // Outside the band (its distance is above the half-width). Its last iterate still starts
       // its neighbours' projections.
-      return outsideBand(centre, projection.distance);
+      return outsideBand(center, projection.distance);
     }
-    Approximant a = SmoothSurface::approximantOf(centre, projection);
+    Approximant a = SmoothSurface::approximantOf(center, projection);
     if (std::abs(a.k1) > clamp_ || std::abs(a.k2) > clamp_) {
       a.k1 = std::clamp(a.k1, -clamp_, clamp_);
       a.k2 = std::clamp(a.k2, -clamp_, clamp_);
@@ -562,7 +562,7 @@ class VoxelProjector {
   /// A voxel's start: the slot of the neighbour whose projection it starts from (-1: the
   /// nearest seed) and LeafState::startedFrom for it.
   struct Start {
-    int neighbour = -1;
+    int neighbor = -1;
     std::uint8_t startedFrom = 0;
   };
 
@@ -573,58 +573,58 @@ class VoxelProjector {
   /// model; else the first projected neighbour (a Newton iteration from its footpoint); else
   /// none (a seed).
   Start startOf(const LeafState& state, const openvdb::Coord& ijk, int offset,
-                const Eigen::Vector3d& centre) const {
+                const Eigen::Vector3d& center) const {
     Start start;
     // The slot of kStartNeighbours[k] when it lies in the leaf and was projected, else -1.
     const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
     const auto projectedSlot = [&](std::size_t k) {
-      const auto& [dx, dy, dz] = kStartNeighbours[k];
+      const auto& [dx, dy, dz] = kStartNeighbors[k];
       if (x + dx < 0 || y + dy < 0 || z + dz < 0 || y + dy > 7 || z + dz > 7) return -1;
       const int slot = offset + 64 * dx + 8 * dy + dz;
       return state.stamp[static_cast<std::size_t>(slot)] == state.generation ? slot : -1;
     };
     double nearestOrigin = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < kFaceNeighbours; ++k) {
+    for (std::size_t k = 0; k < kFaceNeighbors; ++k) {
       const int candidate = projectedSlot(k);
       if (candidate < 0) continue;
       const auto& model = state.projections[static_cast<std::size_t>(candidate)].model;
       if (!model) continue;
-      const double squared = (model->derivatives.position - centre).squaredNorm();
+      const double squared = (model->derivatives.position - center).squaredNorm();
       if (squared < nearestOrigin) {
         nearestOrigin = squared;
         start = {candidate, static_cast<std::uint8_t>(k + 1)};
       }
     }
-    const bool modelledFace = start.neighbour >= 0;
-    for (std::size_t k = 0; k < kStartNeighbours.size() && !modelledFace; ++k) {
+    const bool modeledFace = start.neighbor >= 0;
+    for (std::size_t k = 0; k < kStartNeighbors.size() && !modeledFace; ++k) {
       const int candidate = projectedSlot(k);
       if (candidate < 0) continue;
-      const bool modelled =
+      const bool modeled =
           state.projections[static_cast<std::size_t>(candidate)].model.has_value();
-      if (start.neighbour < 0 || modelled) start = {candidate, static_cast<std::uint8_t>(k + 1)};
-      if (modelled) break;
+      if (start.neighbor < 0 || modeled) start = {candidate, static_cast<std::uint8_t>(k + 1)};
+      if (modeled) break;
     }
     return start;
   }
 
   /// Projects `centre` into `projection` from `start` (or from the nearest seed); returns the
   /// start it kept (LeafState::startedFrom).
-  std::uint8_t project(const LeafState& state, const Start& start, const Eigen::Vector3d& centre,
+  std::uint8_t project(const LeafState& state, const Start& start, const Eigen::Vector3d& center,
                        const SeedBlocks::Nearest& nearest,
                        PseudoManifold::Projection& projection) const {
-    if (start.neighbour < 0) {
-      projection = surface_.project(centre, seeds_[nearest.index], options_);
+    if (start.neighbor < 0) {
+      projection = surface_.project(center, seeds_[nearest.index], options_);
       return start.startedFrom;
     }
     // Second-order start: when the neighbour was itself projected from its neighbour by the same
     // displacement, the first Newton step here misses the footpoint by nearly what the
     // neighbour's missed it by.
-    const auto from = static_cast<std::size_t>(start.neighbour);
+    const auto from = static_cast<std::size_t>(start.neighbor);
     SmoothProjectionOptions options = options_;
     if (state.startedFrom[from] == start.startedFrom) {
       options.firstStepCorrection = state.projections[from].firstStepMiss;
     }
-    surface_.project(centre, state.projections[from], options, projection);
+    surface_.project(center, state.projections[from], options, projection);
     // A surface point (the nearest seed) is nearer than the local minimum found from the
     // neighbour, or the nearest seed lies on another sheet: that minimum may not be the closest
     // point (the voxel is near the medial axis); project from the seed too and keep the nearer.
@@ -632,7 +632,7 @@ class VoxelProjector {
                            (nearest.position - projection.position).norm() > sameSheet_;
     if (elsewhere) {
       PseudoManifold::Projection fromSeed =
-          surface_.project(centre, seeds_[nearest.index], options_);
+          surface_.project(center, seeds_[nearest.index], options_);
       if (fromSeed.distance < projection.distance) {
         projection = std::move(fromSeed);
         return 0;
@@ -699,8 +699,8 @@ ApproximantField smoothSurfaceField(const PseudoManifold& surface, double voxelS
   band.setApproximantsPerWorker([&]() -> FieldBand::VoxelApproximant {
         // The factory runs on the thread that uses the function it makes (FieldBand).
         return [&voxels, state = &states.local()](const openvdb::Coord& ijk,
-                                                  const Eigen::Vector3d& centre) {
-          return voxels(*state, ijk, centre);
+                                                  const Eigen::Vector3d& center) {
+          return voxels(*state, ijk, center);
         };
       })
       .setEstimator(std::string(kSmoothSurfaceEstimator) + ", " + surface.sourceName() + " source")

@@ -100,11 +100,11 @@ BSplineCurve initialCurveAround(const std::vector<Eigen::Vector3d>& input, Initi
     throw InputError("the size factor of the initial curve must be positive");
   }
   const std::vector<Eigen::Vector3d> points = flattened(input, dimension);
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) centre += p;
-  centre /= static_cast<double>(points.size());
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) center += p;
+  center /= static_cast<double>(points.size());
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) covariance += (p - centre) * (p - centre).transpose();
+  for (const Eigen::Vector3d& p : points) covariance += (p - center) * (p - center).transpose();
   Eigen::Vector3d axis1 = Eigen::Vector3d::UnitX();
   Eigen::Vector3d axis2 = Eigen::Vector3d::UnitY();
   if (dimension == 2) {
@@ -119,8 +119,8 @@ BSplineCurve initialCurveAround(const std::vector<Eigen::Vector3d>& input, Initi
   double extent1 = 0.0;
   double extent2 = 0.0;
   for (const Eigen::Vector3d& p : points) {
-    extent1 = std::max(extent1, std::abs((p - centre).dot(axis1)));
-    extent2 = std::max(extent2, std::abs((p - centre).dot(axis2)));
+    extent1 = std::max(extent1, std::abs((p - center).dot(axis1)));
+    extent2 = std::max(extent2, std::abs((p - center).dot(axis2)));
   }
   if (!(extent1 > 0.0)) {
     throw InputError("all points coincide: no initial curve can be placed around them");
@@ -132,7 +132,7 @@ BSplineCurve initialCurveAround(const std::vector<Eigen::Vector3d>& input, Initi
   const double twoPi = 6.283185307179586476925;
   for (int i = 0; i < samples; ++i) {
     const double angle = twoPi * i / samples;
-    ellipse[static_cast<std::size_t>(i)] = centre + scale * extent1 * std::cos(angle) * axis1 +
+    ellipse[static_cast<std::size_t>(i)] = center + scale * extent1 * std::cos(angle) * axis1 +
                                            scale * extent2 * std::sin(angle) * axis2;
   }
   return fitPolylineLeastSquares(ellipse, true, degree, controlPoints, dimension);

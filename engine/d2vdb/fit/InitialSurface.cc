@@ -143,13 +143,13 @@ BSplineSurface cylinderSurface(const Eigen::Vector3d& base, const Eigen::Vector3
                         layout.closedU, layout.closedV);
 }
 
-BSplineSurface torusSurface(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+BSplineSurface torusSurface(const Eigen::Vector3d& center, const Eigen::Vector3d& axis,
                             double majorRadius, double minorRadius, const SurfaceLayout& layout) {
   layout.validate();
   if (!layout.closedU || !layout.closedV) {
     throw InputError("a torus is closed in both directions (--closed-u --closed-v)");
   }
-  if (!centre.allFinite() || !axis.allFinite() || !(axis.norm() > 0.0) || !(minorRadius > 0.0) ||
+  if (!center.allFinite() || !axis.allFinite() || !(axis.norm() > 0.0) || !(minorRadius > 0.0) ||
       !(minorRadius < majorRadius) || !std::isfinite(majorRadius)) {
     throw InputError("a torus needs a finite, non-zero axis and radii 0 < minor < major");
   }
@@ -164,7 +164,7 @@ BSplineSurface torusSurface(const Eigen::Vector3d& centre, const Eigen::Vector3d
     const Eigen::Vector3d direction = scaleU * (std::cos(angle) * e1 + std::sin(angle) * e2);
     for (int j = 0; j < layout.countV; ++j) {
       const double phi = kTwoPi * j / layout.countV;
-      points.push_back(centre + (majorRadius + scaleV * std::cos(phi)) * direction +
+      points.push_back(center + (majorRadius + scaleV * std::cos(phi)) * direction +
                        scaleV * std::sin(phi) * a);
     }
   }
@@ -176,18 +176,18 @@ namespace {
 
 /// The points' centroid and the eigen-decomposition of their covariance (eigenvalues ascending).
 struct PrincipalAxes {
-  Eigen::Vector3d centre;
+  Eigen::Vector3d center;
   Eigen::Vector3d values;
   Eigen::Matrix3d vectors;
 };
 
 /// InputError unless `points` are finite and span a plane (not all equal or on a line).
 PrincipalAxes principalAxes(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) centre += p;
-  centre /= static_cast<double>(points.size());
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) center += p;
+  center /= static_cast<double>(points.size());
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) covariance += (p - centre) * (p - centre).transpose();
+  for (const Eigen::Vector3d& p : points) covariance += (p - center) * (p - center).transpose();
   covariance /= static_cast<double>(points.size());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
   const Eigen::Vector3d values = eigen.eigenvalues();  // ascending
@@ -196,13 +196,13 @@ PrincipalAxes principalAxes(const std::vector<Eigen::Vector3d>& points) {
         "the target's points are all equal or on a line: no surface can be placed "
         "around them");
   }
-  return {centre, values, eigen.eigenvectors()};
+  return {center, values, eigen.eigenvectors()};
 }
 
 /// The plane through the points' centre across their smallest principal axis, with the in-plane
 /// directions a (largest axis) and b = normal x a.
 struct PlaneFrame {
-  Eigen::Vector3d centre, normal, a, b;
+  Eigen::Vector3d center, normal, a, b;
 
   /// The in-plane direction at `angle` from a towards b.
   Eigen::Vector3d direction(double angle) const {
@@ -218,7 +218,7 @@ struct PlaneFrame {
     low.setConstant(std::numeric_limits<double>::infinity());
     high.setConstant(-std::numeric_limits<double>::infinity());
     for (const Eigen::Vector3d& p : points) {
-      const Eigen::Vector2d q((p - centre).dot(u), (p - centre).dot(v));
+      const Eigen::Vector2d q((p - center).dot(u), (p - center).dot(v));
       low = low.cwiseMin(q);
       high = high.cwiseMax(q);
     }
@@ -252,7 +252,7 @@ BSplineSurface planeAround(const std::vector<Eigen::Vector3d>& points, const Pri
                            const InitialSurfaceOptions& options) {
   const Eigen::Vector3d normal = axes.vectors.col(0);
   const Eigen::Vector3d a = axes.vectors.col(2);
-  const PlaneFrame frame{axes.centre, normal, a, normal.cross(a)};
+  const PlaneFrame frame{axes.center, normal, a, normal.cross(a)};
   const double bestAngle = frame.smallestRectangleAngle(points);
   Eigen::Vector2d low, high;
   frame.rectangle(points, bestAngle, low, high);
@@ -266,7 +266,7 @@ BSplineSurface planeAround(const std::vector<Eigen::Vector3d>& points, const Pri
     v = -swap;
     size = Eigen::Vector2d(size.y(), size.x());
   }
-  const Eigen::Vector3d middlePoint = axes.centre + middle.x() * frame.direction(bestAngle) +
+  const Eigen::Vector3d middlePoint = axes.center + middle.x() * frame.direction(bestAngle) +
                                       middle.y() * normal.cross(frame.direction(bestAngle));
   const Eigen::Vector3d edgeU = options.scale * size.x() * u;
   const Eigen::Vector3d edgeV = options.scale * size.y() * v;
@@ -289,14 +289,14 @@ Eigen::Vector3d symmetryAxis(const PrincipalAxes& axes, const InitialSurfaceOpti
 /// The cylinder around `axis` through `centre` over the points' extent along it, of their mean
 /// distance from it times options.scale.
 BSplineSurface cylinderAround(const std::vector<Eigen::Vector3d>& points,
-                              const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                              const Eigen::Vector3d& center, const Eigen::Vector3d& axis,
                               const InitialSurfaceOptions& options) {
   double radius = 0.0;
   double low = std::numeric_limits<double>::infinity();
   double high = -std::numeric_limits<double>::infinity();
   for (const Eigen::Vector3d& p : points) {
-    const double along = (p - centre).dot(axis);
-    radius += (p - centre - along * axis).norm();
+    const double along = (p - center).dot(axis);
+    radius += (p - center - along * axis).norm();
     low = std::min(low, along);
     high = std::max(high, along);
   }
@@ -306,24 +306,24 @@ BSplineSurface cylinderAround(const std::vector<Eigen::Vector3d>& points,
         "the target's points give no cylinder: they have no extent along the axis "
         "or lie on it");
   }
-  return cylinderSurface(centre + low * axis, (high - low) * axis, options.scale * radius,
+  return cylinderSurface(center + low * axis, (high - low) * axis, options.scale * radius,
                          options.layout);
 }
 
 /// The torus around `axis` through `centre`: major radius the points' mean distance from the
 /// axis, minor radius their RMS distance from that circle times options.scale.
 BSplineSurface torusAround(const std::vector<Eigen::Vector3d>& points,
-                           const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                           const Eigen::Vector3d& center, const Eigen::Vector3d& axis,
                            const InitialSurfaceOptions& options) {
   double major = 0.0;
   for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d offset = p - centre;
+    const Eigen::Vector3d offset = p - center;
     major += (offset - offset.dot(axis) * axis).norm();
   }
   major /= static_cast<double>(points.size());
   double minor = 0.0;
   for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d offset = p - centre;
+    const Eigen::Vector3d offset = p - center;
     const double height = offset.dot(axis);
     const double radial = (offset - height * axis).norm() - major;
     minor += radial * radial + height * height;
@@ -333,7 +333,7 @@ BSplineSurface torusAround(const std::vector<Eigen::Vector3d>& points,
     throw InputError("the target's points give no ring torus around the axis (minor radius " +
                      std::to_string(minor) + ", major " + std::to_string(major) + ")");
   }
-  return torusSurface(centre, axis, major, minor, options.layout);
+  return torusSurface(center, axis, major, minor, options.layout);
 }
 
 }  // namespace
@@ -354,9 +354,9 @@ BSplineSurface initialSurfaceAround(const std::vector<Eigen::Vector3d>& points,
   if (options.shape == InitialSurfaceShape::Plane) return planeAround(points, axes, options);
   const Eigen::Vector3d axis = symmetryAxis(axes, options);
   if (options.shape == InitialSurfaceShape::Cylinder) {
-    return cylinderAround(points, axes.centre, axis, options);
+    return cylinderAround(points, axes.center, axis, options);
   }
-  return torusAround(points, axes.centre, axis, options);
+  return torusAround(points, axes.center, axis, options);
 }
 
 }  // namespace d2vdb

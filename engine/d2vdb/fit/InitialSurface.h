@@ -57,7 +57,7 @@ BSplineSurface cylinderSurface(const Eigen::Vector3d& base, const Eigen::Vector3
 /// (control point (i, j) = x_j s_u (cos a_i e1 + sin a_i e2) + z_j axis, with (x_j, z_j) the
 /// meridian circle's control polygon). Both directions closed; domains [0, 1]. InputError for an
 /// invalid layout, an open direction, a zero axis, or radii not satisfying 0 < minor < major.
-BSplineSurface torusSurface(const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+BSplineSurface torusSurface(const Eigen::Vector3d& center, const Eigen::Vector3d& axis,
                             double majorRadius, double minorRadius, const SurfaceLayout& layout);
 
 /// Shape of a generated initial surface.

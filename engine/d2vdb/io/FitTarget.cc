@@ -29,16 +29,16 @@ constexpr std::size_t kFieldSurfaceSamples = 200000;
 std::vector<Eigen::Vector3d> fieldSurfaceSamples(const ApproximantField& field, std::size_t limit) {
   const openvdb::FloatGrid::ConstPtr grid = field.distanceGrid();
   const double h = field.voxelSize();
-  std::vector<Eigen::Vector3d> centres;
+  std::vector<Eigen::Vector3d> centers;
   for (auto it = grid->cbeginValueOn(); it; ++it) {
     if (std::abs(*it) > 0.5 * h) continue;
     const openvdb::Vec3d p = grid->indexToWorld(it.getCoord());
-    centres.emplace_back(p.x(), p.y(), p.z());
+    centers.emplace_back(p.x(), p.y(), p.z());
   }
-  const std::size_t stride = std::max<std::size_t>(1, centres.size() / limit);
+  const std::size_t stride = std::max<std::size_t>(1, centers.size() / limit);
   std::vector<Eigen::Vector3d> samples;
-  for (std::size_t i = 0; i < centres.size(); i += stride) {
-    samples.push_back(field.approximantAt(centres[i]).footpoint);
+  for (std::size_t i = 0; i < centers.size(); i += stride) {
+    samples.push_back(field.approximantAt(centers[i]).footpoint);
   }
   return samples;
 }

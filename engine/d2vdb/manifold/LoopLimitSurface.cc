@@ -213,7 +213,7 @@ void LoopLimitSurface::evaluateFace(const Level& level, Index face, const Eigen:
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int j = 1; j < tmpl.size() - 5; ++j) sum += cache.levels[0].row(j).transpose();
       cache.limit =
-          tmpl.limitCentre * cache.levels[0].row(0).transpose() + tmpl.limitNeighbour * sum;
+          tmpl.limitCenter * cache.levels[0].row(0).transpose() + tmpl.limitNeighbor * sum;
       cache.levels[0].rowwise() -= cache.limit.transpose();
     }
   }

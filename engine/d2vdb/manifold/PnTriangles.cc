@@ -77,7 +77,7 @@ std::array<Eigen::Vector3d, 10> PnTriangles::controlNet(Index face) const {
   const Eigen::Vector3d b102 = edge(p3, p1, n3);
   const Eigen::Vector3d b201 = edge(p1, p3, n1);
   const Eigen::Vector3d e = (b210 + b120 + b021 + b012 + b102 + b201) / 6.0;
-  const Eigen::Vector3d centre = (p1 + p2 + p3) / 3.0;
+  const Eigen::Vector3d center = (p1 + p2 + p3) / 3.0;
   std::array<Eigen::Vector3d, 10> net;
   // Layout: b_{ijk} with i, j, k the exponents of b0, b1, b2 at triangleIndex(3, j, k).
   net[triangleIndex(3, 0, 0)] = p1;    // b300
@@ -89,7 +89,7 @@ std::array<Eigen::Vector3d, 10> PnTriangles::controlNet(Index face) const {
   net[triangleIndex(3, 1, 2)] = b012;
   net[triangleIndex(3, 0, 2)] = b102;
   net[triangleIndex(3, 0, 1)] = b201;
-  net[triangleIndex(3, 1, 1)] = e + (e - centre) / 2.0;  // b111
+  net[triangleIndex(3, 1, 1)] = e + (e - center) / 2.0;  // b111
   return net;
 }
 

@@ -518,8 +518,8 @@ struct PseudoManifold::DegreeFit {
                 Scratch& scratch, double* out) const {
     const int count = static_cast<int>(canonical.size());
     scratch.samples.resize(count, 3);
-    const Eigen::Vector3d centre = mesh.position(vertex);
-    for (int k = 0; k < degree; ++k) sampleSector(mesh, source, vertex, k, centre, scratch);
+    const Eigen::Vector3d center = mesh.position(vertex);
+    for (int k = 0; k < degree; ++k) sampleSector(mesh, source, vertex, k, center, scratch);
     // Fitting offsets from the vertex keeps round-off relative to the chart's size (the fit
     // reproduces constants, so the offset comes back exactly).
     // One dot product per coefficient (row-major pseudo-inverse, column samples): no packing of
@@ -532,7 +532,7 @@ struct PseudoManifold::DegreeFit {
     for (int axis = 0; axis < 3; ++axis) {
       for (int k = 0; k < m; ++k) {
         for (int j = 0; j < m; ++j) {
-          out[(axis * m + k) * width + j] = scratch.fitted(k * m + j, axis) + centre[axis];
+          out[(axis * m + k) * width + j] = scratch.fitted(k * m + j, axis) + center[axis];
         }
       }
     }
@@ -541,7 +541,7 @@ struct PseudoManifold::DegreeFit {
   /// The rows of scratch.samples of sector k of `vertex`: the source's points there minus
   /// `centre`, at the samples' barycentric coordinates in the sector's face.
   void sampleSector(const HalfEdgeMesh& mesh, const SourceSurface& source, Index vertex, int k,
-                    const Eigen::Vector3d& centre, Scratch& scratch) const {
+                    const Eigen::Vector3d& center, Scratch& scratch) const {
     const int first = sectorStart[k];
     const int last = sectorStart[k + 1];
     if (first == last) return;
@@ -561,7 +561,7 @@ struct PseudoManifold::DegreeFit {
     source.positions(HalfEdgeMesh::face(halfEdge), bary.data(), bary.size(), positions.data());
     for (int s = first; s < last; ++s) {
       scratch.samples.row(s) =
-          (positions[static_cast<std::size_t>(s - first)] - centre).transpose();
+          (positions[static_cast<std::size_t>(s - first)] - center).transpose();
     }
   }
 };
@@ -753,30 +753,30 @@ struct PseudoManifold::Evaluator {
   /// When `knownChartPoint` is given it is taken as the point's coordinates in that chart (a
   /// point the atlas mapped to `point`, equal to the map's image up to round-off), saving the
   /// polar map.
-  Jet3<Order> chart(const FacePoint& point, int centre, Eigen::Vector2d* chartPoint = nullptr,
+  Jet3<Order> chart(const FacePoint& point, int center, Eigen::Vector2d* chartPoint = nullptr,
                     const Eigen::Vector2d* knownChartPoint = nullptr) const {
     const HalfEdgeMesh& mesh = *pps.mesh_;
     Index vertices[3];
     Jet<Order> px[3], py[3];
     bool active[3];
-    const Index centreHalfEdge = 3 * point.face + static_cast<Index>(centre);
-    vertices[centre] = mesh.from(centreHalfEdge);
-    const int nc = mesh.degree(vertices[centre]);
-    const PolarMap& centreMap = pps.fitFor(nc).map;
-    const int kc = mesh.ringIndex(centreHalfEdge);
-    const Eigen::Vector2d z = detail::canonicalPoint(point.bary, centre);
+    const Index centerHalfEdge = 3 * point.face + static_cast<Index>(center);
+    vertices[center] = mesh.from(centerHalfEdge);
+    const int nc = mesh.degree(vertices[center]);
+    const PolarMap& centerMap = pps.fitFor(nc).map;
+    const int kc = mesh.ringIndex(centerHalfEdge);
+    const Eigen::Vector2d z = detail::canonicalPoint(point.bary, center);
     const Eigen::Vector2d p =
-        knownChartPoint != nullptr ? *knownChartPoint : centreMap.toChart(z, kc);
+        knownChartPoint != nullptr ? *knownChartPoint : centerMap.toChart(z, kc);
     if (chartPoint != nullptr) *chartPoint = p;
-    px[centre] = Jet<Order>::variable(p.x(), 0);
-    py[centre] = Jet<Order>::variable(p.y(), 1);
-    active[centre] = true;
+    px[center] = Jet<Order>::variable(p.x(), 0);
+    py[center] = Jet<Order>::variable(p.y(), 1);
+    active[center] = true;
     bool haveBary = false;
     Jet<Order> bary[3];
     Jet<Order> norms[3];
     bool haveNorm[3] = {false, false, false};
     for (int i = 0; i < 3; ++i) {
-      if (i == centre) continue;
+      if (i == center) continue;
       const Index halfEdge = 3 * point.face + static_cast<Index>(i);
       vertices[i] = mesh.from(halfEdge);
       active[i] = ChartAtlas::inChart(point.bary, i);
@@ -785,12 +785,12 @@ struct PseudoManifold::Evaluator {
         // Barycentric jets of the face from the centre chart's coordinates (p != 0 here: another
         // chart contains the point, so it is at least 1 - cos(pi/6) from the centre).
         Jet<Order> zx, zy;
-        centreMap.toCanonicalAt(px[centre], py[centre], kc, z, zx, zy, true);
+        centerMap.toCanonicalAt(px[center], py[center], kc, z, zx, zy, true);
         const Jet<Order> after = (1.0 / kCos30) * zy;
         const Jet<Order> next = zx - 0.5 * after;
-        bary[(centre + 1) % 3] = next;
-        bary[(centre + 2) % 3] = after;
-        bary[centre] = Jet<Order>::constant(1.0) - next - after;
+        bary[(center + 1) % 3] = next;
+        bary[(center + 2) % 3] = after;
+        bary[center] = Jet<Order>::constant(1.0) - next - after;
         haveBary = true;
       }
       const int n = mesh.degree(vertices[i]);
@@ -803,7 +803,7 @@ struct PseudoManifold::Evaluator {
       }
       pps.fitFor(n).map.toChart(zx, zy, mesh.ringIndex(halfEdge), px[i], py[i]);
     }
-    return blend(vertices, px, py, active, centre, norms, haveNorm);
+    return blend(vertices, px, py, active, center, norms, haveNorm);
   }
 };
 
@@ -991,7 +991,7 @@ SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivat
                      std::to_string(mesh_->faceCount()) + " faces)");
   }
   SmoothPoint result;
-  const int centre = nearestCorner(point.bary);
+  const int center = nearestCorner(point.bary);
   switch (derivatives) {
     case Derivatives::None:
       result.position = position(point);
@@ -1000,9 +1000,9 @@ SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivat
       const Evaluator<1> evaluator{*this};
       Jet3<1> jet;
       // The face parametrisation is smooth away from the corners; at a corner use its chart.
-      if (detail::canonicalPoint(point.bary, centre).squaredNorm() < 1e-12 ||
+      if (detail::canonicalPoint(point.bary, center).squaredNorm() < 1e-12 ||
           !evaluator.face(point, jet)) {
-        jet = evaluator.chart(point, centre);
+        jet = evaluator.chart(point, center);
       }
       result.position = jet.v;
       result.normal = jet.d[0].cross(jet.d[1]).normalized();
@@ -1011,7 +1011,7 @@ SmoothPoint PseudoManifold::evaluate(const FacePoint& point, Derivatives derivat
     case Derivatives::Second:
     default: {
       const Evaluator<2> evaluator{*this};
-      return surfaceGeometry(toDerivatives(evaluator.chart(point, centre)));
+      return surfaceGeometry(toDerivatives(evaluator.chart(point, center)));
     }
   }
 }
@@ -1144,7 +1144,7 @@ inline __attribute__((always_inline)) Jet3<2> cubicTaylor(const Jet3<2>& jet,
 /// (the next would be below about 1e-13 of it), at most `iterations` corrections. `moved`
 /// receives the model at the end. False when the model's Hessian of the distance is not positive
 /// definite on the way or a correction is not finite (move and moved are then where it stopped).
-bool minimiseCubicModel(const Jet3<2>& jet, const Eigen::Vector3d third[4],
+bool minimizeCubicModel(const Jet3<2>& jet, const Eigen::Vector3d third[4],
                         const Eigen::Vector3d& x, double radius, int iterations,
                         Eigen::Vector2d& move, Jet3<2>& moved, double correction) {
   moved = cubicTaylor(jet, third, move);
@@ -1261,7 +1261,7 @@ class PseudoManifold::ProjectionRun {
         current_(start),
         previous_(start),
         known_(nearby != nullptr),
-        centre_(known_ ? nearby->chartCorner : 0) {
+        center_(known_ ? nearby->chartCorner : 0) {
     result.firstStepMiss.reset();
     result.model.reset();
     result.iterations = 0;
@@ -1321,24 +1321,24 @@ class PseudoManifold::ProjectionRun {
     if (known_) {
       jet_ = fromDerivatives<2>(nearby_->derivatives);
       known_ = false;
-      chartPoint_.vertex = mesh_.from(3 * current_.face + static_cast<Index>(centre_));
+      chartPoint_.vertex = mesh_.from(3 * current_.face + static_cast<Index>(center_));
       chartPoint_.p = nearby_->chartPoint;
     } else {
-      centre_ = nearestCorner(current_.bary);
-      const Index vertex = mesh_.from(3 * current_.face + static_cast<Index>(centre_));
+      center_ = nearestCorner(current_.bary);
+      const Index vertex = mesh_.from(3 * current_.face + static_cast<Index>(center_));
       // A step taken in the chart of the same vertex: its end is the chart point already.
       const bool sameChart = stepEnd_ && stepEnd_->vertex == vertex;
       const Eigen::Vector2d* knownPoint = sameChart ? &stepEnd_->p : nullptr;
       if (wantThird_ && !finalStep_) {
         const Jet3<3> full =
-            Evaluator<3>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
+            Evaluator<3>{surface_}.chart(current_, center_, &chartPoint_.p, knownPoint);
         jet_.v = full.v;
         for (int i = 0; i < 2; ++i) jet_.d[i] = full.d[i];
         for (int i = 0; i < 3; ++i) jet_.h[i] = full.h[i];
         for (int i = 0; i < 4; ++i) third_[i] = full.t[i];
         haveThird_ = true;
       } else {
-        jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p, knownPoint);
+        jet_ = Evaluator<2>{surface_}.chart(current_, center_, &chartPoint_.p, knownPoint);
       }
       chartPoint_.vertex = vertex;
       ++result_.iterations;
@@ -1400,7 +1400,7 @@ class PseudoManifold::ProjectionRun {
     }
     Eigen::Vector2d move = newton.step;
     Jet3<2> moved;
-    minimiseCubicModel(jet_, third_, x_, radius, 4, move, moved, newton.length);
+    minimizeCubicModel(jet_, third_, x_, radius, 4, move, moved, newton.length);
     const Eigen::Vector2d p = chartPoint_.p + move;
     if (!(move.norm() <= 2.0 * newton.length && p.norm() < 0.99 * radius)) return false;
     keepModel();  // at the iterate, before endAt moves jet and chart point to the minimum
@@ -1467,10 +1467,10 @@ class PseudoManifold::ProjectionRun {
     const Jet3<2> modelJet = fromDerivatives<2>(model.derivatives);
     move = chartPoint_.p - model.origin.p;
     if (newton.definite && !newton.clipped) move += newton.step;
-    bool found = minimiseCubicModel(modelJet, model.derivatives.ddd, x_, 1e4 * radius, 8, move,
+    bool found = minimizeCubicModel(modelJet, model.derivatives.ddd, x_, 1e4 * radius, 8, move,
                                     moved, std::numeric_limits<double>::infinity());
     if (found && move.norm() <= options_.cubicFinishStep * radius) {
-      found = minimiseCubicModel(modelJet, model.derivatives.ddd, x_, radius, 4, move, moved,
+      found = minimizeCubicModel(modelJet, model.derivatives.ddd, x_, radius, 4, move, moved,
                                  std::numeric_limits<double>::infinity());
     }
     return found && (model.origin.p + move).norm() < 0.98 * radius && move.norm() <= 0.5 * radius;
@@ -1575,7 +1575,7 @@ class PseudoManifold::ProjectionRun {
   __attribute__((always_inline)) void endAt(const Eigen::Vector2d& p, const Jet3<2>& there) {
     current_ = surface_.atlas_.fromChart({chartPoint_.vertex, p});
     for (int c = 0; c < 3; ++c) {
-      if (mesh_.from(3 * current_.face + static_cast<Index>(c)) == chartPoint_.vertex) centre_ = c;
+      if (mesh_.from(3 * current_.face + static_cast<Index>(c)) == chartPoint_.vertex) center_ = c;
     }
     jet_ = there;
     chartPoint_.p = p;
@@ -1594,8 +1594,8 @@ class PseudoManifold::ProjectionRun {
   /// Evaluates where an unfinished iteration ended and writes the result.
   void finish() {
     if (!stopped()) {
-      centre_ = nearestCorner(current_.bary);
-      jet_ = Evaluator<2>{surface_}.chart(current_, centre_, &chartPoint_.p);
+      center_ = nearestCorner(current_.bary);
+      jet_ = Evaluator<2>{surface_}.chart(current_, center_, &chartPoint_.p);
       ++result_.iterations;
     }
     if (result_.converged && firstEnd_ && firstEnd_->vertex == chartPoint_.vertex) {
@@ -1606,7 +1606,7 @@ class PseudoManifold::ProjectionRun {
     result_.position = jet_.v;
     result_.distance = (jet_.v - x_).norm();
     result_.derivatives = toDerivatives(jet_);
-    result_.chartCorner = centre_;
+    result_.chartCorner = center_;
     if (result_.beyond) {
       result_.geometry = SmoothPoint{};
       result_.geometry.position = jet_.v;  // stopped: no differential geometry
@@ -1632,7 +1632,7 @@ class PseudoManifold::ProjectionRun {
       0.0;       ///< length of the last Newton step taken in the quadratic regime, 0: none
   bool known_;   ///< the derivatives at current_ are the nearby projection's
   Jet3<2> jet_;  ///< the derivatives at current_
-  int centre_;   ///< the corner of current_'s face whose chart jet_ is taken in
+  int center_;   ///< the corner of current_'s face whose chart jet_ is taken in
   ChartPoint chartPoint_;  ///< current_ in that chart
   /// Where the first Newton step from nearby_ ended (for Projection::firstStepMiss).
   std::optional<ChartPoint> firstEnd_;

@@ -54,7 +54,7 @@ struct WorkItem {
 
 // What processing one item found.
 struct ItemOutcome {
-  Sample centre;
+  Sample center;
   Sample orthogonal;  // Newton solution of case 3, if it converged inside the item
   Sample bisector;    // Newton solution of case 4, if it converged inside the item
   double upperBound = kInfinity;
@@ -138,7 +138,7 @@ Sample sampleAt(const Problem& problem, int segment, double local, const Candida
 // (P - Q(v)) . Q'(v) = 0), clamped to segment j, and (c) when both end feet lie on one segment,
 // the linear interpolation between them, exact at the item's ends (so a maximum at an end of the
 // item is bounded tightly). centreBound() computes (a) and (b), interpolationBound() (c).
-double centreBound(const Problem& problem, const BezierCurve& piece, const NearestPoint& nearest) {
+double centerBound(const Problem& problem, const BezierCurve& piece, const NearestPoint& nearest) {
   const CurveProjector::Segment& target =
       problem.to.segments()[static_cast<std::size_t>(nearest.location.segment)];
   const double s = nearest.location.segmentParameter;
@@ -273,10 +273,10 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
   if (outcome.upperBound <= (lower + problem.tolerance) * (lower + problem.tolerance)) {
     return outcome;  // eliminated or settled without a projection
   }
-  outcome.centre =
+  outcome.center =
       sampleAt(problem, item.segment, 0.5 * (item.start + item.end), item.candidates, item.hint);
-  const NearestPoint& nearest = outcome.centre.nearest;
-  outcome.upperBound = std::min(outcome.upperBound, centreBound(problem, piece, nearest));
+  const NearestPoint& nearest = outcome.center.nearest;
+  outcome.upperBound = std::min(outcome.upperBound, centerBound(problem, piece, nearest));
   if (outcome.upperBound <= lowerBound) return outcome;
 
   const CurveProjector::Segment& target =
@@ -319,20 +319,20 @@ ItemOutcome processItem(const Problem& problem, const WorkItem& item, double low
 constexpr std::size_t kMaxExplicitCandidates = 64;
 
 CandidateList filterCandidates(const Problem& problem, const WorkItem& item, double bound,
-                               const Sample& centre) {
+                               const Sample& center) {
   // Filtering pays only for longer lists; a short one is pruned cheaply inside nearest().
   if (item.candidates && item.candidates->size() <= 2) return item.candidates;
   const CurveProjector::Segment& fromSegment =
       problem.from.segments()[static_cast<std::size_t>(item.segment)];
   const BezierCurve piece = pieceOf(fromSegment, item.start, item.end);
   const Eigen::AlignedBox3d pieceBounds = piece.controlPointBounds();
-  if (centre.fromSegment == item.segment && centre.squaredDistance >= 0.0) {
-    const Eigen::Vector3d centrePoint = fromSegment.curve.evaluate(centre.fromLocal);
+  if (center.fromSegment == item.segment && center.squaredDistance >= 0.0) {
+    const Eigen::Vector3d centerPoint = fromSegment.curve.evaluate(center.fromLocal);
     double radius = 0.0;
     for (int i = 0; i <= piece.degree(); ++i) {
-      radius = std::max(radius, (piece.controlPoint(i) - centrePoint).norm());
+      radius = std::max(radius, (piece.controlPoint(i) - centerPoint).norm());
     }
-    const double reach = std::sqrt(centre.squaredDistance) + radius;
+    const double reach = std::sqrt(center.squaredDistance) + radius;
     bound = std::min(bound, reach * reach * (1.0 + 1e-12));
   }
   std::vector<int> near;
@@ -470,7 +470,7 @@ class OneSidedSearch {
     result_.intervalsExamined += items.size();
     // Fixed-order reduction: the best lower bound of this level.
     for (const ItemOutcome& outcome : outcomes) {
-      consider(outcome.centre);
+      consider(outcome.center);
       consider(outcome.orthogonal);
       consider(outcome.bisector);
     }
@@ -495,7 +495,7 @@ class OneSidedSearch {
     for (std::size_t i = 0; i < items.size(); ++i) {
       const WorkItem& item = items[i];
       const double width = item.end - item.start;
-      splitPoints[i] = outcomes[i].centre;
+      splitPoints[i] = outcomes[i].center;
       const Sample& bisector = outcomes[i].bisector;
       if (bisector.fromSegment == item.segment && bisector.fromLocal > item.start + 0.01 * width &&
           bisector.fromLocal < item.end - 0.01 * width) {
@@ -544,7 +544,7 @@ class OneSidedSearch {
                           const WorkItem& parent = items[toSplit[k]];
                           const ItemOutcome& outcome = outcomes[toSplit[k]];
                           const CandidateList candidates = filterCandidates(
-                              problem_, parent, outcome.upperBound, outcome.centre);
+                              problem_, parent, outcome.upperBound, outcome.center);
                           const Sample& split = splitPoints[toSplit[k]];
                           const double middle = split.fromLocal;
                           for (int side = 0; side < 2; ++side) {
@@ -554,7 +554,7 @@ class OneSidedSearch {
                             child.end = side == 0 ? middle : parent.end;
                             child.depth = parent.depth + 1;
                             child.parentBound = outcome.upperBound;
-                            child.hint = outcome.centre.nearest.location;
+                            child.hint = outcome.center.nearest.location;
                             child.startFoot = side == 0 ? parent.startFoot : split.nearest.location;
                             child.endFoot = side == 0 ? split.nearest.location : parent.endFoot;
                             child.candidates = candidates;

@@ -30,8 +30,8 @@ double PointSetDistance::operator()(const Eigen::Vector3d& x) const {
   if (points_.empty()) return best;
   // Cells of growing Chebyshev rings around the query's cell, clipped to the occupied cells:
   // the first ring that reaches them, and none after the one that covers them all.
-  const Eigen::Vector3i centre = cellOf(x);
-  const Eigen::Vector3i low = lowCell_ - centre, high = highCell_ - centre;
+  const Eigen::Vector3i center = cellOf(x);
+  const Eigen::Vector3i low = lowCell_ - center, high = highCell_ - center;
   const int first = std::max({0, low.maxCoeff(), -high.minCoeff()});
   const int last = std::max({-low.minCoeff(), high.maxCoeff(), 0});
   for (int ring = first; ring <= last; ++ring) {
@@ -39,7 +39,7 @@ double PointSetDistance::operator()(const Eigen::Vector3d& x) const {
       for (int j = std::max(-ring, low.y()); j <= std::min(ring, high.y()); ++j) {
         for (int k = std::max(-ring, low.z()); k <= std::min(ring, high.z()); ++k) {
           if (std::max({std::abs(i), std::abs(j), std::abs(k)}) != ring) continue;
-          const auto found = grid_.find(key(centre + Eigen::Vector3i(i, j, k)));
+          const auto found = grid_.find(key(center + Eigen::Vector3i(i, j, k)));
           if (found == grid_.end()) continue;
           for (const std::size_t index : found->second) {
             best = std::min(best, (points_[index] - x).squaredNorm());

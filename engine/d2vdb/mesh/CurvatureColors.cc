@@ -55,8 +55,8 @@ CurvatureAttributes curvatureAttributes(const std::vector<double>& k1,
   }
   CurvatureSummary& summary = result.summary;
   summary.colorScale = nearestRankQuantile(absMean, 0.99);
-  attributes.colours.reserve(count);
-  for (const double h : mean) attributes.colours.push_back(distanceColor(h, summary.colorScale));
+  attributes.colors.reserve(count);
+  for (const double h : mean) attributes.colors.push_back(distanceColor(h, summary.colorScale));
   attributes.moreScalars.push_back({"k2", std::move(k2Scalars)});
   summary.k1Range = rangeOf(k1);
   summary.k2Range = rangeOf(k2);

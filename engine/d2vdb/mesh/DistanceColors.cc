@@ -27,7 +27,7 @@ VertexAttributes distanceAttributes(const TriangleMesh& mesh,
     largest = std::max(largest, std::abs(d));
   }
   const double scale = largest > 0.0 ? largest : 1.0;
-  for (const float d : attributes.scalars) attributes.colours.push_back(distanceColor(d, scale));
+  for (const float d : attributes.scalars) attributes.colors.push_back(distanceColor(d, scale));
   return attributes;
 }
 

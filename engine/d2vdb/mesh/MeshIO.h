@@ -47,7 +47,7 @@ struct MeshWriteOptions {
 struct VertexAttributes {
   std::string scalarName;                            ///< e.g. "distance"; a PLY identifier
   std::vector<float> scalars;                        ///< one per vertex, finite
-  std::vector<std::array<std::uint8_t, 3>> colours;  ///< RGB, one per vertex
+  std::vector<std::array<std::uint8_t, 3>> colors;  ///< RGB, one per vertex
   /// Further named scalars (PLY only, as "property float <name>" after the scalar above, in this
   /// order; OBJ and STL leave them out): names are PLY identifiers distinct from each other,
   /// from scalarName and from x, y, z, nx, ny, nz, red, green, blue; one finite value per vertex.

@@ -32,7 +32,7 @@ SvgCanvas logPlot(const std::vector<PlotSeries>& series, const LogPlotLabels& la
         kLeft + (kWidth - kLeft - kRight) * x / right,
         kTop + (kHeight - kTop - kBottom) * (top - std::log10(y)) / (top - bottom));
   };
-  static constexpr std::array<const char*, 4> kColours = {"#b3261e", "#1f4e9c", "#2e7d32",
+  static constexpr std::array<const char*, 4> kColors = {"#b3261e", "#1f4e9c", "#2e7d32",
                                                           "#6a1b9a"};
 
   SvgCanvas canvas = SvgCanvas::page(kWidth, kHeight);
@@ -53,7 +53,7 @@ SvgCanvas logPlot(const std::vector<PlotSeries>& series, const LogPlotLabels& la
   canvas.text({16.0, (kTop + kHeight - kBottom) / 2.0}, labels.yAxis, axis);
 
   for (std::size_t i = 0; i < series.size(); ++i) {
-    const SvgStyle stroke = SvgStyle::stroked(kColours[i % kColours.size()], 2.0);
+    const SvgStyle stroke = SvgStyle::stroked(kColors[i % kColors.size()], 2.0);
     std::vector<Eigen::Vector2d> points;
     for (const Eigen::Vector2d& point : series[i].points) {
       if (plotted(point)) points.push_back(at(point.x(), point.y()));
@@ -61,7 +61,7 @@ SvgCanvas logPlot(const std::vector<PlotSeries>& series, const LogPlotLabels& la
     canvas.polyline(points, stroke);
     SvgTextStyle legend;
     legend.anchor = TextAnchor::End;
-    legend.colour = stroke.stroke;
+    legend.color = stroke.stroke;
     canvas.text({kWidth - kRight - 10.0, kTop + 20.0 + 16.0 * static_cast<double>(i)},
                 series[i].label, legend);
   }

@@ -134,8 +134,8 @@ void SvgCanvas::line(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
            number(b.x()) + "\" y2=\"" + number(b.y()) + "\" " + styleAttributes(style) + "/>\n";
 }
 
-void SvgCanvas::circle(const Eigen::Vector2d& centre, double radius, const SvgStyle& style) {
-  const Eigen::Vector2d c = map(centre);
+void SvgCanvas::circle(const Eigen::Vector2d& center, double radius, const SvgStyle& style) {
+  const Eigen::Vector2d c = map(center);
   body_ += "  <circle cx=\"" + number(c.x()) + "\" cy=\"" + number(c.y()) + "\" r=\"" +
            number(radius) + "\" " + styleAttributes(style) + "/>\n";
 }
@@ -154,7 +154,7 @@ void SvgCanvas::text(const Eigen::Vector2d& position, const std::string& text,
   const Eigen::Vector2d p = map(position);
   static constexpr const char* kAnchors[] = {"start", "middle", "end"};
   body_ += "  <text x=\"" + number(p.x()) + "\" y=\"" + number(p.y()) + "\" font-size=\"" +
-           number(style.size) + "\" fill=\"" + escaped(style.colour) + "\" text-anchor=\"" +
+           number(style.size) + "\" fill=\"" + escaped(style.color) + "\" text-anchor=\"" +
            kAnchors[static_cast<int>(style.anchor)] + "\"";
   if (style.rotation != 0.0) {
     body_ += " transform=\"rotate(" + number(style.rotation) + " " + number(p.x()) + " " +

@@ -23,18 +23,18 @@ struct SvgStyle {
   bool hairline = false;
 
   /// An outline of `colour`, `width` wide, dashed by `dashes` when not empty; no fill.
-  static SvgStyle stroked(std::string colour, double width, std::string dashes = "") {
+  static SvgStyle stroked(std::string color, double width, std::string dashes = "") {
     SvgStyle style;
-    style.stroke = std::move(colour);
+    style.stroke = std::move(color);
     style.strokeWidth = width;
     style.dashes = std::move(dashes);
     return style;
   }
   /// A shape filled with `colour`, without outline.
-  static SvgStyle filled(std::string colour) {
+  static SvgStyle filled(std::string color) {
     SvgStyle style;
     style.stroke = "none";
-    style.fill = std::move(colour);
+    style.fill = std::move(color);
     return style;
   }
 };
@@ -46,7 +46,7 @@ enum class TextAnchor { Start, Middle, End };
 /// (clockwise on screen) about its position.
 struct SvgTextStyle {
   double size = 12.0;
-  std::string colour = "black";
+  std::string color = "black";
   TextAnchor anchor = TextAnchor::Start;
   double rotation = 0.0;
 };
@@ -91,9 +91,9 @@ class SvgCanvas {
     line(from.head<2>().eval(), to.head<2>().eval(), style);
   }
   /// A circle of `radius` canvas units around `centre`.
-  void circle(const Eigen::Vector2d& centre, double radius, const SvgStyle& style);
-  void circle(const Eigen::Vector3d& centre, double radius, const SvgStyle& style) {
-    circle(centre.head<2>().eval(), radius, style);
+  void circle(const Eigen::Vector2d& center, double radius, const SvgStyle& style);
+  void circle(const Eigen::Vector3d& center, double radius, const SvgStyle& style) {
+    circle(center.head<2>().eval(), radius, style);
   }
   /// The axis-aligned rectangle with opposite corners `a` and `b`.
   void rectangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SvgStyle& style);

@@ -37,8 +37,8 @@ DomainSupportFit fitSupportOverDomain(const OrientedSamples& samples, bool overP
                                                  : kDefaultSupportRegularization;
   DomainSupportFit fit;
   fit.function = fitSupportFunction(samples, options, &fit.report, sourceName);
-  if (fit.report.renormalisedNormals > 0) {
-    fit.warnings.push_back(std::to_string(fit.report.renormalisedNormals) +
+  if (fit.report.renormalizedNormals > 0) {
+    fit.warnings.push_back(std::to_string(fit.report.renormalizedNormals) +
                            " sample normals were not unit length (off by up to " +
                            formatNumber(fit.report.largestNormalDeviation, 6) +
                            ") and were normalised");

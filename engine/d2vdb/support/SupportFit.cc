@@ -212,7 +212,7 @@ SupportFunction fitSupportFunction(OrientedSamples samples, const SupportFitOpti
     r.rmsResidual = std::sqrt(sum / static_cast<double>(total));
     r.size = box.diagonal().norm();
     r.reciprocalCondition = rcond;
-    r.renormalisedNormals = check.renormalised;
+    r.renormalizedNormals = check.renormalized;
     r.largestNormalDeviation = check.largestDeviation;
     *report = r;
   }

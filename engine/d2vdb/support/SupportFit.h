@@ -46,7 +46,7 @@ struct SupportFitReport {
   double size = 0.0;            ///< diagonal of the samples' bounding box
   /// Reciprocal condition number (1-norm estimate) of the Jacobi-scaled normal matrix.
   double reciprocalCondition = 0.0;
-  std::size_t renormalisedNormals = 0;  ///< normals off unit length by more than 1e-3
+  std::size_t renormalizedNormals = 0;  ///< normals off unit length by more than 1e-3
   double largestNormalDeviation = 0.0;  ///< max | |n_i| - 1 |
 };
 

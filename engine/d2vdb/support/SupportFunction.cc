@@ -262,7 +262,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // The unit vector of `normal`; the message is only built on failure (this runs per normal).
-Eigen::Vector3d normalised(const Eigen::Vector3d& normal) {
+Eigen::Vector3d normalized(const Eigen::Vector3d& normal) {
   const double length = normal.norm();
   if (std::isfinite(length) && length > 1e-100) return normal / length;
   return unitNormalOrThrow(normal, "the normal (" + std::to_string(normal.x()) + ", " +
@@ -270,7 +270,7 @@ Eigen::Vector3d normalised(const Eigen::Vector3d& normal) {
                                        std::to_string(normal.z()) + ")");
 }
 
-std::vector<Eigen::Vector3d> normalisedAll(const std::vector<Eigen::Vector3d>& normals) {
+std::vector<Eigen::Vector3d> normalizedAll(const std::vector<Eigen::Vector3d>& normals) {
   std::vector<Eigen::Vector3d> unit(normals.size());
   for (std::size_t i = 0; i < normals.size(); ++i) {
     const double length = normals[i].norm();
@@ -325,18 +325,18 @@ SupportFunction::SupportFunction(int degree, Eigen::VectorXd coefficients)
   evaluator_ = std::make_shared<const detail::SupportEvaluator>(degree_, coefficients_);
 }
 
-SupportFunction SupportFunction::sphere(const Eigen::Vector3d& centre, double radius, int degree) {
+SupportFunction SupportFunction::sphere(const Eigen::Vector3d& center, double radius, int degree) {
   if (degree < 1 || degree > kMaxSupportDegree) {
     throw InputError("a sphere's support function needs a degree from 1 to " +
                      std::to_string(kMaxSupportDegree) + ", got " + std::to_string(degree));
   }
   if (!std::isfinite(radius)) throw InputError("the sphere's radius is not finite");
   SupportFunction zero(degree, Eigen::VectorXd::Zero(harmonicCount(degree)));
-  return zero.offset(radius).translated(centre);
+  return zero.offset(radius).translated(center);
 }
 
 double SupportFunction::value(const Eigen::Vector3d& normal) const {
-  const Eigen::VectorXd basis = evaluateHarmonics(degree_, normalised(normal));
+  const Eigen::VectorXd basis = evaluateHarmonics(degree_, normalized(normal));
   return basis.dot(coefficients_);
 }
 
@@ -346,7 +346,7 @@ Eigen::Vector3d SupportFunction::point(const Eigen::Vector3d& normal, double off
 }
 
 SupportPoint SupportFunction::evaluate(const Eigen::Vector3d& normal) const {
-  const Eigen::Vector3d n = normalised(normal);
+  const Eigen::Vector3d n = normalized(normal);
   detail::SupportBlockValues values;
   evaluator_->evaluateBlock(1, &n, values, false);
   return detail::assembleSupportPoint(n, values, 0);
@@ -354,7 +354,7 @@ SupportPoint SupportFunction::evaluate(const Eigen::Vector3d& normal) const {
 
 std::vector<SupportPoint> SupportFunction::evaluate(
     const std::vector<Eigen::Vector3d>& normals) const {
-  const std::vector<Eigen::Vector3d> unit = normalisedAll(normals);
+  const std::vector<Eigen::Vector3d> unit = normalizedAll(normals);
   std::vector<SupportPoint> out(unit.size());
   forEachBlock(unit.size(), [&](std::size_t begin, int count, detail::SupportBlockValues& values) {
     evaluator_->evaluateBlock(count, unit.data() + begin, values, false);
@@ -369,7 +369,7 @@ std::vector<SupportPoint> SupportFunction::evaluate(
 std::vector<Eigen::Vector3d> SupportFunction::points(const std::vector<Eigen::Vector3d>& normals,
                                                      double offset) const {
   if (!std::isfinite(offset)) throw InputError("the offset distance is not finite");
-  const std::vector<Eigen::Vector3d> unit = normalisedAll(normals);
+  const std::vector<Eigen::Vector3d> unit = normalizedAll(normals);
   std::vector<Eigen::Vector3d> out(unit.size());
   forEachBlock(unit.size(), [&](std::size_t begin, int count, detail::SupportBlockValues& values) {
     evaluator_->evaluateBlock(count, unit.data() + begin, values, true);

@@ -71,7 +71,7 @@ class SupportFunction {
   /// The support function of the sphere with the given centre and radius: h(n) = radius +
   /// centre . n, in degree `degree` >= 1 (higher coefficients zero). Throws InputError for a
   /// non-finite centre or radius or a degree outside 1..kMaxSupportDegree.
-  static SupportFunction sphere(const Eigen::Vector3d& centre, double radius, int degree = 1);
+  static SupportFunction sphere(const Eigen::Vector3d& center, double radius, int degree = 1);
 
   /// The highest spherical-harmonic degree L.
   int degree() const { return degree_; }

@@ -196,12 +196,12 @@ std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std:
   // curvatures, positive where the surface bends away from its normal.
   std::vector<RadiusSigns> vertexClass(vertexCount, RadiusSigns::Parabolic);
   std::vector<TriangleMesh::Index>
-      neighbourhood;  // the neighbourhood: vertices within `rings` edges
+      neighborhood;  // the neighbourhood: vertices within `rings` edges
   std::vector<std::size_t> seenAt(vertexCount, std::numeric_limits<std::size_t>::max());
   std::vector<TriangleMesh::Index> frontier;
   std::vector<TriangleMesh::Index> next;
   for (std::size_t v = 0; v < vertexCount; ++v) {
-    neighbourhood.clear();
+    neighborhood.clear();
     frontier.assign(1, static_cast<TriangleMesh::Index>(v));
     seenAt[v] = v;
     for (int r = 0; r < rings; ++r) {
@@ -211,7 +211,7 @@ std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std:
           if (seenAt[b] == v) continue;
           seenAt[b] = v;
           next.push_back(b);
-          neighbourhood.push_back(b);
+          neighborhood.push_back(b);
         }
       }
       frontier.swap(next);
@@ -220,7 +220,7 @@ std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std:
     const Eigen::Vector3d t2 = n[v].cross(t1);
     Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
     Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    for (const auto j : neighbourhood) {
+    for (const auto j : neighborhood) {
       const Eigen::Vector3d dx = x[j] - x[v];
       const Eigen::Vector3d dn = n[j] - n[v];
       const double a1 = dx.dot(t1), a2 = dx.dot(t2);
@@ -231,7 +231,7 @@ std::vector<RadiusSigns> classifyTriangles(const TriangleMesh& input, const std:
       normal += row1 * row1.transpose() + row2 * row2.transpose();
       rhs += b1 * row1 + b2 * row2;
     }
-    if (neighbourhood.size() < 3) continue;
+    if (neighborhood.size() < 3) continue;
     const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
     if (solver.info() != Eigen::Success || !(std::abs(normal.determinant()) > 0.0)) continue;
     const Eigen::Vector3d pqs = solver.solve(rhs);

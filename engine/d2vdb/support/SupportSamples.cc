@@ -33,7 +33,7 @@ SampleCheck checkOrientedSamples(OrientedSamples& samples, const std::string& so
                        " has a zero normal (every sample needs a direction)");
     }
     const double deviation = std::abs(length - 1.0);
-    if (deviation > 1e-3) ++check.renormalised;
+    if (deviation > 1e-3) ++check.renormalized;
     if (deviation > check.largestDeviation) check.largestDeviation = deviation;
     n = std::isfinite(length) && length > 1e-100 ? Eigen::Vector3d(n / length)
                                                  : unitNormalOrThrow(n, sourceName);

@@ -21,7 +21,7 @@ struct OrientedSamples {
 
 /// How checkOrientedSamples() treated the normals.
 struct SampleCheck {
-  std::size_t renormalised = 0;   ///< normals whose length differed from 1 by more than 1e-3
+  std::size_t renormalized = 0;   ///< normals whose length differed from 1 by more than 1e-3
   double largestDeviation = 0.0;  ///< max | |n_i| - 1 | over all samples
 };
 

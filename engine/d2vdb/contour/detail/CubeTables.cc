@@ -84,10 +84,10 @@ void triangulateLoop(const std::vector<int>& loop, CellTriangulation& out) {
   if (cost[n - 1] >= 1e6) {
     // Every triangulation needs an in-face diagonal (some 8-, 9- and 12-sided contours): fan
     // around a vertex inside the cell instead.
-    if (out.centreEdges != 0) throw std::logic_error("CubeTables: two centre vertices");
+    if (out.centerEdges != 0) throw std::logic_error("CubeTables: two centre vertices");
     for (int i = 0; i < n; ++i) {
-      out.centreEdges |= static_cast<std::uint16_t>(1u << loop[i]);
-      emit(kCellCentre, loop[i], loop[(i + 1) % n]);
+      out.centerEdges |= static_cast<std::uint16_t>(1u << loop[i]);
+      emit(kCellCenter, loop[i], loop[(i + 1) % n]);
     }
     return;
   }

@@ -37,7 +37,7 @@ int edgeEndCorner(int edge);
 std::array<int, 4> faceCorners(int face);
 
 /// Code standing for the cell's centre vertex in CellTriangulation::edges.
-inline constexpr int kCellCentre = 12;
+inline constexpr int kCellCenter = 12;
 
 /// The triangulation of one cell: triangles as triples of cell edges (each edge stands for the
 /// mesh vertex on it, kCellCentre for a vertex inside the cell), wound counter-clockwise seen from
@@ -46,7 +46,7 @@ struct CellTriangulation {
   std::uint8_t triangleCount = 0;
   /// Bit e set for the edges of the contour fanned around the centre vertex (0: no centre
   /// vertex). The centre vertex sits at the mean of those edges' vertices.
-  std::uint16_t centreEdges = 0;
+  std::uint16_t centerEdges = 0;
   std::array<std::uint8_t, 3 * kMaxCellTriangles> edges{};
 };
 

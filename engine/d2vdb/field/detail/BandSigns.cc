@@ -102,14 +102,14 @@ class LeafTable {
     for (std::uint32_t i = 0; i < leaves_.size(); ++i) sorted_[i] = {leaves_[i]->origin(), i};
     std::sort(sorted_.begin(), sorted_.end(),
               [](const Entry& a, const Entry& b) { return a.origin < b.origin; });
-    neighbours_.resize(leaves_.size());
+    neighbors_.resize(leaves_.size());
     tbb::parallel_for(std::size_t{0}, leaves_.size(), [this](std::size_t i) {
       const openvdb::Coord origin = leaves_[i]->origin();
       for (int axis = 0; axis < 3; ++axis) {
         for (int direction = 0; direction < 2; ++direction) {
           openvdb::Coord other = origin;
           other[axis] += direction == 0 ? -kDim : kDim;
-          neighbours_[i][2 * axis + direction] = find(other);
+          neighbors_[i][2 * axis + direction] = find(other);
         }
       }
     });
@@ -118,7 +118,7 @@ class LeafTable {
   std::size_t size() const { return leaves_.size(); }
   FloatLeaf& leaf(std::size_t i) const { return *leaves_[i]; }
   /// Neighbour across face 2 * axis + (0 for -, 1 for +), or kNone.
-  std::uint32_t neighbour(std::size_t i, int face) const { return neighbours_[i][face]; }
+  std::uint32_t neighbor(std::size_t i, int face) const { return neighbors_[i][face]; }
 
   /// The leaf with this origin, or kNone.
   std::uint32_t find(const openvdb::Coord& origin) const {
@@ -135,7 +135,7 @@ class LeafTable {
   };
   std::vector<FloatLeaf*> leaves_;
   std::vector<Entry> sorted_;
-  std::vector<std::array<std::uint32_t, 6>> neighbours_;
+  std::vector<std::array<std::uint32_t, 6>> neighbors_;
 };
 
 /// The range of W over the known voxels linked to a group.
@@ -178,7 +178,7 @@ struct PaddedBlock {
         for (int z = 0; z < kDim; ++z) copy(index(x, y, z), data, i, offsetOf(x, y, z));
     for (int axis = 0; axis < 3; ++axis) {
       for (int direction = 0; direction < 2; ++direction) {
-        const std::uint32_t j = table.neighbour(i, 2 * axis + direction);
+        const std::uint32_t j = table.neighbor(i, 2 * axis + direction);
         if (j == kNone) continue;
         const int depth = direction == 0 ? kDim - 1 : 0;  // the neighbour's touching layer
         const int shell = direction == 0 ? -1 : kDim;
@@ -308,7 +308,7 @@ bool isEmpty(const Mask& m) {
 
 /// The voxels of leaf i that are 6-neighbours of a set voxel of masks (in leaf i or across one
 /// of its faces).
-Mask neighboursOf(const std::vector<Mask>& masks, const LeafTable& table, std::size_t i) {
+Mask neighborsOf(const std::vector<Mask>& masks, const LeafTable& table, std::size_t i) {
   const Mask& m = masks[i];
   Mask out{};
   for (int x = 0; x < kDim; ++x) {
@@ -318,19 +318,19 @@ Mask neighboursOf(const std::vector<Mask>& masks, const LeafTable& table, std::s
     if (x < kDim - 1) n |= m[x + 1];
     out[x] = n;
   }
-  if (const std::uint32_t j = table.neighbour(i, 0); j != kNone) out[0] |= masks[j][kDim - 1];
-  if (const std::uint32_t j = table.neighbour(i, 1); j != kNone) out[kDim - 1] |= masks[j][0];
+  if (const std::uint32_t j = table.neighbor(i, 0); j != kNone) out[0] |= masks[j][kDim - 1];
+  if (const std::uint32_t j = table.neighbor(i, 1); j != kNone) out[kDim - 1] |= masks[j][0];
   for (int x = 0; x < kDim; ++x) {
-    if (const std::uint32_t j = table.neighbour(i, 2); j != kNone) {
+    if (const std::uint32_t j = table.neighbor(i, 2); j != kNone) {
       out[x] |= (masks[j][x] >> kHighYShift) & kLowY;
     }
-    if (const std::uint32_t j = table.neighbour(i, 3); j != kNone) {
+    if (const std::uint32_t j = table.neighbor(i, 3); j != kNone) {
       out[x] |= (masks[j][x] & kLowY) << kHighYShift;
     }
-    if (const std::uint32_t j = table.neighbour(i, 4); j != kNone) {
+    if (const std::uint32_t j = table.neighbor(i, 4); j != kNone) {
       out[x] |= (masks[j][x] & kHighZ) >> 7;
     }
-    if (const std::uint32_t j = table.neighbour(i, 5); j != kNone) {
+    if (const std::uint32_t j = table.neighbor(i, 5); j != kNone) {
       out[x] |= (masks[j][x] & kLowZ) << 7;
     }
   }
@@ -343,8 +343,8 @@ std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const LeafTable& t
   tbb::parallel_for(std::size_t{0}, masks.size(), [&](std::size_t i) {
     const Mask& m = masks[i];
     Mask& d = out[i];
-    const std::uint32_t low = table.neighbour(i, 2 * axis);
-    const std::uint32_t high = table.neighbour(i, 2 * axis + 1);
+    const std::uint32_t low = table.neighbor(i, 2 * axis);
+    const std::uint32_t high = table.neighbor(i, 2 * axis + 1);
     for (int x = 0; x < kDim; ++x) {
       const std::uint64_t w = m[x];
       if (axis == 0) {
@@ -404,7 +404,7 @@ bool reachRound(const LeafTable& table, const std::vector<Mask>& far,
     next = r;
     return false;
   }
-  const Mask across = neighboursOf(reached, table, i);
+  const Mask across = neighborsOf(reached, table, i);
   for (int x = 0; x < kDim; ++x) r[x] |= across[x] & far[i][x];
   growWithinLeaf(r, far[i]);
   bool more = false;
@@ -421,7 +421,7 @@ bool allFarReachable(const LeafTable& table, const std::vector<Mask>& far,
   const std::size_t leafCount = table.size();
   std::vector<Mask> reached(leafCount);
   tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    const Mask n = neighboursOf(seeds, table, i);
+    const Mask n = neighborsOf(seeds, table, i);
     for (int x = 0; x < kDim; ++x) reached[i][x] = n[x] & far[i][x];
   });
   std::vector<Mask> next(leafCount);
@@ -463,8 +463,8 @@ bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& su
   // Sign consistency across far-far and near-far links.
   std::atomic<bool> consistent{true};
   tbb::parallel_for(std::size_t{0}, leafCount, [&](std::size_t i) {
-    const Mask nearInside = neighboursOf(inSide, table, i);
-    const Mask nearOutside = neighboursOf(outSide, table, i);
+    const Mask nearInside = neighborsOf(inSide, table, i);
+    const Mask nearOutside = neighborsOf(outSide, table, i);
     std::uint64_t clash = 0;
     for (int x = 0; x < kDim; ++x) {
       clash |= (nearInside[x] & far[i][x] & ~farIn[i][x]) | (nearOutside[x] & farIn[i][x]);
@@ -535,7 +535,7 @@ FarGroups joinFarGroups(const LeafTable& table, const VoxelData& data) {
   FarGroups groups{std::move(local), std::move(base), DisjointSets<std::uint32_t>(total)};
   for (std::size_t i = 0; i < leafCount; ++i) {
     for (int axis = 0; axis < 3; ++axis) {
-      const std::uint32_t j = table.neighbour(i, 2 * axis + 1);
+      const std::uint32_t j = table.neighbor(i, 2 * axis + 1);
       if (j == kNone) continue;
       for (int u = 0; u < kDim; ++u) {
         for (int v = 0; v < kDim; ++v) {

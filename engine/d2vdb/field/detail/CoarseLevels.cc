@@ -88,22 +88,22 @@ class CoarseLeafFiller {
       const openvdb::Coord ijk = voxel.getCoord();
       const int offset = static_cast<int>(voxel.pos());
       if (!top_) {
-        double neighbour = -std::numeric_limits<double>::infinity();
-        if ((offset & 7) != 0) neighbour = std::max(neighbour, lower[offset - 1]);
-        if ((offset & 56) != 0) neighbour = std::max(neighbour, lower[offset - 8]);
-        if ((offset & 448) != 0) neighbour = std::max(neighbour, lower[offset - 64]);
-        if (neighbour - scale_ > reach_) {
-          lower[offset] = neighbour - scale_;
+        double neighbor = -std::numeric_limits<double>::infinity();
+        if ((offset & 7) != 0) neighbor = std::max(neighbor, lower[offset - 1]);
+        if ((offset & 56) != 0) neighbor = std::max(neighbor, lower[offset - 8]);
+        if ((offset & 448) != 0) neighbor = std::max(neighbor, lower[offset - 64]);
+        if (neighbor - scale_ > reach_) {
+          lower[offset] = neighbor - scale_;
           continue;
         }
       }
       if (level_ == 1 && answeredByBand(ijk)) continue;
-      const Eigen::Vector3d centre = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale_;
+      const Eigen::Vector3d center = Eigen::Vector3d(ijk.x(), ijk.y(), ijk.z()) * scale_;
       const std::int64_t known = knownSample(ijk);
       const std::uint32_t sample = known >= 0 ? static_cast<std::uint32_t>(known)
-                                              : tree_.nearest(centre.cast<float>(), hint_).index;
+                                              : tree_.nearest(center.cast<float>(), hint_).index;
       hint_ = sample;
-      const double distance = (samples_[sample].cast<double>() - centre).norm();
+      const double distance = (samples_[sample].cast<double>() - center).norm();
       // The answer is a nearest sample up to float rounding of the search.
       lower[offset] = distance * (1.0 - kSearchRounding);
       if (!top_ && distance > reach_) continue;
@@ -116,12 +116,12 @@ class CoarseLeafFiller {
   /// Whether the band answers every query that would reach level-1 cell `ijk`: those round to one
   /// of the 27 band voxels 2 ijk + {-1, 0, 1}^3.
   bool answeredByBand(const openvdb::Coord& ijk) {
-    const openvdb::Coord centre(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z());
-    if (bandCursor_.record(centre) < 0) return false;
+    const openvdb::Coord center(2 * ijk.x(), 2 * ijk.y(), 2 * ijk.z());
+    if (bandCursor_.record(center) < 0) return false;
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dz = -1; dz <= 1; ++dz) {
-          if (bandCursor_.record(centre + openvdb::Coord(dx, dy, dz)) < 0) return false;
+          if (bandCursor_.record(center + openvdb::Coord(dx, dy, dz)) < 0) return false;
         }
       }
     }
@@ -204,12 +204,12 @@ BandSamples BandSamples::select(const LeafTable& band, const std::vector<BandRec
           for (int offset = 0; offset < 512 && next < leafStart[leaf + 1]; ++offset) {
             if ((entry.mask[offset >> 6] >> (offset & 63) & 1u) == 0) continue;
             if (record == sampleRecords[next]) {
-              const Eigen::Vector3d centre(entry.origin.x() + (offset >> 6),
+              const Eigen::Vector3d center(entry.origin.x() + (offset >> 6),
                                            entry.origin.y() + ((offset >> 3) & 7),
                                            entry.origin.z() + (offset & 7));
               const Eigen::Vector3d normal = decodeOctahedral(records[record].normal);
               sampleFootpoints[next] =
-                  (centre - (records[record].distance / voxelSize) * normal).cast<float>();
+                  (center - (records[record].distance / voxelSize) * normal).cast<float>();
               ++next;
             }
             ++record;

@@ -79,9 +79,9 @@ class FieldStorage {
     return codec_.decodeBand(records_[record], ijk);
   }
   /// The coarse approximant at index-space point `centre` from band sample `sample`.
-  Approximant decodeCoarse(std::uint32_t sample, const Eigen::Vector3d& centre) const {
+  Approximant decodeCoarse(std::uint32_t sample, const Eigen::Vector3d& center) const {
     return codec_.decodeCoarse(records_[samples_.records[sample]],
-                               samples_.footpoints[sample].cast<double>(), centre);
+                               samples_.footpoints[sample].cast<double>(), center);
   }
 
   /// Builds the coarse levels once (CoarseLevels::ensureBuilt()); thread-safe.

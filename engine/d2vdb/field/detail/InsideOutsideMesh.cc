@@ -115,11 +115,11 @@ bool insideOut(const std::vector<Eigen::Vector3d>& p, const std::vector<Triangle
       high = high.cwiseMax(p[corner]);
     }
   }
-  const Eigen::Vector3d centre = 0.5 * (low + high);
+  const Eigen::Vector3d center = 0.5 * (low + high);
   double volume = 0.0;
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const TriangleIndices& tri = triangles[t];
-    const double det = (p[tri[0]] - centre).dot((p[tri[1]] - centre).cross(p[tri[2]] - centre));
+    const double det = (p[tri[0]] - center).dot((p[tri[1]] - center).cross(p[tri[2]] - center));
     volume += flip[t] ? -det : det;
   }
   return volume < 0.0;

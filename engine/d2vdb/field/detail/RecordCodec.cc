@@ -28,10 +28,10 @@ std::array<std::int16_t, 2> encodeOctahedral(const Eigen::Vector3d& unit) {
     px = fx;
     py = fy;
   }
-  const auto quantise = [](double v) {
+  const auto quantize = [](double v) {
     return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
   };
-  return {quantise(px), quantise(py)};
+  return {quantize(px), quantize(py)};
 }
 
 Eigen::Vector3d decodeOctahedral(const std::array<std::int16_t, 2>& code) {
@@ -128,10 +128,10 @@ Approximant RecordCodec::decodeBand(const BandRecord& record, const openvdb::Coo
   a.kind = kind_;
   a.flags = record.flags;
   a.distance = record.distance;
-  const Eigen::Vector3d centre(ijk.x(), ijk.y(), ijk.z());
+  const Eigen::Vector3d center(ijk.x(), ijk.y(), ijk.z());
   const Eigen::Vector3d normal = decodeOctahedral(record.normal);
-  a.origin = frame_.indexToWorld(centre);
-  a.footpoint = frame_.indexToWorld(centre - (a.distance / frame_.voxelSize()) * normal);
+  a.origin = frame_.indexToWorld(center);
+  a.footpoint = frame_.indexToWorld(center - (a.distance / frame_.voxelSize()) * normal);
   a.normal = frame_.toWorldDirection(normal);
   if (kind_ == TargetKind::Points) {
     a.tangent = frame_.toWorldDirection(tangentBasis(normal)[0]);
@@ -150,14 +150,14 @@ Approximant RecordCodec::decodeBand(const BandRecord& record, const openvdb::Coo
 }
 
 Approximant RecordCodec::decodeCoarse(const BandRecord& record, const Eigen::Vector3d& footpoint,
-                                      const Eigen::Vector3d& centre) const {
+                                      const Eigen::Vector3d& center) const {
   const Eigen::Vector3d sampleNormal = decodeOctahedral(record.normal);
   Approximant a;
   a.kind = kind_;
   a.flags = static_cast<std::uint16_t>((record.flags & ~kFlagFarField) | kFlagFarField);
-  a.origin = frame_.indexToWorld(centre);
+  a.origin = frame_.indexToWorld(center);
   a.footpoint = frame_.indexToWorld(footpoint);
-  const Eigen::Vector3d offset = centre - footpoint;
+  const Eigen::Vector3d offset = center - footpoint;
   const double length = offset.norm();
   double sign = 1.0;
   if (kind_ == TargetKind::Surface && offset.dot(sampleNormal) < 0.0) sign = -1.0;

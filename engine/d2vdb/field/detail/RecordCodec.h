@@ -74,7 +74,7 @@ class RecordCodec {
   /// footpoint (index space). Footpoint s, normal (centre - s) / |centre - s| (signed by the
   /// sample's normal for surfaces), the sample's curvatures; flagged kFlagFarField.
   Approximant decodeCoarse(const BandRecord& record, const Eigen::Vector3d& footpoint,
-                           const Eigen::Vector3d& centre) const;
+                           const Eigen::Vector3d& center) const;
 
  private:
   TargetKind kind_;

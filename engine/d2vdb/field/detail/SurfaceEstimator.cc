@@ -100,10 +100,10 @@ class LeafFitter {
     entry.forEachOn([&](int offset) {
       const int x = offset >> 6, y = (offset >> 3) & 7, z = offset & 7;
       StencilData& result = out[record++];
-      const double centre = scaled_[x + 1][y + 1][z + 1];
-      result.distance = static_cast<float>(centre);
+      const double center = scaled_[x + 1][y + 1][z + 1];
+      result.distance = static_cast<float>(center);
       if (((full[static_cast<std::size_t>(x * 8 + y)] >> (z + 1)) & 1u) != 0 &&
-          std::abs(centre) <= kNearSurface) {
+          std::abs(center) <= kNearSurface) {
         fitVoxel(x, y, z, result);
         fits[static_cast<std::size_t>(offset >> 6)] |= std::uint64_t{1} << (offset & 63);
       } else {
@@ -214,7 +214,7 @@ class LeafFitter {
 
   /// Central or one-sided differences where the neighbours of leaf voxel (x, y, z) allow.
   void differences(int x, int y, int z, double scale, StencilData& result) const {
-    const double centre = scaled_[x + 1][y + 1][z + 1];
+    const double center = scaled_[x + 1][y + 1][z + 1];
     for (int axis = 0; axis < 3; ++axis) {
       const int ax = axis == 0, ay = axis == 1, az = axis == 2;
       const int px = x + 1 + ax, py = y + 1 + ay, pz = z + 1 + az;
@@ -225,9 +225,9 @@ class LeafFitter {
       if (plus && minus) {
         derivative = 0.5 * (values_[px][py][pz] - values_[mx][my][mz]) * scale;
       } else if (plus) {
-        derivative = scaled_[px][py][pz] - centre;
+        derivative = scaled_[px][py][pz] - center;
       } else if (minus) {
-        derivative = centre - scaled_[mx][my][mz];
+        derivative = center - scaled_[mx][my][mz];
       }
       result.gradient[static_cast<std::size_t>(axis)] = static_cast<float>(derivative);
     }
@@ -367,9 +367,9 @@ class Interpolator {
     origin_ = origin;
     slab_ = slab;
     for (int slot = 0; slot < 27; ++slot) {
-      const openvdb::Coord neighbour =
+      const openvdb::Coord neighbor =
           origin + openvdb::Coord((slot / 9 - 1) * 8, ((slot / 3) % 3 - 1) * 8, (slot % 3 - 1) * 8);
-      neighbours_[static_cast<std::size_t>(slot)] = band_.findLeaf(neighbour);
+      neighbors_[static_cast<std::size_t>(slot)] = band_.findLeaf(neighbor);
     }
     hasLeaf_ = true;
   }
@@ -464,7 +464,7 @@ class Interpolator {
     const int sx = (ijk.x() - origin_.x()) >> 3, sy = (ijk.y() - origin_.y()) >> 3,
               sz = (ijk.z() - origin_.z()) >> 3;
     if (hasLeaf_ && sx >= -1 && sx <= 1 && sy >= -1 && sy <= 1 && sz >= -1 && sz <= 1) {
-      leaf = neighbours_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
+      leaf = neighbors_[static_cast<std::size_t>((sx + 1) * 9 + (sy + 1) * 3 + (sz + 1))];
     } else {
       leaf = band_.findLeaf(ijk);
     }
@@ -509,7 +509,7 @@ class Interpolator {
   bool hasLeaf_ = false;
   std::size_t slab_ = 0;
   openvdb::Coord origin_;
-  std::array<std::int64_t, 27> neighbours_{};
+  std::array<std::int64_t, 27> neighbors_{};
 };
 
 // ---- Records -----------------------------------------------------------------------------------
@@ -576,10 +576,10 @@ BandRecord surfaceRecord(double distance, const Vec3& normal, const Vec3& e1, do
     px = fx;
     py = fy;
   }
-  const auto quantise = [](double v) {
+  const auto quantize = [](double v) {
     return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
   };
-  record.normal = {quantise(px), quantise(py)};
+  record.normal = {quantize(px), quantize(py)};
   // decodeOctahedral
   double qx, qy;
   divide(record.normal[0], record.normal[1], 32767.0, qx, qy);

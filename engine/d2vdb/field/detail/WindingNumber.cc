@@ -68,14 +68,14 @@ void WindingNumberField::buildExpansion(std::uint32_t nodeIndex) {
       weighted += triangleArea * (a + b + c) / 3.0;
     }
     expansion.area = area;
-    expansion.centre = area > 0.0 ? Eigen::Vector3d(weighted / area)
+    expansion.center = area > 0.0 ? Eigen::Vector3d(weighted / area)
                                   : Eigen::Vector3d(0.5 * (node.low + node.high));
-    const Eigen::Vector3d& centre = expansion.centre;
+    const Eigen::Vector3d& center = expansion.center;
     for (std::uint32_t i = node.begin; i < node.end; ++i) {
       const TriangleIndices& tri = triangles_[bvh_.order()[i]];
-      const Eigen::Vector3d da = points_[tri[0]] - centre;
-      const Eigen::Vector3d db = points_[tri[1]] - centre;
-      const Eigen::Vector3d dc = points_[tri[2]] - centre;
+      const Eigen::Vector3d da = points_[tri[0]] - center;
+      const Eigen::Vector3d db = points_[tri[1]] - center;
+      const Eigen::Vector3d dc = points_[tri[2]] - center;
       expansion.radius = std::max({expansion.radius, da.norm(), db.norm(), dc.norm()});
       const Eigen::Vector3d vectorArea = 0.5 * (db - da).cross(dc - da);
       const Eigen::Vector3d centroid = (da + db + dc) / 3.0;
@@ -106,19 +106,19 @@ void WindingNumberField::buildExpansion(std::uint32_t nodeIndex) {
   const Expansion& l = expansions_[left];
   const Expansion& r = expansions_[right];
   expansion.area = l.area + r.area;
-  expansion.centre = expansion.area > 0.0
-                         ? Eigen::Vector3d((l.area * l.centre + r.area * r.centre) / expansion.area)
+  expansion.center = expansion.area > 0.0
+                         ? Eigen::Vector3d((l.area * l.center + r.area * r.center) / expansion.area)
                          : Eigen::Vector3d(0.5 * (node.low + node.high));
-  const Eigen::Vector3d& centre = expansion.centre;
+  const Eigen::Vector3d& center = expansion.center;
   // Radius: the smaller of two upper bounds (through the children's spheres, through the box).
   const double throughChildren =
-      std::max((l.centre - centre).norm() + l.radius, (r.centre - centre).norm() + r.radius);
+      std::max((l.center - center).norm() + l.radius, (r.center - center).norm() + r.radius);
   const Eigen::Vector3d farCorner =
-      (node.high - centre).cwiseAbs().cwiseMax((node.low - centre).cwiseAbs());
+      (node.high - center).cwiseAbs().cwiseMax((node.low - center).cwiseAbs());
   expansion.radius = std::min(throughChildren, farCorner.norm());
   // Moments moved to the new centre: with s = c_child - c, d = d_child + s.
   for (const Expansion* child : {&l, &r}) {
-    const Eigen::Vector3d s = child->centre - centre;
+    const Eigen::Vector3d s = child->center - center;
     expansion.m0 += child->m0;
     expansion.m1 += child->m1 + s * child->m0.transpose();
     for (int axis = 0; axis < 3; ++axis) {
@@ -155,7 +155,7 @@ WindingNumberField::Estimate WindingNumberField::estimate(const Eigen::Vector3d&
     const std::uint32_t index = stack[--top];
     const TriangleBvh::Node& node = nodes[index];
     const Expansion& expansion = expansions_[index];
-    const Eigen::Vector3d y = expansion.centre - q;
+    const Eigen::Vector3d y = expansion.center - q;
     const double distance2 = y.squaredNorm();
     const double radius = expansion.radius;
     if (distance2 > beta * beta * radius * radius) {

@@ -93,7 +93,7 @@ class WindingNumberField {
   /// Second-order expansion of a node about its centre c: with d = x - c and unit normal n,
   /// m0 = int n dA, m1(j, i) = int d_j n_i dA, m2[i](j, k) = int d_j d_k n_i dA.
   struct Expansion {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    Eigen::Vector3d center = Eigen::Vector3d::Zero();
     double radius = 0.0;  ///< every triangle corner of the node lies within it of the centre
     double area = 0.0;    ///< unsigned
     Eigen::Vector3d m0 = Eigen::Vector3d::Zero();

@@ -24,7 +24,7 @@ class LatticeValues {
   double at(int i, int j) const { return values_[index(i, j)]; }
 
   /// Sum of the six lattice neighbours of (i, j) (all must be inside).
-  double neighbourSum(int i, int j) const {
+  double neighborSum(int i, int j) const {
     return at(i + 1, j) + at(i - 1, j) + at(i, j + 1) + at(i, j - 1) + at(i + 1, j - 1) +
            at(i - 1, j + 1);
   }
@@ -44,7 +44,7 @@ class LatticeValues {
         double value = 0.0;
         if (!oddI && !oddJ) {
           if (!inside(i, j)) continue;
-          value = 10.0 / 16.0 * at(i, j) + 1.0 / 16.0 * neighbourSum(i, j);
+          value = 10.0 / 16.0 * at(i, j) + 1.0 / 16.0 * neighborSum(i, j);
         } else if (oddI && !oddJ) {  // edge (i, j)-(i+1, j), opposite (i, j+1) and (i+1, j-1)
           if (!inside(i, j) || !inside(i + 1, j)) continue;
           value =
@@ -105,7 +105,7 @@ Eigen::Matrix<double, 15, kRegularControlCount> deriveRegularPatchMatrix() {
     for (int p = 0; p < 15; ++p) {
       const int i = points[p][0];
       const int j = points[p][1];
-      limits[p] = 0.5 * level2.at(i, j) + level2.neighbourSum(i, j) / 12.0;
+      limits[p] = 0.5 * level2.at(i, j) + level2.neighborSum(i, j) / 12.0;
     }
     matrix.col(c) = lu.solve(limits);
   }
@@ -195,8 +195,8 @@ ExtraordinaryTemplate::ExtraordinaryTemplate(int valenceN) : valence(valenceN) {
   }
 
   const double chi = 1.0 / (3.0 / (8.0 * beta) + n);
-  limitCentre = 1.0 - n * chi;
-  limitNeighbour = chi;
+  limitCenter = 1.0 - n * chi;
+  limitNeighbor = chi;
 }
 
 }  // namespace d2vdb::detail

@@ -66,8 +66,8 @@ struct ExtraordinaryTemplate {
   std::array<Eigen::MatrixXd, 3> subPatchNet;
   /// Limit position weights of c (1 - N chi) and of each neighbour (chi), chi = 1 / (3 / (8 beta)
   /// + N).
-  double limitCentre = 0.0;
-  double limitNeighbour = 0.0;
+  double limitCenter = 0.0;
+  double limitNeighbor = 0.0;
 
   explicit ExtraordinaryTemplate(int valence);
   int size() const { return valence + 6; }

@@ -168,8 +168,8 @@ void checkVertexAttributes(const TriangleMesh& mesh, const VertexAttributes& att
       }
     }
   }
-  if (!attributes.colours.empty() && attributes.colours.size() != count) {
-    throw InputError("cannot write the mesh: " + std::to_string(attributes.colours.size()) +
+  if (!attributes.colors.empty() && attributes.colors.size() != count) {
+    throw InputError("cannot write the mesh: " + std::to_string(attributes.colors.size()) +
                      " vertex colours for " + std::to_string(count) + " vertices");
   }
 }

@@ -312,7 +312,7 @@ TriangleMesh readObj(std::istream& in, const std::string& nameForMessages) {
 void writeObj(std::ostream& out, const TriangleMesh& mesh, const VertexAttributes* attributes) {
   detail::checkMeshIsWritable(mesh, "OBJ");
   if (attributes != nullptr) detail::checkVertexAttributes(mesh, *attributes);
-  const bool withColours = attributes != nullptr && !attributes->colours.empty();
+  const bool withColors = attributes != nullptr && !attributes->colors.empty();
   const bool withNormals = mesh.hasNormals();
   std::string buffer;
   buffer += "# OBJ written by d2vdb: ";
@@ -330,9 +330,9 @@ void writeObj(std::ostream& out, const TriangleMesh& mesh, const VertexAttribute
   };
   for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
     appendVector("v", mesh.positions[v]);
-    if (withColours) {  // "v x y z r g b", channels in [0, 1]
+    if (withColors) {  // "v x y z r g b", channels in [0, 1]
       buffer.pop_back();
-      for (const std::uint8_t channel : attributes->colours[v]) {
+      for (const std::uint8_t channel : attributes->colors[v]) {
         buffer += ' ';
         detail::appendFloat(buffer, static_cast<float>(channel) / 255.0f);
       }

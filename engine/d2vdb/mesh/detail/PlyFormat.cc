@@ -709,8 +709,8 @@ bool hasScalars(const VertexAttributes* attributes) {
   return attributes != nullptr && !attributes->scalars.empty();
 }
 
-bool hasColours(const VertexAttributes* attributes) {
-  return attributes != nullptr && !attributes->colours.empty();
+bool hasColors(const VertexAttributes* attributes) {
+  return attributes != nullptr && !attributes->colors.empty();
 }
 
 std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding,
@@ -736,7 +736,7 @@ std::string headerText(const TriangleMesh& mesh, PlyEncoding encoding,
     for (const auto& more : attributes->moreScalars)
       header += "property float " + more.first + "\n";
   }
-  if (hasColours(attributes)) {
+  if (hasColors(attributes)) {
     header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   }
   header += "element face ";
@@ -769,8 +769,8 @@ void appendAsciiBody(std::string& buffer, std::ostream& out, const TriangleMesh&
         detail::appendFloat(buffer, more.second[v]);
       }
     }
-    if (hasColours(attributes)) {
-      for (const std::uint8_t channel : attributes->colours[v]) {
+    if (hasColors(attributes)) {
+      for (const std::uint8_t channel : attributes->colors[v]) {
         buffer += ' ';
         detail::appendUnsigned(buffer, channel);
       }
@@ -807,8 +807,8 @@ void appendBinaryBody(std::string& buffer, std::ostream& out, const TriangleMesh
         detail::appendScalar(buffer, more.second[v], order);
       }
     }
-    if (hasColours(attributes)) {
-      for (const std::uint8_t channel : attributes->colours[v]) {
+    if (hasColors(attributes)) {
+      for (const std::uint8_t channel : attributes->colors[v]) {
         detail::appendScalar(buffer, channel, order);
       }
     }
