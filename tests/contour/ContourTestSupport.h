@@ -27,7 +27,7 @@ template <typename GridT>
 typename GridT::Ptr gridFromDistance(const DistanceFunction& distance, double voxelSize,
                                      double halfWidth, const openvdb::CoordBBox& bounds);
 
-/// Exact signed distance of a torus about the z axis through `centre` (world units).
+/// Exact signed distance of a torus about the z axis through `center` (world units).
 double torusDistance(const Eigen::Vector3d& point, const Eigen::Vector3d& center, double major,
                      double minor);
 

@@ -268,7 +268,7 @@ TEST(ApproximantField, SdmFormMatchesTheSquaredDistanceToThirdOrder) {
 namespace d2vdb {
 namespace {
 
-/// A closed polyline of `count` vertices on the circle of `radius` about `centre` in z = 0.
+/// A closed polyline of `count` vertices on the circle of `radius` about `center` in z = 0.
 Polyline circlePolyline(const Eigen::Vector3d& center, double radius, int count) {
   Polyline polyline;
   polyline.closed = true;

@@ -33,7 +33,7 @@ using test::withThreads;
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// The approximant of an analytic shape at `centre`: its exact closest-point data.
+/// The approximant of an analytic shape at `center`: its exact closest-point data.
 template <typename Shape>
 Approximant exactApproximant(const Shape& shape, const Eigen::Vector3d& center) {
   return test::approximantFrom(shape.closestSurfacePoint(center), center);

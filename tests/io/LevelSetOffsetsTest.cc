@@ -30,7 +30,7 @@ openvdb::FloatGrid::Ptr sphereLevelSet() {
   return primitiveLevelSet(Sphere(kCenter, kRadius), {kVoxel, 3.0});
 }
 
-// The largest deviation of the mesh's vertices from the sphere of radius `radius` about kCentre.
+// The largest deviation of the mesh's vertices from the sphere of radius `radius` about kCenter.
 double sphereError(const TriangleMesh& mesh, double radius) {
   double worst = 0.0;
   for (const Eigen::Vector3f& p : mesh.positions) {

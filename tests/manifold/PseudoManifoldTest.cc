@@ -194,8 +194,8 @@ TEST(PseudoManifold, NormalsAndCurvaturesVaryContinuouslyAcrossEdges) {
   EXPECT_NEAR(worst[2] / worst[1], 0.1, 0.02);
 }
 
-/// A source whose points, on the faces around vertex `centre`, are a given polynomial of the
-/// chart coordinates of `centre`: psi_centre must reproduce it.
+/// A source whose points, on the faces around vertex `center`, are a given polynomial of the
+/// chart coordinates of `center`: psi_centre must reproduce it.
 class PolynomialSource final : public SourceSurface {
  public:
   PolynomialSource(std::shared_ptr<const HalfEdgeMesh> mesh, Index center, int bidegree)

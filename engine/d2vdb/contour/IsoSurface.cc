@@ -57,7 +57,7 @@ constexpr int kCornerSpan = kBlockSize + 1;           // corner layers 0..8 of a
 constexpr int kRowCount = kCornerSpan * kCornerSpan;  // corner rows (x, y) of a block
 constexpr int kRowEdgeBits = 3 * kCornerSpan;         // edge bit 3 z + axis within a row
 constexpr int kEdgeKeyCount = kRowCount * kRowEdgeBits;
-constexpr int kSelfSlot = 13;  // neighbourSlot(0, 0, 0)
+constexpr int kSelfSlot = 13;  // neighborSlot(0, 0, 0)
 
 /// Key of the edge from local corner (x, y, z) along `axis`; increasing in enumeration order.
 constexpr int edgeKey(int x, int y, int z, int axis) {

@@ -44,7 +44,7 @@ class AnalyticShape {
   virtual std::string describe() const = 0;
 };
 
-/// Sphere of radius `radius` about `centre`.
+/// Sphere of radius `radius` about `center`.
 /// Throws InputError unless the centre is finite and the radius finite and positive.
 class Sphere final : public AnalyticShape {
  public:
@@ -87,8 +87,8 @@ class Box final : public AnalyticShape {
   Eigen::Vector3d max_;
 };
 
-/// Ring torus about the axis through `centre` parallel to +z: the set of points at distance
-/// `minorRadius` from the circle of radius `majorRadius` about `centre` in the plane z = centre.z.
+/// Ring torus about the axis through `center` parallel to +z: the set of points at distance
+/// `minorRadius` from the circle of radius `majorRadius` about `center` in the plane z = center.z.
 /// Throws InputError unless parameters are finite and 0 < minorRadius < majorRadius.
 class Torus final : public AnalyticShape {
  public:
@@ -116,8 +116,8 @@ class Torus final : public AnalyticShape {
   double minorRadius_;
 };
 
-/// Solid circular cylinder with flat caps, axis parallel to +z through `centre`, which is the
-/// midpoint of the axis: it spans z in [centre.z - height/2, centre.z + height/2].
+/// Solid circular cylinder with flat caps, axis parallel to +z through `center`, which is the
+/// midpoint of the axis: it spans z in [center.z - height/2, center.z + height/2].
 /// Throws InputError unless parameters are finite and radius, height > 0.
 class CappedCylinder final : public AnalyticShape {
  public:

@@ -334,7 +334,7 @@ class SeedBlocks {
 };
 
 /// Displacements (within a leaf) of the voxels a voxel's projection may start from: the face
-/// neighbours at -z, -y, -x (the first kFaceNeighbours), then the edge and corner neighbours among
+/// neighbours at -z, -y, -x (the first kFaceNeighbors), then the edge and corner neighbours among
 /// the voxels visited before it in offset order (x, then y, then z ascending).
 constexpr std::array<std::array<int, 3>, 13> kStartNeighbors = {{{0, 0, -1},
                                                                   {0, -1, 0},
@@ -489,7 +489,7 @@ Approximant outsideBand(const Eigen::Vector3d& center, double distance) {
 /// does not depend on the order of the leaves or the thread count: the seeds within skipBeyond of
 /// the leaf (the nearest seed of a voxel, ties to the lowest index, is exact up to that distance),
 /// and the projections of the leaf's voxels: each voxel's Newton iteration starts from a projected
-/// neighbour visited before it in the same leaf (kStartNeighbours). One per thread, kept from one
+/// neighbour visited before it in the same leaf (kStartNeighbors). One per thread, kept from one
 /// block of leaves to the next, so that its buffers (0.4 MB) are allocated once per thread.
 struct LeafState {
   openvdb::Coord leaf = openvdb::Coord::max();
@@ -497,7 +497,7 @@ struct LeafState {
   std::vector<std::uint32_t> stamp = std::vector<std::uint32_t>(512, 0);
   std::vector<PseudoManifold::Projection> projections =
       std::vector<PseudoManifold::Projection>(512);
-  // The neighbour each voxel's projection started from (1 + its index in kStartNeighbours), 0
+  // The neighbour each voxel's projection started from (1 + its index in kStartNeighbors), 0
   // for a start from a seed.
   std::vector<std::uint8_t> startedFrom = std::vector<std::uint8_t>(512, 0);
   SeedBlocks::Near subNear[8];  // the seeds near each of the leaf's 4^3 sub-blocks
@@ -569,13 +569,13 @@ class VoxelProjector {
   /// The neighbour to start from: of the face neighbours whose projection ended on a cubic
   /// model, the one whose model is expanded nearest to this voxel's centre (its footpoint is then
   /// mostly the nearest to this voxel's: the shortest step along the model, the most accurate
-  /// start, the fewest evaluations); without one, the first of the other kStartNeighbours with a
+  /// start, the fewest evaluations); without one, the first of the other kStartNeighbors with a
   /// model; else the first projected neighbour (a Newton iteration from its footpoint); else
   /// none (a seed).
   Start startOf(const LeafState& state, const openvdb::Coord& ijk, int offset,
                 const Eigen::Vector3d& center) const {
     Start start;
-    // The slot of kStartNeighbours[k] when it lies in the leaf and was projected, else -1.
+    // The slot of kStartNeighbors[k] when it lies in the leaf and was projected, else -1.
     const int x = ijk.x() & 7, y = ijk.y() & 7, z = ijk.z() & 7;
     const auto projectedSlot = [&](std::size_t k) {
       const auto& [dx, dy, dz] = kStartNeighbors[k];
@@ -607,7 +607,7 @@ class VoxelProjector {
     return start;
   }
 
-  /// Projects `centre` into `projection` from `start` (or from the nearest seed); returns the
+  /// Projects `center` into `projection` from `start` (or from the nearest seed); returns the
   /// start it kept (LeafState::startedFrom).
   std::uint8_t project(const LeafState& state, const Start& start, const Eigen::Vector3d& center,
                        const SeedBlocks::Nearest& nearest,

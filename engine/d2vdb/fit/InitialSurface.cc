@@ -286,7 +286,7 @@ Eigen::Vector3d symmetryAxis(const PrincipalAxes& axes, const InitialSurfaceOpti
   return values[1] - values[0] > values[2] - values[1] ? axes.vectors.col(0) : axes.vectors.col(2);
 }
 
-/// The cylinder around `axis` through `centre` over the points' extent along it, of their mean
+/// The cylinder around `axis` through `center` over the points' extent along it, of their mean
 /// distance from it times options.scale.
 BSplineSurface cylinderAround(const std::vector<Eigen::Vector3d>& points,
                               const Eigen::Vector3d& center, const Eigen::Vector3d& axis,
@@ -310,7 +310,7 @@ BSplineSurface cylinderAround(const std::vector<Eigen::Vector3d>& points,
                          options.layout);
 }
 
-/// The torus around `axis` through `centre`: major radius the points' mean distance from the
+/// The torus around `axis` through `center`: major radius the points' mean distance from the
 /// axis, minor radius their RMS distance from that circle times options.scale.
 BSplineSurface torusAround(const std::vector<Eigen::Vector3d>& points,
                            const Eigen::Vector3d& center, const Eigen::Vector3d& axis,

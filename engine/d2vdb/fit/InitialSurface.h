@@ -51,7 +51,7 @@ BSplineSurface planeSheet(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
 BSplineSurface cylinderSurface(const Eigen::Vector3d& base, const Eigen::Vector3d& axis,
                                double radius, const SurfaceLayout& layout);
 
-/// A ring torus about the axis through `centre` along `axis` (any length): u runs around the axis
+/// A ring torus about the axis through `center` along `axis` (any length): u runs around the axis
 /// (major circle, radius `majorRadius`), v around the tube (radius `minorRadius`, v = 0 on the
 /// outer equator); the tensor product of the two best periodic circle approximations
 /// (control point (i, j) = x_j s_u (cos a_i e1 + sin a_i e2) + z_j axis, with (x_j, z_j) the

@@ -539,7 +539,7 @@ struct PseudoManifold::DegreeFit {
   }
 
   /// The rows of scratch.samples of sector k of `vertex`: the source's points there minus
-  /// `centre`, at the samples' barycentric coordinates in the sector's face.
+  /// `center`, at the samples' barycentric coordinates in the sector's face.
   void sampleSector(const HalfEdgeMesh& mesh, const SourceSurface& source, Index vertex, int k,
                     const Eigen::Vector3d& center, Scratch& scratch) const {
     const int first = sectorStart[k];
@@ -746,7 +746,7 @@ struct PseudoManifold::Evaluator {
     return true;
   }
 
-  /// Derivatives with respect to the chart coordinates of corner `centre` (the point must lie in
+  /// Derivatives with respect to the chart coordinates of corner `center` (the point must lie in
   /// that chart).
   /// When `chartPoint` is given it receives the point's coordinates in that chart (as
   /// ChartAtlas::toChart gives them).

@@ -137,7 +137,7 @@ Sample sampleAt(const Problem& problem, int segment, double local, const Candida
 // model of the nearest-point map v(u) at the centre (implicit differentiation of
 // (P - Q(v)) . Q'(v) = 0), clamped to segment j, and (c) when both end feet lie on one segment,
 // the linear interpolation between them, exact at the item's ends (so a maximum at an end of the
-// item is bounded tightly). centreBound() computes (a) and (b), interpolationBound() (c).
+// item is bounded tightly). centerBound() computes (a) and (b), interpolationBound() (c).
 double centerBound(const Problem& problem, const BezierCurve& piece, const NearestPoint& nearest) {
   const CurveProjector::Segment& target =
       problem.to.segments()[static_cast<std::size_t>(nearest.location.segment)];

@@ -22,7 +22,7 @@ struct SvgStyle {
   /// Stroke width in screen pixels whatever the zoom (vector-effect="non-scaling-stroke").
   bool hairline = false;
 
-  /// An outline of `colour`, `width` wide, dashed by `dashes` when not empty; no fill.
+  /// An outline of `color`, `width` wide, dashed by `dashes` when not empty; no fill.
   static SvgStyle stroked(std::string color, double width, std::string dashes = "") {
     SvgStyle style;
     style.stroke = std::move(color);
@@ -30,7 +30,7 @@ struct SvgStyle {
     style.dashes = std::move(dashes);
     return style;
   }
-  /// A shape filled with `colour`, without outline.
+  /// A shape filled with `color`, without outline.
   static SvgStyle filled(std::string color) {
     SvgStyle style;
     style.stroke = "none";
@@ -90,7 +90,7 @@ class SvgCanvas {
   void line(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const SvgStyle& style) {
     line(from.head<2>().eval(), to.head<2>().eval(), style);
   }
-  /// A circle of `radius` canvas units around `centre`.
+  /// A circle of `radius` canvas units around `center`.
   void circle(const Eigen::Vector2d& center, double radius, const SvgStyle& style);
   void circle(const Eigen::Vector3d& center, double radius, const SvgStyle& style) {
     circle(center.head<2>().eval(), radius, style);

@@ -40,7 +40,7 @@ std::array<int, 4> faceCorners(int face);
 inline constexpr int kCellCenter = 12;
 
 /// The triangulation of one cell: triangles as triples of cell edges (each edge stands for the
-/// mesh vertex on it, kCellCentre for a vertex inside the cell), wound counter-clockwise seen from
+/// mesh vertex on it, kCellCenter for a vertex inside the cell), wound counter-clockwise seen from
 /// outside (the side above the iso-value).
 struct CellTriangulation {
   std::uint8_t triangleCount = 0;

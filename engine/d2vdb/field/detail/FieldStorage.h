@@ -78,7 +78,7 @@ class FieldStorage {
   Approximant decodeBand(std::uint32_t record, const openvdb::Coord& ijk) const {
     return codec_.decodeBand(records_[record], ijk);
   }
-  /// The coarse approximant at index-space point `centre` from band sample `sample`.
+  /// The coarse approximant at index-space point `center` from band sample `sample`.
   Approximant decodeCoarse(std::uint32_t sample, const Eigen::Vector3d& center) const {
     return codec_.decodeCoarse(records_[samples_.records[sample]],
                                samples_.footpoints[sample].cast<double>(), center);

@@ -70,7 +70,7 @@ class RecordCodec {
   /// The approximant of `record` stored for voxel `ijk` (world units, world frame, taken at the
   /// voxel centre).
   Approximant decodeBand(const BandRecord& record, const openvdb::Coord& ijk) const;
-  /// The coarse approximant at index-space point `centre` from a band sample: its record and its
+  /// The coarse approximant at index-space point `center` from a band sample: its record and its
   /// footpoint (index space). Footpoint s, normal (centre - s) / |centre - s| (signed by the
   /// sample's normal for surfaces), the sample's curvatures; flagged kFlagFarField.
   Approximant decodeCoarse(const BandRecord& record, const Eigen::Vector3d& footpoint,
