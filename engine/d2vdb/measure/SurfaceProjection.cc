@@ -18,10 +18,6 @@ namespace d2vdb {
 namespace {
 
 /// Position and first and second partial derivatives on one patch's polynomial piece.
-struct LocalDerivatives {
-  Eigen::Vector3d s, su, sv, suu, suv, svv;
-};
-
 /// Interleaves the bits of x and y (x in the even bits): the Morton code of a grid cell.
 std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y) {
   std::uint64_t code = 0;
@@ -79,55 +75,6 @@ SurfaceProjector::SurfaceProjector(const BSplineSurface& surface)
   }
 }
 
-namespace {
-
-LocalDerivatives localDerivatives(const BSplineSurface& surface, const BezierPatch& patch, double u,
-                                  double v) {
-  const int p = surface.degreeU();
-  const int q = surface.degreeV();
-  const BasisDerivatives bu = basisDerivatives(surface.knotsU(), patch.spanU, u, 2);
-  const BasisDerivatives bv = basisDerivatives(surface.knotsV(), patch.spanV, v, 2);
-  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
-  LocalDerivatives d{zero, zero, zero, zero, zero, zero};
-  for (int a = 0; a <= p; ++a) {
-    Eigen::Vector3d row = zero, rowV = zero, rowVV = zero;
-    for (int b = 0; b <= q; ++b) {
-      const Eigen::Vector3d& point = surface.controlPoints()[static_cast<std::size_t>(
-          surface.controlPointIndex(patch.spanU - p + a, patch.spanV - q + b))];
-      row += bv(0, b) * point;
-      rowV += bv(1, b) * point;
-      rowVV += bv(2, b) * point;
-    }
-    d.s += bu(0, a) * row;
-    d.su += bu(1, a) * row;
-    d.suu += bu(2, a) * row;
-    d.sv += bu(0, a) * rowV;
-    d.suv += bu(1, a) * rowV;
-    d.svv += bu(0, a) * rowVV;
-  }
-  return d;
-}
-
-Eigen::Vector3d localPoint(const BSplineSurface& surface, const BezierPatch& patch, double u,
-                           double v) {
-  const int p = surface.degreeU();
-  const int q = surface.degreeV();
-  const BasisValues bu = basisValues(surface.knotsU(), patch.spanU, u);
-  const BasisValues bv = basisValues(surface.knotsV(), patch.spanV, v);
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
-  for (int a = 0; a <= p; ++a) {
-    Eigen::Vector3d row = Eigen::Vector3d::Zero();
-    for (int b = 0; b <= q; ++b) {
-      row += bv[b] * surface.controlPoints()[static_cast<std::size_t>(
-                         surface.controlPointIndex(patch.spanU - p + a, patch.spanV - q + b))];
-    }
-    point += bu[a] * row;
-  }
-  return point;
-}
-
-}  // namespace
-
 void SurfaceProjector::solveInPatch(int index, const Eigen::Vector3d& point, double u, double v,
                                     SurfaceFootpoint& best) const {
   const BezierPatch& patch = patches_[static_cast<std::size_t>(index)];
@@ -135,20 +82,20 @@ void SurfaceProjector::solveInPatch(int index, const Eigen::Vector3d& point, dou
   const ParameterInterval iv = patch.intervalV;
   u = std::clamp(u, iu.start, iu.end);
   v = std::clamp(v, iv.start, iv.end);
-  LocalDerivatives d = localDerivatives(surface_, patch, u, v);
-  double value = (d.s - point).squaredNorm();
+  SurfaceDerivatives d = surface_.derivativesInSpans(patch.spanU, patch.spanV, u, v);
+  double value = (d.point - point).squaredNorm();
   for (int iteration = 0; iteration < 60; ++iteration) {
-    const Eigen::Vector3d r = d.s - point;
-    const double gu = r.dot(d.su);
-    const double gv = r.dot(d.sv);
+    const Eigen::Vector3d r = d.point - point;
+    const double gu = r.dot(d.du);
+    const double gv = r.dot(d.dv);
     // Bound constraints: a parameter at its bound whose gradient pushes outward stays there.
     const bool freeU = !((u <= iu.start && gu > 0.0) || (u >= iu.end && gu < 0.0));
     const bool freeV = !((v <= iv.start && gv > 0.0) || (v >= iv.end && gv < 0.0));
     if (!freeU && !freeV) break;
-    const double euu = d.su.squaredNorm(), euv = d.su.dot(d.sv), evv = d.sv.squaredNorm();
-    double huu = euu + r.dot(d.suu);
-    double huv = euv + r.dot(d.suv);
-    double hvv = evv + r.dot(d.svv);
+    const double euu = d.du.squaredNorm(), euv = d.du.dot(d.dv), evv = d.dv.squaredNorm();
+    double huu = euu + r.dot(d.duu);
+    double huv = euv + r.dot(d.duv);
+    double hvv = evv + r.dot(d.dvv);
     double du = 0.0, dv = 0.0;
     if (freeU && freeV) {
       double det = huu * hvv - huv * huv;
@@ -175,13 +122,13 @@ void SurfaceProjector::solveInPatch(int index, const Eigen::Vector3d& point, dou
     for (int halving = 0; halving < 40; ++halving, scale *= 0.5) {
       nextU = std::clamp(u + scale * du, iu.start, iu.end);
       nextV = std::clamp(v + scale * dv, iv.start, iv.end);
-      nextValue = (localPoint(surface_, patch, nextU, nextV) - point).squaredNorm();
+      nextValue = (surface_.evaluateInSpans(patch.spanU, patch.spanV, nextU, nextV) - point).squaredNorm();
       // Near the solution the decrease drops below the rounding of the squared distance (whose
       // error is about eps |S - p| (|S| + |p|)); the full step is then taken as long as it does not
       // increase it beyond that.
       const double slack = halving == 0
                                ? 16.0 * std::numeric_limits<double>::epsilon() *
-                                     (value + std::sqrt(value) * (d.s.norm() + point.norm()))
+                                     (value + std::sqrt(value) * (d.point.norm() + point.norm()))
                                : 0.0;
       if (nextValue <= value + slack) {
         accepted = true;
@@ -193,14 +140,14 @@ void SurfaceProjector::solveInPatch(int index, const Eigen::Vector3d& point, dou
     u = nextU;
     v = nextV;
     value = nextValue;
-    d = localDerivatives(surface_, patch, u, v);
-    value = (d.s - point).squaredNorm();
+    d = surface_.derivativesInSpans(patch.spanU, patch.spanV, u, v);
+    value = (d.point - point).squaredNorm();
     if (move <= 1e-15) break;
   }
   if (value < best.squaredDistance) {
     best.u = u;
     best.v = v;
-    best.point = d.s;
+    best.point = d.point;
     best.squaredDistance = value;
     best.patch = index;
     const ParameterInterval domainU = surface_.domainU();

@@ -93,10 +93,12 @@ void BSplineSurface::setControlPoints(std::vector<Eigen::Vector3d> controlPoints
 Eigen::Vector3d BSplineSurface::evaluate(double u, double v) const {
   const double uu = parameterInDomain(knotsU_, closedU_, u, "u");
   const double vv = parameterInDomain(knotsV_, closedV_, v, "v");
-  const int spanU = knotsU_.findSpan(uu);
-  const int spanV = knotsV_.findSpan(vv);
-  const BasisValues basisU = basisValues(knotsU_, spanU, uu);
-  const BasisValues basisV = basisValues(knotsV_, spanV, vv);
+  return evaluateInSpans(knotsU_.findSpan(uu), knotsV_.findSpan(vv), uu, vv);
+}
+
+Eigen::Vector3d BSplineSurface::evaluateInSpans(int spanU, int spanV, double u, double v) const {
+  const BasisValues basisU = basisValues(knotsU_, spanU, u);
+  const BasisValues basisV = basisValues(knotsV_, spanV, v);
   const int firstU = spanU - degreeU();
   const int firstV = spanV - degreeV();
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
@@ -113,10 +115,13 @@ Eigen::Vector3d BSplineSurface::evaluate(double u, double v) const {
 SurfaceDerivatives BSplineSurface::derivatives(double u, double v) const {
   const double uu = parameterInDomain(knotsU_, closedU_, u, "u");
   const double vv = parameterInDomain(knotsV_, closedV_, v, "v");
-  const int spanU = knotsU_.findSpan(uu);
-  const int spanV = knotsV_.findSpan(vv);
-  const BasisDerivatives basisU = basisDerivatives(knotsU_, spanU, uu, 2);
-  const BasisDerivatives basisV = basisDerivatives(knotsV_, spanV, vv, 2);
+  return derivativesInSpans(knotsU_.findSpan(uu), knotsV_.findSpan(vv), uu, vv);
+}
+
+SurfaceDerivatives BSplineSurface::derivativesInSpans(int spanU, int spanV, double u,
+                                                      double v) const {
+  const BasisDerivatives basisU = basisDerivatives(knotsU_, spanU, u, 2);
+  const BasisDerivatives basisV = basisDerivatives(knotsV_, spanV, v, 2);
   const int firstU = spanU - degreeU();
   const int firstV = spanV - degreeV();
   const Eigen::Vector3d zero = Eigen::Vector3d::Zero();

@@ -91,10 +91,17 @@ class BSplineSurface {
   /// S(u, v). InputError for a parameter outside an open direction's domain (beyond rounding) or
   /// a non-finite parameter.
   Eigen::Vector3d evaluate(double u, double v) const;
+  /// S(u, v) from the basis functions of knot spans `spanU`, `spanV`; as derivativesInSpans().
+  Eigen::Vector3d evaluateInSpans(int spanU, int spanV, double u, double v) const;
 
   /// S and its partial derivatives Su, Sv, Suu, Suv, Svv at (u, v) (one-sided at knots, from the
   /// right or, at the end of a domain, from the left). Failure behaviour as evaluate().
   SurfaceDerivatives derivatives(double u, double v) const;
+  /// The same sums with the basis functions of knot spans `spanU`, `spanV` (indices as
+  /// KnotVector::findSpan() gives them), for a caller that keeps to one span: a Bezier patch
+  /// evaluated up to its end. The parameters must lie in those spans' closed intervals; nothing is
+  /// checked.
+  SurfaceDerivatives derivativesInSpans(int spanU, int spanV, double u, double v) const;
 
   /// samplesU x samplesV points S(u_i, v_j) on the parameter grid u_i = domainU().at(i /
   /// (samplesU - 1)), v_j likewise (both ends included), at index i * samplesV + j.

@@ -261,23 +261,20 @@ void requireRegularOffset(const SupportValidity& validity, double distance) {
                      ": its surface x_h has cusps or edges where the radii change sign, so no "
                      "offset of it is a regular surface");
   }
-  if (distance <= validity.safeOffsetMin) {
+  // The offset's principal radius R + distance at the normal where the radius R = -bound.
+  const auto refuse = [&](double bound, const Eigen::Vector3d& normal, const char* relation) {
     throw InputError("offset distance " + shortNumber(distance) + " is outside the safe range (" +
                      shortNumber(validity.safeOffsetMin) + ", " +
                      shortNumber(validity.safeOffsetMax) + "): at the normal " +
-                     formatPoint(validity.safeOffsetMinNormal, 6) + " the principal radius " +
-                     shortNumber(-validity.safeOffsetMin) + " would become " +
-                     shortNumber(distance - validity.safeOffsetMin) +
-                     " <= 0, so the offset surface would have a cusp and fold over itself");
+                     formatPoint(normal, 6) + " the principal radius " + shortNumber(-bound) +
+                     " would become " + shortNumber(distance - bound) + " " + relation +
+                     " 0, so the offset surface would have a cusp and fold over itself");
+  };
+  if (distance <= validity.safeOffsetMin) {
+    refuse(validity.safeOffsetMin, validity.safeOffsetMinNormal, "<=");
   }
   if (distance >= validity.safeOffsetMax) {
-    throw InputError("offset distance " + shortNumber(distance) + " is outside the safe range (" +
-                     shortNumber(validity.safeOffsetMin) + ", " +
-                     shortNumber(validity.safeOffsetMax) + "): at the normal " +
-                     formatPoint(validity.safeOffsetMaxNormal, 6) + " the principal radius " +
-                     shortNumber(-validity.safeOffsetMax) + " would become " +
-                     shortNumber(distance - validity.safeOffsetMax) +
-                     " >= 0, so the offset surface would have a cusp and fold over itself");
+    refuse(validity.safeOffsetMax, validity.safeOffsetMaxNormal, ">=");
   }
 }
 

@@ -485,27 +485,15 @@ double capClearance(const TriangleBvh& bvh, const std::vector<Eigen::Vector3d>& 
     return (a - high).cwiseMax(low - b).cwiseMax(Eigen::Vector3d::Zero()).norm();
   };
   double nearest = std::numeric_limits<double>::infinity();
-  if (bvh.nodes().empty()) return nearest;
-  std::uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const TriangleBvh::Node& node = bvh.nodes()[stack[--top]];
-    if (gap(node.low, node.high) >= nearest) continue;
-    if (!node.isLeaf()) {
-      stack[top++] = node.right;
-      stack[top++] = static_cast<std::uint32_t>(&node - bvh.nodes().data()) + 1;
-      continue;
-    }
+  walkDepthFirst(bvh, [&](std::uint32_t, const TriangleBvh::Node& node) {
+    if (gap(node.low, node.high) >= nearest) return BvhStep::kSkip;
+    if (!node.isLeaf()) return BvhStep::kChildren;
     for (std::uint32_t k = node.begin; k < node.end; ++k) {
-      const TriangleIndices& t = triangles[bvh.order()[k]];
-      const Eigen::Vector3d& a = points[t[0]];
-      const Eigen::Vector3d& b = points[t[1]];
-      const Eigen::Vector3d& c = points[t[2]];
+      const auto [a, b, c] = cornersOf(points, triangles[bvh.order()[k]]);
       nearest = std::min(nearest, gap(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)));
     }
-    if (nearest <= limit) return nearest;
-  }
+    return nearest <= limit ? BvhStep::kStop : BvhStep::kSkip;
+  });
   return nearest;
 }
 

@@ -97,29 +97,20 @@ std::optional<long> rayWindingNumber(const TriangleBvh& bvh,
     const Eigen::Vector3d end = q + reach * direction;
     long winding = 0;
     bool certain = true;
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0 && certain) {
-      const std::uint32_t index = stack[--top];
-      const TriangleBvh::Node& node = nodes[index];
-      if (!segmentMayHitBox(q, end, node.low, node.high)) continue;
-      if (!node.isLeaf()) {
-        stack[top++] = node.right;
-        stack[top++] = index + 1;
-        continue;
-      }
-      for (std::uint32_t i = node.begin; i < node.end && certain; ++i) {
-        const TriangleIndices& t = triangles[bvh.order()[i]];
-        const std::optional<int> crossed =
-            crossing(q, end, points[t[0]], points[t[1]], points[t[2]]);
-        if (crossed) {
-          winding += *crossed;
-        } else {
+    walkDepthFirst(bvh, [&](std::uint32_t, const TriangleBvh::Node& node) {
+      if (!segmentMayHitBox(q, end, node.low, node.high)) return BvhStep::kSkip;
+      if (!node.isLeaf()) return BvhStep::kChildren;
+      for (std::uint32_t i = node.begin; i < node.end; ++i) {
+        const auto [a, b, c] = cornersOf(points, triangles[bvh.order()[i]]);
+        const std::optional<int> crossed = crossing(q, end, a, b, c);
+        if (!crossed) {
           certain = false;
+          return BvhStep::kStop;
         }
+        winding += *crossed;
       }
-    }
+      return BvhStep::kSkip;
+    });
     if (certain) return winding;
   }
   return std::nullopt;

@@ -22,27 +22,14 @@ std::array<std::int16_t, 2> encodeOctahedral(const Eigen::Vector3d& unit) {
   const double l1 = std::abs(unit.x()) + std::abs(unit.y()) + std::abs(unit.z());
   double px = l1 > 0.0 ? unit.x() / l1 : 0.0;
   double py = l1 > 0.0 ? unit.y() / l1 : 0.0;
-  if (l1 > 0.0 && unit.z() < 0.0) {
-    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
-    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
-    px = fx;
-    py = fy;
-  }
-  const auto quantize = [](double v) {
-    return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
-  };
-  return {quantize(px), quantize(py)};
+  if (l1 > 0.0 && unit.z() < 0.0) foldOctahedral(px, py);
+  return {quantizeSnorm16(px), quantizeSnorm16(py)};
 }
 
 Eigen::Vector3d decodeOctahedral(const std::array<std::int16_t, 2>& code) {
   double px = code[0] / 32767.0, py = code[1] / 32767.0;
   const double z = 1.0 - std::abs(px) - std::abs(py);
-  if (z < 0.0) {
-    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
-    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
-    px = fx;
-    py = fy;
-  }
+  if (z < 0.0) foldOctahedral(px, py);
   return Eigen::Vector3d(px, py, z).normalized();
 }
 

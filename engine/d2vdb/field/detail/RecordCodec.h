@@ -7,11 +7,14 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "d2vdb/field/Approximant.h"
 #include "d2vdb/field/detail/IndexFrame.h"
+#include "d2vdb/field/detail/LeafTable.h"
 
 namespace d2vdb::detail {
 
@@ -31,6 +34,23 @@ struct BandRecord {
   std::uint16_t c1 = 0;
 };
 static_assert(sizeof(BandRecord) == 16, "band records are 16 bytes");
+
+/// The fold of the octahedral map between the lower hemisphere and the corners of the square
+/// |x| + |y| <= 1: (x, y) becomes ((1 - |y|) sign x, (1 - |x|) sign y), with sign 0 = +1.
+/// Encoding applies it to the projection of a direction with z < 0, decoding to a code outside the
+/// diamond |x| + |y| <= 1. Inline: the field builder encodes every band voxel's normal.
+inline void foldOctahedral(double& x, double& y) {
+  const double foldedX = (1.0 - std::abs(y)) * (x >= 0.0 ? 1.0 : -1.0);
+  const double foldedY = (1.0 - std::abs(x)) * (y >= 0.0 ? 1.0 : -1.0);
+  x = foldedX;
+  y = foldedY;
+}
+
+/// `value` clamped to [-1, 1] as a signed normalized 16-bit integer (value x 32767, rounded to
+/// nearest, ties up).
+inline std::int16_t quantizeSnorm16(double value) {
+  return static_cast<std::int16_t>(nearestInt(std::clamp(value, -1.0, 1.0) * 32767.0));
+}
 
 /// Octahedral encoding of a unit vector into two snorm16 values, and its inverse (normalised).
 std::array<std::int16_t, 2> encodeOctahedral(const Eigen::Vector3d& unit);

@@ -566,30 +566,17 @@ BandRecord surfaceRecord(double distance, const Vec3& normal, const Vec3& e1, do
   BandRecord record;
   record.distance = static_cast<float>(distance);
   record.flags = flags;
-  // encodeOctahedral
+  // encodeOctahedral, with both divisions in one instruction
   const double l1 = std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z);
   double px = 0.0, py = 0.0;
   if (l1 > 0.0) divide(normal.x, normal.y, l1, px, py);
-  if (l1 > 0.0 && normal.z < 0.0) {
-    const double fx = (1.0 - std::abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
-    const double fy = (1.0 - std::abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
-    px = fx;
-    py = fy;
-  }
-  const auto quantize = [](double v) {
-    return static_cast<std::int16_t>(nearestInt(std::clamp(v, -1.0, 1.0) * 32767.0));
-  };
-  record.normal = {quantize(px), quantize(py)};
-  // decodeOctahedral
+  if (l1 > 0.0 && normal.z < 0.0) foldOctahedral(px, py);
+  record.normal = {quantizeSnorm16(px), quantizeSnorm16(py)};
+  // decodeOctahedral, likewise
   double qx, qy;
   divide(record.normal[0], record.normal[1], 32767.0, qx, qy);
   const double qz = 1.0 - std::abs(qx) - std::abs(qy);
-  if (qz < 0.0) {
-    const double fx = (1.0 - std::abs(qy)) * (qx >= 0.0 ? 1.0 : -1.0);
-    const double fy = (1.0 - std::abs(qx)) * (qy >= 0.0 ? 1.0 : -1.0);
-    qx = fx;
-    qy = fy;
-  }
+  if (qz < 0.0) foldOctahedral(qx, qy);
   const Vec3 decoded = normalized({qx, qy, qz});
   // The tangent's component in the decoded normal's plane, and its diamond angle there.
   const double along = dot(e1, decoded);

@@ -115,14 +115,8 @@ NearestTriangle nearestTriangle(const TriangleBvh& bvh, const std::vector<Eigen:
                                 const Eigen::Vector3d& q) {
   NearestTriangle best;
   const std::vector<TriangleBvh::Node>& nodes = bvh.nodes();
-  if (nodes.empty()) return best;
-  std::uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const std::uint32_t index = stack[--top];
-    const TriangleBvh::Node& node = nodes[index];
-    if (squaredDistanceToBox(q, node) >= best.squaredDistance) continue;
+  walkDepthFirst(bvh, [&](std::uint32_t index, const TriangleBvh::Node& node) {
+    if (squaredDistanceToBox(q, node) >= best.squaredDistance) return BvhStep::kSkip;
     if (node.isLeaf()) {
       for (std::uint32_t i = node.begin; i < node.end; ++i) {
         const std::uint32_t t = bvh.order()[i];
@@ -132,19 +126,13 @@ NearestTriangle nearestTriangle(const TriangleBvh& bvh, const std::vector<Eigen:
         const double d2 = (closest.point - q).squaredNorm();
         if (d2 < best.squaredDistance) best = {t, closest, d2};
       }
-      continue;
+      return BvhStep::kSkip;
     }
-    const std::uint32_t left = index + 1;
-    const std::uint32_t right = node.right;
-    // Push the farther child first so that the nearer one is searched first.
-    if (squaredDistanceToBox(q, nodes[left]) <= squaredDistanceToBox(q, nodes[right])) {
-      stack[top++] = right;
-      stack[top++] = left;
-    } else {
-      stack[top++] = left;
-      stack[top++] = right;
-    }
-  }
+    // The nearer child first, so that its triangles tighten the bound before the other's box.
+    return squaredDistanceToBox(q, nodes[index + 1]) <= squaredDistanceToBox(q, nodes[node.right])
+               ? BvhStep::kChildren
+               : BvhStep::kChildrenRightFirst;
+  });
   return best;
 }
 

@@ -15,6 +15,19 @@ namespace d2vdb::detail {
 /// Triangles as corner indices into a point array (any units, double precision).
 using TriangleIndices = std::array<std::uint32_t, 3>;
 
+/// References to the three corners of a triangle.
+struct TriangleCorners {
+  const Eigen::Vector3d& a;
+  const Eigen::Vector3d& b;
+  const Eigen::Vector3d& c;
+};
+
+/// The corners of `triangle` in `points` (indices not checked).
+inline TriangleCorners cornersOf(const std::vector<Eigen::Vector3d>& points,
+                                 const TriangleIndices& triangle) {
+  return {points[triangle[0]], points[triangle[1]], points[triangle[2]]};
+}
+
 /// A binary tree over triangles: each node keeps the axis-aligned box of its triangles' corners
 /// and a range of `order()`; an inner node splits its triangles at the median of their centroids
 /// along the box's longest side, down to leaves of at most `leafSize` triangles. Nodes are in
@@ -48,6 +61,46 @@ class TriangleBvh {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;
 };
+
+/// What a depth-first walk over a TriangleBvh does after visiting a node (walkDepthFirst()).
+enum class BvhStep {
+  kSkip,                ///< nothing below this node (a leaf's visit, or a pruned subtree)
+  kChildren,            ///< the left child's subtree, then the right child's
+  kChildrenRightFirst,  ///< the right child's subtree, then the left child's
+  kStop,                ///< end the walk
+};
+
+/// Walks the nodes of `bvh` depth first from the root with an explicit stack (nothing for an
+/// empty tree). `visit(index, node)` handles a node and returns the BvhStep to take next; it must
+/// not return kChildren or kChildrenRightFirst for a leaf. Inline: every distance and sign query
+/// of a mesh walks the tree.
+template <class Visit>
+void walkDepthFirst(const TriangleBvh& bvh, Visit&& visit) {
+  const std::vector<TriangleBvh::Node>& nodes = bvh.nodes();
+  if (nodes.empty()) return;
+  // Median splits keep the depth below 33 for 2^32 triangles; each level adds one entry.
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t index = stack[--top];
+    const TriangleBvh::Node& node = nodes[index];
+    switch (visit(index, node)) {
+      case BvhStep::kSkip:
+        break;
+      case BvhStep::kChildren:
+        stack[top++] = node.right;
+        stack[top++] = index + 1;
+        break;
+      case BvhStep::kChildrenRightFirst:
+        stack[top++] = index + 1;
+        stack[top++] = node.right;
+        break;
+      case BvhStep::kStop:
+        return;
+    }
+  }
+}
 
 /// The triangle nearest to a point and its closest point on it.
 struct NearestTriangle {

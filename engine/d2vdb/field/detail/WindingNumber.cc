@@ -23,6 +23,11 @@ double distanceToBox(const Eigen::Vector3d& q, const TriangleBvh::Node& node) {
   return outside.norm();
 }
 
+/// Area of the triangle abc.
+double areaOf(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
 /// Distance between two axis-aligned boxes (0 when they overlap).
 double boxDistance(const Eigen::Vector3d& lowA, const Eigen::Vector3d& highA,
                    const Eigen::Vector3d& lowB, const Eigen::Vector3d& highB) {
@@ -59,11 +64,8 @@ void WindingNumberField::buildExpansion(std::uint32_t nodeIndex) {
     double area = 0.0;
     Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
     for (std::uint32_t i = node.begin; i < node.end; ++i) {
-      const TriangleIndices& tri = triangles_[bvh_.order()[i]];
-      const Eigen::Vector3d& a = points_[tri[0]];
-      const Eigen::Vector3d& b = points_[tri[1]];
-      const Eigen::Vector3d& c = points_[tri[2]];
-      const double triangleArea = 0.5 * (b - a).cross(c - a).norm();
+      const auto [a, b, c] = cornersOf(points_, triangles_[bvh_.order()[i]]);
+      const double triangleArea = areaOf(a, b, c);
       area += triangleArea;
       weighted += triangleArea * (a + b + c) / 3.0;
     }
@@ -147,19 +149,14 @@ WindingNumberField::Estimate WindingNumberField::estimate(const Eigen::Vector3d&
   double angles = 0.0;    // exact solid angles of opened leaves
   double farField = 0.0;  // expansions, already divided by 4 pi
   double bound = 0.0;
-  std::uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  const std::vector<TriangleBvh::Node>& nodes = bvh_.nodes();
-  while (top > 0) {
-    const std::uint32_t index = stack[--top];
-    const TriangleBvh::Node& node = nodes[index];
+  // The left subtree is summed before the right one.
+  walkDepthFirst(bvh_, [&](std::uint32_t index, const TriangleBvh::Node& node) {
     const Expansion& expansion = expansions_[index];
     const Eigen::Vector3d y = expansion.center - q;
     const double distance2 = y.squaredNorm();
     const double radius = expansion.radius;
     if (distance2 > beta * beta * radius * radius) {
-      if (expansion.area == 0.0) continue;
+      if (expansion.area == 0.0) return BvhStep::kSkip;
       const double distance = std::sqrt(distance2);
       const double inverse = 1.0 / distance;
       const double inverse3 = inverse * inverse * inverse;
@@ -180,19 +177,15 @@ WindingNumberField::Estimate WindingNumberField::estimate(const Eigen::Vector3d&
       const double rho = std::max(distance - radius, distanceToBox(q, node));
       const double rho2 = rho * rho;
       bound += expansion.area * radius * radius * radius / (kPi * rho2 * rho2 * rho);
-      continue;
+      return BvhStep::kSkip;
     }
-    if (node.isLeaf()) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const std::uint32_t triangle = bvh_.order()[i];
-        if (triangle != excluded) angles += triangleSolidAngle(triangle, q);
-      }
-      continue;
+    if (!node.isLeaf()) return BvhStep::kChildren;
+    for (std::uint32_t i = node.begin; i < node.end; ++i) {
+      const std::uint32_t triangle = bvh_.order()[i];
+      if (triangle != excluded) angles += triangleSolidAngle(triangle, q);
     }
-    // Right child pushed first so that the left subtree is summed first.
-    stack[top++] = node.right;
-    stack[top++] = index + 1;
-  }
+    return BvhStep::kSkip;
+  });
   result.value = angles / kFourPi + farField;
   result.errorBound = bound + kRoundingSlack;
   return result;
@@ -218,19 +211,13 @@ double WindingNumberField::decide(const Eigen::Vector3d& q,
 
 double WindingNumberField::boundOverBox(const Eigen::Vector3d& low, const Eigen::Vector3d& high,
                                         double limit) const {
-  const std::vector<TriangleBvh::Node>& nodes = bvh_.nodes();
-  if (nodes.empty()) return 0.0;
+  if (bvh_.nodes().empty()) return 0.0;
   // A node is summed whole once its share is below this fraction of the limit.
   const double fine = 1e-3 * limit;
   double bound = 0.0;
-  std::uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const std::uint32_t index = stack[--top];
-    const TriangleBvh::Node& node = nodes[index];
+  walkDepthFirst(bvh_, [&](std::uint32_t index, const TriangleBvh::Node& node) {
     const double area = expansions_[index].area;
-    if (area == 0.0) continue;
+    if (area == 0.0) return BvhStep::kSkip;
     const double distance = boxDistance(low, high, node.low, node.high);
     const double share = distance > 0.0 ? area / (kFourPi * distance * distance)
                                         : std::numeric_limits<double>::infinity();
@@ -238,11 +225,8 @@ double WindingNumberField::boundOverBox(const Eigen::Vector3d& low, const Eigen:
       bound += share;
     } else if (node.isLeaf()) {
       for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const TriangleIndices& tri = triangles_[bvh_.order()[i]];
-        const Eigen::Vector3d& a = points_[tri[0]];
-        const Eigen::Vector3d& b = points_[tri[1]];
-        const Eigen::Vector3d& c = points_[tri[2]];
-        const double triangleArea = 0.5 * (b - a).cross(c - a).norm();
+        const auto [a, b, c] = cornersOf(points_, triangles_[bvh_.order()[i]]);
+        const double triangleArea = areaOf(a, b, c);
         if (triangleArea == 0.0) continue;
         const double d =
             boxDistance(low, high, a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c));
@@ -250,12 +234,12 @@ double WindingNumberField::boundOverBox(const Eigen::Vector3d& low, const Eigen:
             d > 0.0 ? triangleArea / (kFourPi * d * d) : std::numeric_limits<double>::infinity();
       }
     } else {
-      stack[top++] = node.right;
-      stack[top++] = index + 1;
+      return BvhStep::kChildren;
     }
     // The rounding of the sum stays far below the slack added by the caller's decisions.
-    if (bound > limit) return bound;
-  }
+    return bound > limit ? BvhStep::kStop : BvhStep::kSkip;
+  });
+  if (bound > limit) return bound;
   return bound * (1.0 + 1e-12) + kRoundingSlack;
 }
 
