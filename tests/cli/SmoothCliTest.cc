@@ -33,6 +33,7 @@ TEST_F(SmoothCliTest, SmoothsTheBunnyWithCurvatures) {
   const auto report = nlohmann::json::parse(result.out);
   for (const char* key : {"input", "output", "source", "lod", "vertices", "faces", "degrees",
                           "output_vertices", "output_triangles", "distance_to_source",
+                          "distance_to_mesh",
                           "subdivided_faces", "curvature", "seconds", "diagonal"}) {
     EXPECT_TRUE(report.contains(key)) << key;
   }
@@ -43,6 +44,12 @@ TEST_F(SmoothCliTest, SmoothsTheBunnyWithCurvatures) {
   EXPECT_EQ(report["degrees"]["10"], 5);
   EXPECT_GT(report["subdivided_faces"].get<int>(), 0);
   EXPECT_LE(report["distance_to_source"]["max_relative"].get<double>(), 1.5e-3);
+  // The Loop limit surface does not pass through the mesh's vertices: the smooth surface lies
+  // farther from the input mesh than from its source (tests/manifold checks the figure itself).
+  EXPECT_GT(report["distance_to_mesh"]["max"].get<double>(),
+            report["distance_to_source"]["max"].get<double>());
+  EXPECT_GE(report["distance_to_mesh"]["max"].get<double>(),
+            report["distance_to_mesh"]["rms"].get<double>());
   EXPECT_GT(report["curvature"]["k1"]["max"].get<double>(),
             report["curvature"]["k2"]["max"].get<double>());
   const std::string file = readWholeFile(scratch_ / "bunny.ply");

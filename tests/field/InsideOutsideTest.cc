@@ -11,7 +11,7 @@
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/field/detail/SelfIntersection.h"
-#include "d2vdb/field/detail/TriangleClosestPoint.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
 #include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshIO.h"
 #include "field/FieldTestSupport.h"
@@ -21,8 +21,6 @@
 namespace d2vdb {
 namespace {
 
-using detail::TriangleFeature;
-using detail::TriangleIndices;
 
 std::vector<Eigen::Vector3d> toDouble(const TriangleMesh& mesh) {
   std::vector<Eigen::Vector3d> points;
@@ -39,7 +37,7 @@ std::vector<TriangleIndices> toIndices(const TriangleMesh& mesh) {
 TEST(InsideOutside, ClosestPointReportsItsFeature) {
   const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
   const auto at = [&](double x, double y, double z) {
-    return detail::closestPointOnTriangle(Eigen::Vector3d(x, y, z), a, b, c);
+    return closestPointOnTriangle(Eigen::Vector3d(x, y, z), a, b, c);
   };
   EXPECT_EQ(at(0.5, 0.5, 1).feature, TriangleFeature::face);
   EXPECT_TRUE(at(0.5, 0.5, 1).point.isApprox(Eigen::Vector3d(0.5, 0.5, 0)));
@@ -51,7 +49,7 @@ TEST(InsideOutside, ClosestPointReportsItsFeature) {
   EXPECT_EQ(at(3, -1, 0).feature, TriangleFeature::vertex1);
   EXPECT_EQ(at(-0.5, 3, 0).feature, TriangleFeature::vertex2);
   // A flat triangle: the nearest of its sides.
-  const detail::TriangleClosestPoint flat = detail::closestPointOnTriangle(
+  const TriangleClosestPoint flat = closestPointOnTriangle(
       Eigen::Vector3d(1, 1, 0), a, Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(4, 0, 0));
   EXPECT_NEAR((flat.point - Eigen::Vector3d(1, 0, 0)).norm(), 0.0, 1e-12);
 }
@@ -194,7 +192,7 @@ TEST(InsideOutside, SelfIntersectionTestCases) {
   const TriangleMesh polycube = test::makePolycubeMesh(spec);
   const detail::InsideOutsideMesh single =
       detail::prepareInsideOutsideMesh(toDouble(polycube), toIndices(polycube));
-  const detail::TriangleBvh bvh(single.points, single.triangles);
+  const TriangleBvh bvh(single.points, single.triangles);
   EXPECT_FALSE(
       detail::hasSelfIntersection(single.points, single.triangles, single.degenerate, bvh, 1e-9));
   TriangleMesh doubled = polycube;
@@ -208,7 +206,7 @@ TEST(InsideOutside, SelfIntersectionTestCases) {
   }
   const detail::InsideOutsideMesh pair =
       detail::prepareInsideOutsideMesh(toDouble(doubled), toIndices(doubled));
-  const detail::TriangleBvh pairBvh(pair.points, pair.triangles);
+  const TriangleBvh pairBvh(pair.points, pair.triangles);
   EXPECT_TRUE(
       detail::hasSelfIntersection(pair.points, pair.triangles, pair.degenerate, pairBvh, 1e-9));
 }
@@ -241,7 +239,7 @@ TEST(InsideOutside, SelfIntersectionBroadPhaseFindsWhatAllPairsFind) {
         bruteForce = detail::trianglesIntersect(points, triangles[a], triangles[b], 1e-9);
       }
     }
-    const detail::TriangleBvh bvh(points, triangles, 2);
+    const TriangleBvh bvh(points, triangles, 2);
     EXPECT_EQ(detail::hasSelfIntersection(points, triangles, degenerate, bvh, 1e-9), bruteForce)
         << "soup " << soup;
     intersecting += bruteForce ? 1 : 0;
@@ -314,10 +312,10 @@ TEST(InsideOutside, PreparedMeshIsRepairedAndCapped) {
     const bool inside = (q - Eigen::Vector3d(0.1, 0.2, 0.3)).norm() < 0.9;
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t nearest = 0;
-    detail::TriangleClosestPoint closest;
+    TriangleClosestPoint closest;
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
       const TriangleIndices& tri = mesh.triangles[t];
-      const detail::TriangleClosestPoint c = detail::closestPointOnTriangle(
+      const TriangleClosestPoint c = closestPointOnTriangle(
           q, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
       if ((c.point - q).norm() < best) {
         best = (c.point - q).norm();

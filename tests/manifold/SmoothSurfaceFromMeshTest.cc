@@ -1,10 +1,12 @@
 // smoothSurfaceFromMesh(): the smooth surface of an icosphere against the unit sphere, each source
 // against the same construction made step by step, the early check and the messages.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "d2vdb/manifold/PnTriangles.h"
 #include "d2vdb/manifold/SmoothSurfaceFromMesh.h"
 #include "d2vdb/manifold/SourceDistance.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
 
 namespace d2vdb {
 namespace {
@@ -97,6 +100,50 @@ TEST(SmoothSurfaceFromMesh, LoopLimitSurfaceOfAnIcosphereLiesJustInsideTheSphere
   }
   std::printf("Loop, icosphere 3: degree-6 vertices within %.3g of the limit mask\n", worst);
   EXPECT_LT(worst, 1e-4);
+}
+
+TEST(SmoothSurfaceFromMesh, DistanceToTheInputMeshIsTheBruteForceOneAndExceedsTheSourceDistance) {
+  // PN triangles with the sphere's normals bulge out of the flat faces by about the sagitta
+  // r^2 / 2 of their circumradius r; the distance to their own source is far smaller.
+  const TriangleMesh input = icosphereMesh(2, true);
+  SmoothSurfaceFromMeshOptions options;
+  options.source = SmoothSurfaceSource::PnTriangles;
+  options.fileNormals = true;
+  const MeshSmoothSurface smooth = smoothSurfaceFromMesh(input, options);
+  const MeshDistance distance(input);
+  const MeshDeviationStatistics toMesh = distanceToMesh(smooth.surface, distance, 4);
+  // Brute force: every lattice point against every triangle, in the same face order.
+  double worst = 0.0, sumSquares = 0.0;
+  std::size_t samples = 0;
+  for (const FacePoint& point : latticePoints(*smooth.mesh, 4)) {
+    const Eigen::Vector3d x = smooth.surface.position(point);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const TriangleMesh::Triangle& t : input.triangles) {
+      const Eigen::Vector3d a = input.positions[t[0]].cast<double>();
+      const Eigen::Vector3d b = input.positions[t[1]].cast<double>();
+      const Eigen::Vector3d c = input.positions[t[2]].cast<double>();
+      nearest = std::min(nearest, (closestPointOnTriangle(x, a, b, c).point - x).norm());
+    }
+    worst = std::max(worst, nearest);
+    sumSquares += nearest * nearest;
+    ++samples;
+  }
+  EXPECT_EQ(toMesh.samples, samples);
+  EXPECT_EQ(toMesh.maxDistance, worst);
+  EXPECT_NEAR(toMesh.rmsDistance, std::sqrt(sumSquares / static_cast<double>(samples)), 1e-15);
+  const SourceDistanceStatistics toSource = distanceToSource(smooth.surface, *smooth.source, 4);
+  std::printf("PN, icosphere 2: to the mesh max %.3g, to the source max %.3g\n",
+              toMesh.maxDistance, toSource.maxDistance);
+  EXPECT_GT(toMesh.maxDistance, 10.0 * toSource.maxDistance);
+  // The level-2 icosphere's edges are about 0.3 long: circumradius about 0.18, sagitta 0.016.
+  EXPECT_GT(toMesh.maxDistance, 0.005);
+  EXPECT_LT(toMesh.maxDistance, 0.03);
+  // One thread gives the same figures.
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const MeshDeviationStatistics serial = distanceToMesh(smooth.surface, distance, 4);
+  EXPECT_EQ(serial.maxDistance, toMesh.maxDistance);
+  EXPECT_EQ(serial.rmsDistance, toMesh.rmsDistance);
+  test::expectInputError([&] { distanceToMesh(smooth.surface, distance, 0); }, {"sample"});
 }
 
 TEST(SmoothSurfaceFromMesh, IsTheStepByStepConstruction) {

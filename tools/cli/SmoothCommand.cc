@@ -78,6 +78,7 @@ struct SmoothResult {
   MeshSmoothSurface smooth;
   SmoothTessellation tessellation;
   SourceDistanceStatistics distance;
+  MeshDeviationStatistics meshDistance;  // from the smooth surface to the input mesh
   int distanceSamples = 0;
   nlohmann::json curvature;  // with --curvature
   double tessellationSeconds = 0, distanceSeconds = 0;
@@ -110,6 +111,13 @@ nlohmann::json smoothJson(const SmoothArguments& args, const SmoothResult& resul
         {"parametric_max", distance.maxParametric},
         {"parametric_rms", distance.rmsParametric},
         {"samples", distance.samples},
+        {"samples_per_edge", result.distanceSamples}}},
+      {"distance_to_mesh",
+       {{"max", result.meshDistance.maxDistance},
+        {"rms", result.meshDistance.rmsDistance},
+        {"max_relative", result.meshDistance.maxDistance / diagonal},
+        {"rms_relative", result.meshDistance.rmsDistance / diagonal},
+        {"samples", result.meshDistance.samples},
         {"samples_per_edge", result.distanceSamples}}},
       {"seconds",
        {{"construction", result.smooth.buildSeconds},
@@ -147,6 +155,12 @@ std::string smoothText(const SmoothArguments& args, const SmoothResult& result,
                 args.source == "loop" ? "Loop limit" : "PN triangle", distance.maxDistance,
                 distance.maxDistance / diagonal, distance.rmsDistance, distance.samples);
   text += line;
+  const MeshDeviationStatistics& toMesh = result.meshDistance;
+  std::snprintf(line, sizeof line,
+                "distance to the input mesh: max %.3g (%.3g of the diagonal), RMS %.3g, at the "
+                "same samples\n",
+                toMesh.maxDistance, toMesh.maxDistance / diagonal, toMesh.rmsDistance);
+  text += line;
   if (args.curvature) {
     const nlohmann::json& curvature = result.curvature;
     std::snprintf(line, sizeof line,
@@ -162,10 +176,8 @@ std::string smoothText(const SmoothArguments& args, const SmoothResult& result,
   return text;
 }
 
-MeshSmoothSurface buildSmoothSurface(const SmoothArguments& args, const CommandContext& context) {
-  LoadOptions load;
-  load.purpose = "the input of 'd2vdb smooth'";
-  const TriangleMesh input = loadInput(args.input, {InputKind::Mesh}, load).take<MeshInput>().mesh;
+MeshSmoothSurface buildSmoothSurface(const SmoothArguments& args, const TriangleMesh& input,
+                                     const CommandContext& context) {
   SmoothSurfaceFromMeshOptions options;
   options.source =
       args.source == "loop" ? SmoothSurfaceSource::LoopLimit : SmoothSurfaceSource::PnTriangles;
@@ -181,7 +193,10 @@ MeshSmoothSurface buildSmoothSurface(const SmoothArguments& args, const CommandC
 
 Report runSmooth(const SmoothArguments& args, const CommandContext& context) {
   const Stopwatch clock;
-  SmoothResult result{buildSmoothSurface(args, context), {}, {}, 0, {}, 0, 0};
+  LoadOptions load;
+  load.purpose = "the input of 'd2vdb smooth'";
+  const TriangleMesh input = loadInput(args.input, {InputKind::Mesh}, load).take<MeshInput>().mesh;
+  SmoothResult result{buildSmoothSurface(args, input, context), {}, {}, {}, 0, {}, 0, 0};
   const PseudoManifold& surface = result.smooth.surface;
 
   const Stopwatch sampling;
@@ -193,6 +208,8 @@ Report runSmooth(const SmoothArguments& args, const CommandContext& context) {
   result.distanceSamples = std::min(1 << args.lod, 8);
   result.distance =
       distanceToSource(surface, *result.smooth.source, std::max(result.distanceSamples, 1));
+  result.meshDistance =
+      distanceToMesh(surface, MeshDistance(input), std::max(result.distanceSamples, 1));
   result.distanceSeconds = measuring.seconds();
 
   if (args.curvature) {
@@ -228,7 +245,7 @@ void addSmoothCommand(CommandRegistry& registry) {
        "limit surface, or PN triangles), blended with C-infinity weights (Siqueira et al. 2009).\n"
        "--curvature adds per-vertex principal curvatures k1 >= k2 (properties k1, k2) and colours\n"
        "by mean curvature (red convex, white flat, blue concave; scale: 99th percentile of |H|)\n"
-       "to .ply output. Reports the distance from the smooth surface to its source.\n"
+       "to .ply output. Reports the distance from the smooth surface to its source and to the input mesh.\n"
        "Example: d2vdb smooth volumes/bunny.obj bunny_smooth.ply --lod 3 --curvature",
        "use a lower --lod or --max-bidegree, or a smaller mesh", declareSmooth, runSmooth,
        outputsOfSmooth});

@@ -177,7 +177,7 @@ class ExactSigns {
     for (std::size_t i = 0; i < indexPoints.size(); ++i) {
       points[i] = Eigen::Vector3d(indexPoints[i].x(), indexPoints[i].y(), indexPoints[i].z());
     }
-    std::vector<detail::TriangleIndices> corners(triangles.size());
+    std::vector<TriangleIndices> corners(triangles.size());
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       corners[i] = {triangles[i].x(), triangles[i].y(), triangles[i].z()};
     }

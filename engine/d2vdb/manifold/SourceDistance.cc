@@ -178,4 +178,33 @@ SourceDistanceStatistics distanceToSource(const PseudoManifold& surface,
   return statistics;
 }
 
+MeshDeviationStatistics distanceToMesh(const PseudoManifold& surface, const MeshDistance& mesh,
+                                       int samplesPerEdge, int faceStep) {
+  if (samplesPerEdge < 1) throw InputError("at least one sample interval per edge is needed");
+  if (faceStep < 1) throw InputError("the face step must be at least 1");
+  const std::vector<Eigen::Vector3d> lattice = faceLattice(samplesPerEdge);
+  const std::size_t faces = (surface.mesh().faceCount() + faceStep - 1) / faceStep;
+  std::vector<double> maxima(faces, 0.0);
+  std::vector<double> sumSquares(faces, 0.0);
+  tbb::parallel_for(std::size_t{0}, faces, [&](std::size_t f) {
+    const auto face = static_cast<Index>(f * static_cast<std::size_t>(faceStep));
+    for (const Eigen::Vector3d& barycentric : lattice) {
+      const double distance =
+          mesh.closestPoint(surface.position(FacePoint{face, barycentric})).distance;
+      maxima[f] = std::max(maxima[f], distance);
+      sumSquares[f] += distance * distance;
+    }
+  });
+  MeshDeviationStatistics statistics;
+  double sum = 0.0;
+  for (std::size_t f = 0; f < faces; ++f) {
+    statistics.maxDistance = std::max(statistics.maxDistance, maxima[f]);
+    sum += sumSquares[f];
+  }
+  statistics.samples = lattice.size() * faces;
+  statistics.rmsDistance =
+      statistics.samples > 0 ? std::sqrt(sum / static_cast<double>(statistics.samples)) : 0.0;
+  return statistics;
+}
+
 }  // namespace d2vdb

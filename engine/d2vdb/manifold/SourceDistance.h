@@ -1,4 +1,5 @@
-// How far a pseudo-manifold lies from the source surface it was fitted to.
+// How far a pseudo-manifold lies from the source surface it was fitted to, and from the triangle
+// mesh it came from.
 #pragma once
 
 #include <Eigen/Core>
@@ -8,6 +9,7 @@
 #include "d2vdb/manifold/HalfEdgeMesh.h"
 #include "d2vdb/manifold/PseudoManifold.h"
 #include "d2vdb/manifold/SourceSurface.h"
+#include "d2vdb/mesh/MeshDistance.h"
 
 namespace d2vdb {
 
@@ -46,5 +48,20 @@ struct SourceDistanceStatistics {
 SourceDistanceStatistics distanceToSource(const PseudoManifold& surface,
                                           const SourceSurface& source, int samplesPerEdge,
                                           int faceStep = 1);
+
+/// Distances from a pseudo-manifold to a triangle mesh.
+struct MeshDeviationStatistics {
+  std::size_t samples = 0;
+  double maxDistance = 0.0;  ///< world units
+  double rmsDistance = 0.0;  ///< world units
+};
+
+/// For each lattice point (faceLattice(samplesPerEdge)) of every faceStep-th face: the exact
+/// distance from the PPS point to the nearest triangle of `mesh` (usually the mesh the surface
+/// was built from: a Loop limit surface, and so the smooth surface, does not pass through the
+/// mesh's vertices). One-sided, from the surface to the mesh. Parallel (TBB), deterministic.
+/// Throws InputError when samplesPerEdge < 1 or faceStep < 1.
+MeshDeviationStatistics distanceToMesh(const PseudoManifold& surface, const MeshDistance& mesh,
+                                       int samplesPerEdge, int faceStep = 1);
 
 }  // namespace d2vdb

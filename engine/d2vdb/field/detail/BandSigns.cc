@@ -17,7 +17,7 @@
 
 #include "d2vdb/core/detail/DisjointSets.h"
 #include "d2vdb/field/detail/RayWinding.h"
-#include "d2vdb/field/detail/TriangleClosestPoint.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
 
 namespace d2vdb::detail {
 namespace {

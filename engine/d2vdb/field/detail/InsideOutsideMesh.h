@@ -9,8 +9,8 @@
 #include <limits>
 #include <vector>
 
-#include "d2vdb/field/detail/TriangleBvh.h"
-#include "d2vdb/field/detail/TriangleClosestPoint.h"
+#include "d2vdb/mesh/TriangleBvh.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
 
 namespace d2vdb::detail {
 

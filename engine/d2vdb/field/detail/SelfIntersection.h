@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "d2vdb/field/detail/TriangleBvh.h"
+#include "d2vdb/mesh/TriangleBvh.h"
 
 namespace d2vdb::detail {
 

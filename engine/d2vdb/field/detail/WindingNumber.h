@@ -11,7 +11,7 @@
 #include <limits>
 #include <vector>
 
-#include "d2vdb/field/detail/TriangleBvh.h"
+#include "d2vdb/mesh/TriangleBvh.h"
 
 namespace d2vdb::detail {
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace d2vdb::detail {
+namespace d2vdb {
 
 /// The part of a triangle (a, b, c) a closest point lies on. Edge k runs from corner k to corner
 /// k + 1 (mod 3), so edge0 = ab, edge1 = bc, edge2 = ca.
@@ -77,4 +77,4 @@ inline TriangleClosestPoint closestPointOnTriangle(const Eigen::Vector3d& p,
   return {a + ab * (vb * inverse) + ac * (vc * inverse), TriangleFeature::face};
 }
 
-}  // namespace d2vdb::detail
+}  // namespace d2vdb

@@ -1,4 +1,4 @@
-#include "d2vdb/field/detail/TriangleBvh.h"
+#include "d2vdb/mesh/TriangleBvh.h"
 
 #include <tbb/task_group.h>
 
@@ -6,7 +6,7 @@
 #include <limits>
 #include <numeric>
 
-namespace d2vdb::detail {
+namespace d2vdb {
 namespace {
 
 /// Number of nodes of a subtree over `count` triangles (a function of the count only).
@@ -148,4 +148,4 @@ TriangleBvh::TriangleBvh(const std::vector<Eigen::Vector3d>& points,
   builder.build(0, 0, count);
 }
 
-}  // namespace d2vdb::detail
+}  // namespace d2vdb

@@ -8,12 +8,13 @@
 #include <limits>
 #include <vector>
 
-#include "d2vdb/field/detail/TriangleClosestPoint.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
+#include "d2vdb/mesh/TriangleMesh.h"
 
-namespace d2vdb::detail {
+namespace d2vdb {
 
 /// Triangles as corner indices into a point array (any units, double precision).
-using TriangleIndices = std::array<std::uint32_t, 3>;
+using TriangleIndices = TriangleMesh::Triangle;
 
 /// References to the three corners of a triangle.
 struct TriangleCorners {
@@ -116,4 +117,4 @@ NearestTriangle nearestTriangle(const TriangleBvh& bvh, const std::vector<Eigen:
                                 const std::vector<TriangleIndices>& triangles,
                                 const Eigen::Vector3d& q);
 
-}  // namespace d2vdb::detail
+}  // namespace d2vdb
