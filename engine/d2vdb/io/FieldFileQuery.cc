@@ -41,9 +41,8 @@ bool hasVdbExtension(const std::filesystem::path& path) {
   return extension == ".vdb";
 }
 
-FieldFileAnswer answerFromWholeFile(const std::filesystem::path& path, const Eigen::Vector3d& point,
-                                    const LoadOptions& load) {
-  const ApproximantField field = loadInputAs<FieldInput>(path, load).field;
+/// The answer of a field read whole.
+FieldFileAnswer answerFromWholeField(const ApproximantField& field, const Eigen::Vector3d& point) {
   ApproximantField::Accessor accessor(field);
   FieldFileAnswer result;
   result.answer = answerAt(field, accessor, point);
@@ -52,6 +51,21 @@ FieldFileAnswer answerFromWholeFile(const std::filesystem::path& path, const Eig
   }
   result.bandVoxelsRead = field.distanceGrid()->activeVoxelCount();
   return result;
+}
+
+FieldFileAnswer answerFromWholeFile(const std::filesystem::path& path, const Eigen::Vector3d& point,
+                                    const LoadOptions& load) {
+  return answerFromWholeField(loadInputAs<FieldInput>(path, load).field, point);
+}
+
+/// Index-space distance from `index` to the box `box` (0 inside).
+double distanceToBox(const openvdb::Vec3d& index, const openvdb::CoordBBox& box) {
+  const openvdb::Vec3d below = box.min().asVec3d() - index;
+  const openvdb::Vec3d above = index - box.max().asVec3d();
+  const openvdb::Vec3d outside(std::max({0.0, below.x(), above.x()}),
+                               std::max({0.0, below.y(), above.y()}),
+                               std::max({0.0, below.z(), above.z()}));
+  return outside.length();
 }
 
 /// The radius (index units, about the point) of the box that makes the clipped field's answer
@@ -174,7 +188,9 @@ FieldFileAnswer answerFromFieldFile(const std::filesystem::path& path, const Eig
       distanceMeta->transform().worldToIndex(openvdb::Vec3d(point.x(), point.y(), point.z()));
   const int coarseHalfWidth = std::max(2, load.field.coarseHalfWidth);
   FieldFileAnswer result;
-  double radius = 3.0 * kMargin + 8.0;  // voxels: the band's half-width is a few voxels
+  // Voxels: the band's half-width is a few voxels, and no sample lies nearer than the band's box.
+  double radius = 3.0 * kMargin + 8.0 + distanceToBox(index, bandBox);
+  bool wholeBand = false;  // the clip would cover most of the band
   for (int attempt = 0; attempt < 64; ++attempt) {
     const openvdb::CoordBBox clip(openvdb::Coord::floor(index - openvdb::Vec3d(radius)),
                                   openvdb::Coord::ceil(index + openvdb::Vec3d(radius)));
@@ -185,6 +201,7 @@ FieldFileAnswer answerFromFieldFile(const std::filesystem::path& path, const Eig
       return box;
     }();
     if (clip.isInside(bandBox) || (!overlap.empty() && overlap.volume() > bandBox.volume() / 2)) {
+      wholeBand = true;
       break;
     }
     const openvdb::BBoxd worldBox(distanceMeta->transform().indexToWorld(clip.min().asVec3d()),
@@ -215,7 +232,11 @@ FieldFileAnswer answerFromFieldFile(const std::filesystem::path& path, const Eig
     radius = std::max(needed, 1.5 * radius);
   }
   const int reads = result.reads;
-  result = answerFromWholeFile(path, point, load);
+  // Most of the band is needed: read it whole from the file already checked and mapped. Other
+  // endings (mismatched grids) go through the whole-file read, whose messages name the fault.
+  result = wholeBand ? answerFromWholeField(
+                           fieldFromGrids(reader.readAll(), path.string(), load.field), point)
+                     : answerFromWholeFile(path, point, load);
   result.reads = reads;
   return result;
 }

@@ -332,6 +332,13 @@ VdbPartialReader::VdbPartialReader(const std::filesystem::path& path) : path_(pa
 }
 
 std::vector<openvdb::GridBase::Ptr> VdbPartialReader::read(const openvdb::BBoxd& worldBox) const {
+  return readGrids(&worldBox);
+}
+
+std::vector<openvdb::GridBase::Ptr> VdbPartialReader::readAll() const { return readGrids(nullptr); }
+
+std::vector<openvdb::GridBase::Ptr> VdbPartialReader::readGrids(
+    const openvdb::BBoxd* worldBox) const {
   std::vector<openvdb::GridBase::Ptr> grids;
   try {
     // Memory-mapped (OpenVDB's delayed loading, the file having been checked whole): skipping the
@@ -339,7 +346,8 @@ std::vector<openvdb::GridBase::Ptr> VdbPartialReader::read(const openvdb::BBoxd&
     openvdb::io::File file(path_.string());
     file.open(/*delayLoad=*/true);
     for (const openvdb::GridBase::Ptr& grid : metadata_) {
-      grids.push_back(file.readGrid(grid->getName(), worldBox));
+      grids.push_back(worldBox ? file.readGrid(grid->getName(), *worldBox)
+                               : file.readGrid(grid->getName()));
     }
     file.close();
   } catch (const std::exception& error) {

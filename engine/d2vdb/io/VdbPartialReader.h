@@ -29,7 +29,14 @@ class VdbPartialReader {
   /// (finite, a usable transform). Throws InputError naming the file.
   std::vector<openvdb::GridBase::Ptr> read(const openvdb::BBoxd& worldBox) const;
 
+  /// Every grid of the file whole, from the memory-mapped file checked by the constructor (no
+  /// second walk of the file, as readAllGrids() would make). Values are checked as in read().
+  std::vector<openvdb::GridBase::Ptr> readAll() const;
+
  private:
+  /// Every grid, clipped to `worldBox` unless it is null.
+  std::vector<openvdb::GridBase::Ptr> readGrids(const openvdb::BBoxd* worldBox) const;
+
   std::filesystem::path path_;
   std::vector<openvdb::GridBase::Ptr> metadata_;
 };
