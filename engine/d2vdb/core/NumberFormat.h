@@ -1,8 +1,9 @@
-// Numbers and points as text for messages and reports, the same way everywhere.
+// Numbers, points and file names as text for messages and reports, the same way everywhere.
 #pragma once
 
 #include <Eigen/Core>
 
+#include <filesystem>
 #include <string>
 
 namespace d2vdb {
@@ -18,5 +19,8 @@ std::string formatNumber(double value, int significantDigits = 0);
 /// "(x, y, z)", or "(x, y)" when `dimension` is 2, each coordinate as formatNumber(coordinate,
 /// significantDigits).
 std::string formatPoint(const Eigen::Vector3d& point, int significantDigits = 0, int dimension = 3);
+
+/// A file name as messages quote it: 'name'.
+std::string quotedPath(const std::filesystem::path& path);
 
 }  // namespace d2vdb

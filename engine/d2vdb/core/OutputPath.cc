@@ -6,14 +6,11 @@
 #include <system_error>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/core/detail/FileExtension.h"
 
 namespace d2vdb {
 namespace {
-
-std::string quoted(const std::filesystem::path& path) {
-  return "'" + path.string() + "'";
-}
 
 // ".obj", ".obj or .ply", ".obj, .ply or .stl".
 std::string extensionList(const std::vector<std::string>& extensions) {
@@ -35,7 +32,7 @@ void checkExtension(const std::filesystem::path& path, const OutputPathRule& rul
   const std::string has = path.extension().empty()
                               ? std::string("has no extension")
                               : "has the extension '" + path.extension().string() + "'";
-  std::string message = rule.label + " " + quoted(path) + " " + has + ", but " +
+  std::string message = rule.label + " " + quotedPath(path) + " " + has + ", but " +
                         (rule.content.empty() ? std::string("the file") : rule.content) +
                         " is written there: name it with " + extensionList(rule.extensions);
   if (!rule.reason.empty()) message += " (" + rule.reason + ")";
@@ -45,21 +42,21 @@ void checkExtension(const std::filesystem::path& path, const OutputPathRule& rul
 void checkDirectory(const std::filesystem::path& path, const std::string& label) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(label + " " + quoted(path) + " is a directory; name a file, e.g. " +
-                     quoted(path / "out"));
+    throw InputError(label + " " + quotedPath(path) + " is a directory; name a file, e.g. " +
+                     quotedPath(path / "out"));
   }
   const std::filesystem::path directory =
       path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   const std::filesystem::file_status status = std::filesystem::status(directory, ec);
   if (!std::filesystem::exists(status)) {
-    throw InputError(label + " " + quoted(path) + ": the directory " + quoted(directory) +
+    throw InputError(label + " " + quotedPath(path) + ": the directory " + quotedPath(directory) +
                      " does not exist; create it first");
   }
   if (!std::filesystem::is_directory(status)) {
-    throw InputError(label + " " + quoted(path) + ": " + quoted(directory) + " is not a directory");
+    throw InputError(label + " " + quotedPath(path) + ": " + quotedPath(directory) + " is not a directory");
   }
   if (::access(directory.c_str(), W_OK | X_OK) != 0) {
-    throw InputError(label + " " + quoted(path) + ": the directory " + quoted(directory) +
+    throw InputError(label + " " + quotedPath(path) + ": the directory " + quotedPath(directory) +
                      " is not writable");
   }
 }
@@ -79,7 +76,7 @@ std::filesystem::path identity(const std::filesystem::path& path) {
 void checkOutputPath(const std::filesystem::path& path, const OutputPathRule& rule) {
   if (path.empty()) throw InputError(rule.label + ": no file name was given");
   if (!path.has_filename()) {
-    throw InputError(rule.label + " " + quoted(path) + " names a directory, not a file");
+    throw InputError(rule.label + " " + quotedPath(path) + " names a directory, not a file");
   }
   checkDirectory(path, rule.label);
   checkExtension(path, rule);
@@ -94,7 +91,7 @@ void checkOutputPaths(const std::vector<OutputPathCheck>& outputs) {
     for (const auto& [other, check] : seen) {
       if (other == file) {
         throw InputError(check->rule.label + " and " + output.rule.label + " both name " +
-                         quoted(output.path) + "; give each output its own file");
+                         quotedPath(output.path) + "; give each output its own file");
       }
     }
     seen.emplace_back(file, &output);

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/core/detail/FileExtension.h"
 #include "d2vdb/io/FieldFile.h"
 #include "d2vdb/io/FieldGrids.h"
@@ -68,10 +69,6 @@ constexpr std::array<JsonTypeRow, 4> kJsonTypes = {{
     {kSupportFunctionJsonType, InputKind::SupportFunction},
 }};
 
-std::string quoted(const std::filesystem::path& path) {
-  return "'" + path.string() + "'";
-}
-
 // "a, b or c" of the accepted kinds' descriptions.
 std::string acceptedList(InputKinds accepted) {
   std::vector<std::string> names;
@@ -87,7 +84,7 @@ std::string acceptedList(InputKinds accepted) {
 
 [[noreturn]] void rejectKind(const std::filesystem::path& path, const std::string& whatItIs,
                              InputKinds accepted, const LoadOptions& options) {
-  throw InputError(quoted(path) + " is " + whatItIs + "; " + options.purpose + " must be " +
+  throw InputError(quotedPath(path) + " is " + whatItIs + "; " + options.purpose + " must be " +
                    acceptedList(accepted));
 }
 
@@ -169,27 +166,27 @@ std::pair<std::string, std::uint64_t> readHead(const std::filesystem::path& path
   std::error_code error;
   const std::filesystem::file_status status = std::filesystem::status(path, error);
   if (!std::filesystem::exists(status)) {
-    throw InputError("the file " + quoted(path) + " does not exist");
+    throw InputError("the file " + quotedPath(path) + " does not exist");
   }
   if (!std::filesystem::is_regular_file(status)) {
     throw InputError(
-        quoted(path) + " is " +
+        quotedPath(path) + " is " +
         (std::filesystem::is_directory(status) ? "a directory" : "not a regular file") + "; " +
         options.purpose + " must be " + acceptedList(accepted));
   }
   const std::uint64_t size = std::filesystem::file_size(path, error);
   if (error)
-    throw InputError("cannot determine the size of " + quoted(path) + ": " + error.message());
+    throw InputError("cannot determine the size of " + quotedPath(path) + ": " + error.message());
   if (size == 0) {
-    throw InputError("the file " + quoted(path) + " is empty; " + options.purpose + " must be " +
+    throw InputError("the file " + quotedPath(path) + " is empty; " + options.purpose + " must be " +
                      acceptedList(accepted));
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+  if (!in) throw InputError("cannot open " + quotedPath(path) + " for reading (permissions?)");
   std::string head(static_cast<std::size_t>(std::min<std::uint64_t>(size, kHeadBytes)), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) throw InputError("cannot read " + quoted(path) + ": read error");
+  if (in.bad()) throw InputError("cannot read " + quotedPath(path) + ": read error");
   return {std::move(head), size};
 }
 
@@ -211,14 +208,14 @@ LoadedInput loadVdb(const std::filesystem::path& path, InputKinds accepted,
           FieldInput{fieldFromGrids(grids, path.string(), options.field, options.progress), true}};
     }
     const openvdb::FloatGrid::Ptr levelSet = openvdb::gridPtrCast<openvdb::FloatGrid>(
-        selectGrid(grids, quoted(path), options.gridName, ScalarGridTypes::Float));
+        selectGrid(grids, quotedPath(path), options.gridName, ScalarGridTypes::Float));
     return {path,
             FieldInput{ApproximantField::fromLevelSet(levelSet, options.field, options.progress),
                        false}};
   }
   if (accepted.contains(InputKind::LevelSet)) {
     openvdb::GridBase::Ptr grid =
-        selectGrid(grids, quoted(path), options.gridName, options.gridTypes);
+        selectGrid(grids, quotedPath(path), options.gridName, options.gridTypes);
     return {path, LevelSetInput{std::move(grids), std::move(grid)}};
   }
   if (accepted.contains(InputKind::VdbGrids)) return {path, VdbGridsInput{std::move(grids)}};
@@ -276,7 +273,7 @@ InputKind jsonKind(const detail::Json& document, const std::filesystem::path& pa
     known += (known.empty() ? "\"" : "\", \"") + std::string(row.type);
   }
   const auto type = document.is_object() ? document.find("type") : document.end();
-  throw InputError("JSON file " + quoted(path) + " is not one d2vdb reads: " +
+  throw InputError("JSON file " + quotedPath(path) + " is not one d2vdb reads: " +
                    (type == document.end() ? std::string("it has no \"type\"")
                                            : "its \"type\" is " + type->dump()) +
                    " (d2vdb reads the types " + known +
@@ -332,7 +329,7 @@ LoadedInput loadInput(const std::filesystem::path& path, InputKinds accepted,
       break;
   }
   const std::string extension = path.extension().string();
-  throw InputError("cannot tell what " + quoted(path) +
+  throw InputError("cannot tell what " + quotedPath(path) +
                    " is: its content is none of the formats d2vdb reads (.vdb, OBJ, PLY, STL, "
                    ".xyz, JSON), and " +
                    (extension.empty() ? std::string("it has no extension")
@@ -346,7 +343,7 @@ std::string describeInputKind(InputKind kind) {
 
 void detail::throwWrongInputKind(const std::filesystem::path& path, InputKind loaded,
                                  InputKind wanted) {
-  throw RuntimeFailure("loadInput: " + quoted(path) + " was loaded as " +
+  throw RuntimeFailure("loadInput: " + quotedPath(path) + " was loaded as " +
                        describeInputKind(loaded) + ", not as " + describeInputKind(wanted));
 }
 

@@ -12,24 +12,20 @@
 namespace d2vdb {
 namespace {
 
-std::string quoted(const std::filesystem::path& path) {
-  return "'" + path.string() + "'";
-}
-
 // The samples of a mesh: a point set without triangles, else its Gauss image.
 SupportInput meshSupportInput(const TriangleMesh& mesh, const std::filesystem::path& path) {
   SupportInput input;
   if (mesh.triangles.empty()) {
     input.kind = SupportInputKind::Points;
-    input.samples = samplesFromMesh(mesh, quoted(path));
+    input.samples = samplesFromMesh(mesh, quotedPath(path));
     return input;
   }
-  MeshGaussImage image = meshGaussImage(mesh, quoted(path));
+  MeshGaussImage image = meshGaussImage(mesh, quotedPath(path));
   input.samples = image.samples;
   input.kind = image.closed ? SupportInputKind::Mesh : SupportInputKind::MeshPatch;
   if (!image.closed) input.patch = image.gaussImage;
   if (!mesh.hasNormals()) {
-    input.warnings.push_back(quoted(path) +
+    input.warnings.push_back(quotedPath(path) +
                              " has no vertex normals: using area-weighted normals of its "
                              "triangles, which limit the fit's accuracy to the facets' size");
   }
@@ -169,18 +165,18 @@ PatchSurface loadPatchSurface(const std::filesystem::path& path, const ProgressC
     iso.computeNormals = true;
     surface.mesh = extractIsoSurface(*grid, iso, progress);
     if (surface.mesh.triangles.empty()) {
-      throw InputError(quoted(path) + " has no zero crossing: its iso-surface is empty");
+      throw InputError(quotedPath(path) + " has no zero crossing: its iso-surface is empty");
     }
     return surface;
   }
   surface.mesh = std::move(loaded).take<MeshInput>().mesh;
   if (surface.mesh.triangles.empty()) {
-    throw InputError(quoted(path) +
+    throw InputError(quotedPath(path) +
                      " has no triangles: splitting into patches needs the surface's "
                      "connectivity (a mesh or a level set), not a point set");
   }
   if (!surface.mesh.hasNormals()) {
-    surface.warnings.push_back(quoted(path) +
+    surface.warnings.push_back(quotedPath(path) +
                                " has no vertex normals: using area-weighted normals of its "
                                "triangles, which limit the curvature signs and the fits' "
                                "accuracy to the facets' size");

@@ -14,6 +14,7 @@
 
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/core/Version.h"
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
@@ -31,31 +32,27 @@ namespace {
 // The first 8 bytes of every .vdb file: OPENVDB_MAGIC as a little-endian int64.
 constexpr std::int64_t kVdbMagic = openvdb::OPENVDB_MAGIC;
 
-std::string quoted(const std::filesystem::path& path) {
-  return "'" + path.string() + "'";
-}
-
 // Checks that `path` names a non-empty regular file starting with the VDB magic number; returns
 // its size.
 std::uint64_t checkIsVdbFile(const std::filesystem::path& path) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) {
-    throw InputError("the file " + quoted(path) + " does not exist");
+    throw InputError("the file " + quotedPath(path) + " does not exist");
   }
   if (!std::filesystem::is_regular_file(status)) {
-    throw InputError(quoted(path) + " is not a regular file (a .vdb file was expected)");
+    throw InputError(quotedPath(path) + " is not a regular file (a .vdb file was expected)");
   }
   const std::uint64_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError("cannot determine the size of " + quoted(path) + ": " + ec.message());
+  if (ec) throw InputError("cannot determine the size of " + quotedPath(path) + ": " + ec.message());
   if (size == 0)
-    throw InputError("the file " + quoted(path) + " is empty (a .vdb file was expected)");
+    throw InputError("the file " + quotedPath(path) + " is empty (a .vdb file was expected)");
   std::int64_t magic = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+  if (!in) throw InputError("cannot open " + quotedPath(path) + " for reading (permissions?)");
   if (size < sizeof(magic) || !in.read(reinterpret_cast<char*>(&magic), sizeof(magic)) ||
       magic != kVdbMagic) {
-    throw InputError(quoted(path) +
+    throw InputError(quotedPath(path) +
                      " is not a .vdb file (it does not start with the VDB magic "
                      "number)");
   }
@@ -269,14 +266,14 @@ std::vector<openvdb::GridBase::Ptr> readAllGrids(const std::filesystem::path& pa
   ensureOpenVdbInitialized();
   const std::uint64_t size = checkIsVdbFile(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+  if (!in) throw InputError("cannot open " + quotedPath(path) + " for reading (permissions?)");
   return detail::readVdbStream(in, size, path.string());
 }
 
 openvdb::FloatGrid::Ptr readLevelSet(const std::filesystem::path& path,
                                      const std::string& gridName) {
   return openvdb::gridPtrCast<openvdb::FloatGrid>(
-      selectGrid(readAllGrids(path), quoted(path), gridName, ScalarGridTypes::Float));
+      selectGrid(readAllGrids(path), quotedPath(path), gridName, ScalarGridTypes::Float));
 }
 
 void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grids,
@@ -299,11 +296,11 @@ void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grid
       file.write(prepared, fileMetadata);
       file.close();
     } catch (const std::exception& error) {
-      throw RuntimeFailure("cannot write " + quoted(path) + ": " + error.what());
+      throw RuntimeFailure("cannot write " + quotedPath(path) + ": " + error.what());
     }
     std::error_code ec;
     if (std::filesystem::file_size(temporary, ec) == 0 || ec) {
-      throw RuntimeFailure("cannot write " + quoted(path) + ": nothing was written (disk full?)");
+      throw RuntimeFailure("cannot write " + quotedPath(path) + ": nothing was written (disk full?)");
     }
   });
 }
@@ -313,7 +310,7 @@ VdbPartialReader::VdbPartialReader(const std::filesystem::path& path) : path_(pa
   const std::uint64_t size = checkIsVdbFile(path);
   {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError("cannot open " + quoted(path) + " for reading (permissions?)");
+    if (!in) throw InputError("cannot open " + quotedPath(path) + " for reading (permissions?)");
     checkVdbStream(in, size, path.string());
   }
   try {
@@ -326,7 +323,7 @@ VdbPartialReader::VdbPartialReader(const std::filesystem::path& path) : path_(pa
     throw InputError("cannot read '" + path.string() + "': " + error.what() +
                      " (the file is corrupt or not a grid file this OpenVDB understands)");
   }
-  if (metadata_.empty()) throw InputError(quoted(path) + " contains no grids");
+  if (metadata_.empty()) throw InputError(quotedPath(path) + " contains no grids");
   for (const openvdb::GridBase::Ptr& grid : metadata_)
     rejectUnusableTransform(*grid, path.string());
 }
