@@ -4,6 +4,12 @@ target_compile_options(d2vdb_build_flags INTERFACE -Wall -Wextra -Wpedantic)
 if(D2VDB_WERROR)
   target_compile_options(d2vdb_build_flags INTERFACE -Werror)
 endif()
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  # In a unity build a class of one source file whose member uses a type from that file's
+  # anonymous namespace looks to GCC like a header's class doing so (-Wsubobject-linkage), which
+  # it is not: each source file's names stay its own.
+  target_compile_options(d2vdb_build_flags INTERFACE -Wno-subobject-linkage)
+endif()
 if(D2VDB_FUZZ)
   # libFuzzer: coverage instrumentation on every d2vdb object, the fuzzer's main only in the
   # fuzz_* programs (tests/CMakeLists.txt); sanitizers as in the ASan build.

@@ -54,7 +54,7 @@ TEST_F(SupportCliTest, FitsAnEllipsoidAndOffsetsItExactly) {
   EXPECT_EQ(report.at("input_kind"), "mesh");
   EXPECT_NEAR(report.at("safe_offset").at("min").get<double>(), -0.5, 2e-3);  // -c^2 / a
   EXPECT_TRUE(report.at("safe_offset").at("max").is_null());                  // unbounded
-  EXPECT_NEAR(report.at("volume").get<double>(), 4.0 * d2vdb::test::kPi, 1e-3);
+  EXPECT_NEAR(report.at("volume").get<double>(), 4.0 * d2vdb::kPi, 1e-3);
   EXPECT_LT(report.at("fit").at("max_residual").get<double>(), 2e-4);
   ASSERT_TRUE(exists("e.json"));
 
@@ -133,7 +133,7 @@ TEST_F(SupportCliTest, FitsLevelSetsAndFieldsFromTheirBand) {
     EXPECT_NEAR(report.at("radii").at("min").get<double>(), 1.0, 5e-3) << kind;  // 0.1 voxel
     EXPECT_NEAR(report.at("radii").at("max").get<double>(), 1.0, 5e-3) << kind;
     EXPECT_NEAR(report.at("safe_offset").at("min").get<double>(), -1.0, 5e-3) << kind;
-    EXPECT_NEAR(report.at("volume").get<double>() / (4.0 * d2vdb::test::kPi / 3.0), 1.0, 2e-3);
+    EXPECT_NEAR(report.at("volume").get<double>() / (4.0 * d2vdb::kPi / 3.0), 1.0, 2e-3);
     volumes.push_back(report.at("volume").get<double>());
   }
   EXPECT_EQ(volumes[0], volumes[1]);  // the stored field answers as the level set's field did
@@ -224,9 +224,9 @@ TEST_F(SupportCliTest, PatchesSplitANonConvexTorus) {
   d2vdb::TriangleMesh torus;
   const int around = 64, tube = 32;
   for (int i = 0; i < around; ++i) {
-    const double u = 2.0 * d2vdb::test::kPi * i / around;
+    const double u = 2.0 * d2vdb::kPi * i / around;
     for (int j = 0; j < tube; ++j) {
-      const double v = 2.0 * d2vdb::test::kPi * j / tube;
+      const double v = 2.0 * d2vdb::kPi * j / tube;
       const Eigen::Vector3d n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
       const Eigen::Vector3d p =
           kMajor * Eigen::Vector3d(std::cos(u), std::sin(u), 0.0) + kMinor * n;

@@ -1,6 +1,7 @@
 // Analytic shapes: hand-computed distances, brute-force distances to densely sampled surfaces,
 // and curvatures checked against a finite-difference Hessian of the distance (engine/README.md,
 // "Conventions").
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/AnalyticShapes.h"
 
 #include <gtest/gtest.h>
@@ -18,7 +19,6 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Distance from `p` to the nearest of `samples`.
 double nearestSampleDistance(const std::vector<Eigen::Vector3d>& samples,

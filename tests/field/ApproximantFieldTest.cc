@@ -16,6 +16,7 @@
 #include "ApproximantFieldTestSupport.h"
 #include "FieldTestSupport.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
@@ -30,13 +31,6 @@ using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
 
-constexpr double kPi = 3.14159265358979323846;
-
-/// Angle in degrees between two lines (directions up to sign).
-double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double c = std::min(1.0, std::abs(a.normalized().dot(b.normalized())));
-  return std::acos(c) * 180.0 / kPi;
-}
 
 /// The exact Hessian of d^2 at a point with footpoint data `s` (a smooth surface, off the cut
 /// locus): 2 (n n^T + sum_i d k_i / (1 + d k_i) e_i e_i^T).
@@ -69,7 +63,7 @@ SurfaceErrors surfaceErrors(const ApproximantField& field, const Shape& shape,
                                  std::abs(a.k2 - exact.k2) / curvatureScale});
     errors.footpoint = std::max(errors.footpoint, (a.footpoint - exact.point).norm() / h);
     if (std::abs(exact.k1 - exact.k2) > 1e-9) {
-      errors.e1 = std::max(errors.e1, lineAngleDegrees(a.tangent, exact.e1));
+      errors.e1 = std::max(errors.e1, test::lineAngleDegrees(a.tangent, exact.e1));
     }
   }
   return errors;
@@ -94,7 +88,7 @@ TEST(ApproximantField, SphereOfRadiusFortyVoxels) {
   for (const Eigen::Vector3d& center : bandCenters(field)) {
     const Approximant a = field.approximantAt(center);
     EXPECT_NEAR(a.distance, sphere.signedDistance(center), 0.05 * h);
-    ASSERT_LT(lineAngleDegrees(a.normal, center - sphere.center()), 0.2);
+    ASSERT_LT(test::lineAngleDegrees(a.normal, center - sphere.center()), 0.2);
     EXPECT_GT(a.normal.dot(center - sphere.center()), 0.0);
   }
 }
@@ -175,7 +169,7 @@ TEST(ApproximantField, TessellatedTorusThroughMeshToLevelSet) {
     const SurfacePoint exact = torus.closestSurfacePoint(center);
     if (a.flags & (kFlagCutLocus | kFlagDegradedEstimate | kFlagCurvatureClamped)) ++flagged;
     curvature.push_back(std::max(std::abs(a.k1 - exact.k1), std::abs(a.k2 - exact.k2)) * r);
-    e1.push_back(lineAngleDegrees(a.tangent, exact.e1));
+    e1.push_back(test::lineAngleDegrees(a.tangent, exact.e1));
     footpoint = std::max(footpoint, (a.footpoint - exact.point).norm() / h);
   }
   const auto quantile = [](std::vector<double> values, double q) {
@@ -298,7 +292,7 @@ TEST(ApproximantField, CircleCurveField) {
     curvatureError = std::max(curvatureError, std::abs(a.k1 * radius - 1.0));
     footpointError = std::max(footpointError, (a.footpoint - exactFoot).norm() / h);
     EXPECT_NEAR(a.distance, (p - exactFoot).norm(), 0.05 * h);
-    EXPECT_LT(lineAngleDegrees(a.principalNormal, -planar), 0.5);
+    EXPECT_LT(test::lineAngleDegrees(a.principalNormal, -planar), 0.5);
   }
   std::printf("circle R = 40 voxels: %zu voxels, curvature error %.3g%%, footpoint %.3g voxel\n",
               voxels, 100 * curvatureError, footpointError);

@@ -17,23 +17,23 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kVoxel = 0.05;
+constexpr double kDensityVoxel = 0.05;
 
 // Largest |value - (|x| - radius)| in voxels over the band voxels of `levelSet` whose value lies
 // within `within` voxels of the surface.
 double worstSphereError(const openvdb::FloatGrid& levelSet, double radius, double within) {
   double worst = 0.0;
   for (auto value = levelSet.cbeginValueOn(); value; ++value) {
-    if (std::abs(*value) > within * kVoxel) continue;
+    if (std::abs(*value) > within * kDensityVoxel) continue;
     const openvdb::Vec3d p = levelSet.indexToWorld(value.getCoord());
-    worst = std::max(worst, std::abs(*value - (p.length() - radius)) / kVoxel);
+    worst = std::max(worst, std::abs(*value - (p.length() - radius)) / kDensityVoxel);
   }
   return worst;
 }
 
 TEST(DensityToLevelSet, FogVolumeOfASphereBecomesTheSphereOfItsIsoValue) {
-  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kVoxel, 3.0});
-  const float cutoff = static_cast<float>(3.0 * kVoxel);  // the band's inner half-width
+  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
+  const float cutoff = static_cast<float>(3.0 * kDensityVoxel);  // the band's inner half-width
   openvdb::tools::sdfToFogVolume(*fog, cutoff);           // density -d / cutoff inside, 0 outside
   ASSERT_TRUE(holdsDensity(*fog));
   const openvdb::FloatGrid::Ptr levelSet = levelSetOfIsoSurface(*fog, 0.5, 3.0);
@@ -50,17 +50,17 @@ TEST(DensityToLevelSet, FogVolumeOfASphereBecomesTheSphereOfItsIsoValue) {
 }
 
 TEST(DensityToLevelSet, SignedDistancesAtAnOffsetGiveTheOffsetSurface) {
-  const openvdb::FloatGrid::Ptr sphere = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kVoxel, 3.0});
+  const openvdb::FloatGrid::Ptr sphere = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
   ASSERT_FALSE(holdsDensity(*sphere));
-  const openvdb::FloatGrid::Ptr offset = levelSetOfIsoSurface(*sphere, kVoxel, 3.0);
-  EXPECT_LT(worstSphereError(*offset, 1.0 + kVoxel, 2.0), 0.1);
-  EXPECT_LT(worstSphereError(*offset, 1.0 + kVoxel, 3.0), 0.6);
+  const openvdb::FloatGrid::Ptr offset = levelSetOfIsoSurface(*sphere, kDensityVoxel, 3.0);
+  EXPECT_LT(worstSphereError(*offset, 1.0 + kDensityVoxel, 2.0), 0.1);
+  EXPECT_LT(worstSphereError(*offset, 1.0 + kDensityVoxel, 3.0), 0.6);
   EXPECT_LT(offset->tree().getValue(openvdb::Coord(0, 0, 0)), 0.0f);
 }
 
 TEST(DensityToLevelSet, NoSurfaceAtTheIsoValueIsRefused) {
-  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kVoxel, 3.0});
-  openvdb::tools::sdfToFogVolume(*fog, static_cast<float>(3.0 * kVoxel));
+  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
+  openvdb::tools::sdfToFogVolume(*fog, static_cast<float>(3.0 * kDensityVoxel));
   test::expectInputError([&] { levelSetOfIsoSurface(*fog, 1.5); }, {"no surface at iso-value 1.5"});
   test::expectInputError([&] { levelSetOfIsoSurface(*fog, std::nan("")); }, {"finite"});
   const openvdb::FloatGrid::Ptr empty = openvdb::FloatGrid::create(0.0f);

@@ -2,6 +2,7 @@
 // target with an exact closest-point projection takes: a band found from seeds on an analytic
 // torus against brute force, its records against the torus, its level set's signs; a band over an
 // existing grid's voxels; determinism; refusals.
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/FieldBand.h"
 
 #include <gtest/gtest.h>
@@ -31,7 +32,6 @@ using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The approximant of an analytic shape at `center`: its exact closest-point data.
 template <typename Shape>
@@ -55,10 +55,6 @@ std::vector<Eigen::Vector3d> torusSeeds(const Eigen::Vector3d& center, double R,
     }
   }
   return seeds;
-}
-
-double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / kPi;
 }
 
 /// The torus field the way a smooth-surface target would build it: seeds on the surface, the
@@ -115,10 +111,10 @@ TEST(FieldBand, NearSeedsSurfaceFromAnExactProjection) {
     const Approximant a = accessor.approximantAt(center);
     const SurfacePoint s = torus.closestSurfacePoint(center);
     distanceError = std::max(distanceError, std::abs(a.distance - s.signedDistance) / h);
-    normalError = std::max(normalError, lineAngleDegrees(a.normal, s.normal));
+    normalError = std::max(normalError, test::lineAngleDegrees(a.normal, s.normal));
     curvatureError =
         std::max({curvatureError, std::abs(a.k1 - s.k1) * r, std::abs(a.k2 - s.k2) * r});
-    e1Error = std::max(e1Error, lineAngleDegrees(a.tangent, s.e1));
+    e1Error = std::max(e1Error, test::lineAngleDegrees(a.tangent, s.e1));
     EXPECT_GT(a.normal.dot(s.normal), 0.0);
   }
   EXPECT_LT(distanceError, 1e-5);   // float

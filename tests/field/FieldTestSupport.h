@@ -12,13 +12,27 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "common/Icosphere.h"
 #include "common/WithThreads.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::test {
+
+/// Angle between the lines along a and b (0 to 90 degrees; the directions' signs do not count).
+inline double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / kPi;
+}
+
+/// Whether one of `lines` contains `text`.
+inline bool containsText(const std::vector<std::string>& lines, const std::string& text) {
+  return std::any_of(lines.begin(), lines.end(),
+                     [&](const std::string& line) { return line.find(text) != std::string::npos; });
+}
 
 /// Icosahedron subdivided `levels` times (each level splits every triangle into four) with all
 /// vertices on the sphere; triangles wound counter-clockwise seen from outside. The vertices lie

@@ -19,13 +19,6 @@
 namespace d2vdb {
 namespace {
 
-bool containsText(const std::vector<std::string>& lines, const std::string& text) {
-  for (const std::string& line : lines) {
-    if (line.find(text) != std::string::npos) return true;
-  }
-  return false;
-}
-
 /// Inactive lattice points (every `step`-th in each direction, within `margin` voxels of the
 /// grid's active box) whose sign disagrees with the winding number: flood-filled tiles and
 /// inactive voxels must carry the right sign too.
@@ -74,7 +67,7 @@ std::size_t checkPolycubes(int genus) {
       EXPECT_TRUE(result.signs.watertight);
       EXPECT_FALSE(result.signs.selfIntersecting);
       // Corrections are counted in the report, not warned about.
-      EXPECT_FALSE(containsText(result.warnings, "corrected"));
+      EXPECT_FALSE(test::containsText(result.warnings, "corrected"));
       corrected += result.signs.correctedVoxels;
       const double voxel = result.grid->voxelSize()[0];
       const test::SignCheck band =
@@ -122,7 +115,7 @@ TEST(MeshToLevelSetSigns, OpenPolycubeFollowsTheWindingNumber) {
   EXPECT_FALSE(result.signs.watertight);
   EXPECT_EQ(result.signs.holesClosed, validateMesh(mesh).boundaryLoopCount);
   EXPECT_GE(result.signs.holesClosed, 2u);
-  EXPECT_TRUE(containsText(result.warnings, "not closed"));
+  EXPECT_TRUE(test::containsText(result.warnings, "not closed"));
   const test::WindingNumberReference winding(mesh);
   const test::SignCheck check = test::compareSignsWithWindingNumbers(
       *result.grid, winding, 1e-4 * result.grid->voxelSize()[0]);
@@ -149,7 +142,7 @@ TEST(MeshToLevelSetSigns, OverlappingSpheresTakeTheUnion) {
   EXPECT_TRUE(result.signs.watertight);
   EXPECT_TRUE(result.signs.selfIntersecting);
   EXPECT_EQ(result.signs.method, SignMethod::windingNumber);
-  EXPECT_TRUE(containsText(result.warnings, "intersects or touches itself"));
+  EXPECT_TRUE(test::containsText(result.warnings, "intersects or touches itself"));
   const test::WindingNumberReference winding(mesh);
   const test::SignCheck check =
       test::compareSignsWithWindingNumbers(*result.grid, winding, 1e-4 * options.voxelSize);
@@ -185,7 +178,7 @@ TEST(MeshToLevelSetSigns, NestedShellsAndInsideOutMeshes) {
   const LevelSetResult flipped = meshToLevelSet(insideOut, options);
   EXPECT_EQ(flipped.signs.reorientedTriangles, insideOut.triangles.size());
   EXPECT_LT(flipped.grid->getConstAccessor().getValue(openvdb::Coord(0, 0, 0)), 0.0f);
-  EXPECT_TRUE(containsText(flipped.warnings, "320 of 320 triangles were wound against"));
+  EXPECT_TRUE(test::containsText(flipped.warnings, "320 of 320 triangles were wound against"));
 }
 
 /// A sphere of radius 1 as a raw scan comes: two holes (the triangles within 0.25 of two surface

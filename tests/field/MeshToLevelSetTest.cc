@@ -24,13 +24,6 @@ const Eigen::Vector3d kCenter(0.013, -0.021, 0.007);  // off the voxel lattice o
 constexpr double kRadius = 1.0;
 constexpr double kVoxel = 0.05;  // the radius is 20 voxels
 
-bool containsText(const std::vector<std::string>& lines, const std::string& text) {
-  for (const std::string& line : lines) {
-    if (line.find(text) != std::string::npos) return true;
-  }
-  return false;
-}
-
 struct SphereComparison {
   double largestErrorNearSurface = 0.0;  // |grid - exact| over voxels with |d| < 1 voxel
   double largestErrorInBand = 0.0;       // over all active voxels
@@ -185,8 +178,8 @@ TEST(MeshToLevelSet, DamagedSphereStillSignedCorrectlyWithWarning) {
   options.voxelSize = kVoxel;
   const LevelSetResult result = meshToLevelSet(mesh, options);
   EXPECT_FALSE(result.meshReport.closed);
-  EXPECT_TRUE(containsText(result.warnings, "not closed"));
-  EXPECT_TRUE(containsText(result.warnings, "6 of 5115 triangles were wound against"));
+  EXPECT_TRUE(test::containsText(result.warnings, "not closed"));
+  EXPECT_TRUE(test::containsText(result.warnings, "6 of 5115 triangles were wound against"));
   EXPECT_EQ(result.signs.reorientedTriangles, 6u);
   EXPECT_EQ(result.signs.holesClosed, 5u);
   EXPECT_FALSE(result.signs.watertight);
@@ -212,8 +205,8 @@ TEST(MeshToLevelSet, OpenBowlIsInsideWhereItsWindingNumberIsAtLeastHalf) {
   LevelSetOptions options;
   options.voxelSize = 0.08;
   const LevelSetResult result = meshToLevelSet(mesh, options);
-  EXPECT_TRUE(containsText(result.warnings, "not closed"));
-  EXPECT_FALSE(containsText(result.warnings, "no voxel of the signed field is inside"));
+  EXPECT_TRUE(test::containsText(result.warnings, "not closed"));
+  EXPECT_FALSE(test::containsText(result.warnings, "no voxel of the signed field is inside"));
   EXPECT_EQ(result.signs.holesClosed, 1u);
   EXPECT_GT(result.signs.correctedVoxels, 1000u);
   const test::WindingNumberReference winding(mesh);
@@ -237,8 +230,8 @@ TEST(MeshToLevelSet, SheetHasNoInsideAndSaysSo) {
   LevelSetOptions options;
   options.voxelSize = 0.05;
   const LevelSetResult result = meshToLevelSet(sheet, options);
-  EXPECT_TRUE(containsText(result.warnings, "not closed"));
-  EXPECT_TRUE(containsText(result.warnings, "no voxel of the signed field is inside"));
+  EXPECT_TRUE(test::containsText(result.warnings, "not closed"));
+  EXPECT_TRUE(test::containsText(result.warnings, "no voxel of the signed field is inside"));
   for (auto voxel = result.grid->cbeginValueOn(); voxel; ++voxel) {
     if (std::abs(*voxel) < 1e-6f) continue;
     ASSERT_GT(*voxel, 0.0f) << voxel.getCoord();

@@ -13,6 +13,7 @@
 #include "ApproximantFieldTestSupport.h"
 #include "FieldTestSupport.h"
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/SmoothSurfaceField.h"
 #include "d2vdb/manifold/LoopLimitSurface.h"
@@ -20,7 +21,6 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// A torus about the z axis with `around` x `across` vertices (two triangles per quad, every
 /// vertex of degree 6, outward-facing), in double precision.
@@ -49,10 +49,6 @@ std::shared_ptr<const HalfEdgeMesh> torusMesh(const Torus& torus, double major, 
     }
   }
   return std::make_shared<const HalfEdgeMesh>(std::move(positions), std::move(triangles));
-}
-
-double lineAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / kPi;
 }
 
 double quantile(std::vector<double> values, double q) {
@@ -86,7 +82,7 @@ TorusFieldErrors torusFieldErrors(int around, int across, double halfWidth) {
       ++errors.flagged;
     }
     curvature.push_back(std::max(std::abs(a.k1 - exact.k1), std::abs(a.k2 - exact.k2)) * r);
-    e1.push_back(lineAngleDegrees(a.tangent, exact.e1));
+    e1.push_back(test::lineAngleDegrees(a.tangent, exact.e1));
     errors.footpoint = std::max(errors.footpoint, (a.footpoint - exact.point).norm() / h);
   }
   errors.voxels = curvature.size();

@@ -84,7 +84,7 @@ TorusErrors torusErrors(int around, int across) {
   const SmoothSurface target(std::make_shared<const PseudoManifold>(loop));
   const Torus torus(Eigen::Vector3d::Zero(), major, minor);
   std::mt19937 random(5);
-  std::uniform_real_distribution<double> angle(0.0, 2.0 * test::kPi);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
   std::uniform_real_distribution<double> offset(-0.3, 0.3);
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 1000; ++i) {
@@ -102,7 +102,7 @@ TorusErrors torusErrors(int around, int across) {
     e.curvature = std::max(
         {e.curvature, std::abs(a.k1 - exact.k1) * minor, std::abs(a.k2 - exact.k2) * minor});
     e.direction = std::max(
-        e.direction, std::acos(std::min(1.0, std::abs(a.tangent.dot(exact.e1)))) * 180 / test::kPi);
+        e.direction, std::acos(std::min(1.0, std::abs(a.tangent.dot(exact.e1)))) * 180 / kPi);
   }
   std::printf("torus %d x %d: footpoint %.3g r, normal %.3g rad, curvature %.3g / r, e1 %.3g deg\n",
               around, across, e.footpoint, e.normal, e.curvature, e.direction);

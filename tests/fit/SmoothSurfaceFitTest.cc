@@ -25,7 +25,7 @@ TEST(SmoothSurfaceFit, ClosedCurveIsPulledOntoAPseudoManifold) {
   // A wavy loop around the torus's outer equator, 0.2 - 0.4 outside it.
   std::vector<Eigen::Vector3d> controls;
   for (int i = 0; i < 24; ++i) {
-    const double angle = 2.0 * test::kPi * i / 24;
+    const double angle = 2.0 * kPi * i / 24;
     controls.emplace_back(4.3 * std::cos(angle), 4.3 * std::sin(angle), 0.3 * std::sin(3 * angle));
   }
   const BSplineCurve initial = BSplineCurve::closed(3, controls, 3);

@@ -9,6 +9,7 @@
 
 #include "IoTestSupport.h"
 #include "common/Icosphere.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/Primitives.h"
 #include "d2vdb/field/SmoothSurfaceField.h"
@@ -25,7 +26,6 @@ namespace {
 
 using test::expectInputError;
 
-constexpr double kPi = 3.14159265358979323846;
 
 class FieldFromInputTest : public test::ScratchDirectoryTest {
  protected:

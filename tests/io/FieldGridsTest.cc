@@ -2,6 +2,7 @@
 // round trip gives the same answers bit for bit at every level (bunny, torus, rotated grid, curve,
 // points); companion grids are matched to the band voxel by voxel, checked against a field built
 // directly from the same analytic data and against the analytic shape; bad grids are refused.
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/io/FieldGrids.h"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,6 @@ using test::bandCenters;
 using test::expectSameAnswers;
 using test::randomPoints;
 
-constexpr double kPi = 3.14159265358979323846;
 
 class FieldGridsTest : public test::ScratchDirectoryTest {};
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "IoTestSupport.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/field/AnalyticShapes.h"
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
@@ -28,7 +29,6 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // One grid as a reader saw it: its value type and every active voxel's values.
 struct GridDump {

@@ -134,7 +134,7 @@ TEST(ChartAtlas, SectorBoundariesAreContinuousAtDegreeThree) {
   for (Index v = 0; v < 4; ++v) {
     const double r = 0.6 * ChartAtlas::radius(3);
     for (int k = 0; k < 3; ++k) {
-      const double angle = 2.0 * test::kPi * k / 3.0;
+      const double angle = 2.0 * kPi * k / 3.0;
       const Eigen::Vector2d below(r * std::cos(angle - eps), r * std::sin(angle - eps));
       const Eigen::Vector2d above(r * std::cos(angle + eps), r * std::sin(angle + eps));
       const Eigen::Vector3d a = pps.position(atlas.fromChart({v, below}));

@@ -19,12 +19,12 @@
 
 #include "common/Icosphere.h"
 #include "common/WithThreads.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/manifold/HalfEdgeMesh.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb::test {
 
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// Positions and triangles of a closed mesh in double precision.
 struct DoubleMesh {

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <vector>
 
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/spline/BSplineCurve.h"
 
 namespace d2vdb::test {
 
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// A planar point (z = 0).
 inline Eigen::Vector3d xy(double x, double y) {

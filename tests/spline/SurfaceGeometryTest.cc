@@ -1,5 +1,6 @@
 // Principal curvatures and directions of parametric surfaces against closed forms (sphere, torus)
 // and a brute-force search over the normal curvature of every tangent direction (graphs).
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/spline/SurfaceGeometry.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,6 @@
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Sphere of radius R, S = R (cos v cos u, cos v sin u, sin v): Su x Sv points outward.
 SurfaceDerivatives sphere(double radius, double u, double v) {

@@ -78,7 +78,7 @@ TEST(PiecewiseLinearSupport, EdgeFlipsRemoveSwallowtailsAndGiveTheConvexPolyhedr
   // The dual polyhedron is a closed, consistently oriented mesh enclosing the ellipsoid.
   const test::ClosedMeshCheck check = test::checkClosedMesh(pl.dualPolyhedron());
   EXPECT_TRUE(check.closedAndOriented);
-  EXPECT_GT(check.volume, 4.0 / 3.0 * test::kPi * 3.0 * 1.0 * 0.4);
+  EXPECT_GT(check.volume, 4.0 / 3.0 * kPi * 3.0 * 1.0 * 0.4);
 }
 
 // The dual polyhedron of an icosphere-sampled ellipsoid converges like h^2 in the Hausdorff

@@ -16,7 +16,6 @@
 namespace d2vdb {
 namespace {
 
-using test::kPi;
 
 SupportFunction randomFunction(int degree, unsigned seed, double decay = 0.7) {
   std::mt19937 engine(seed);

@@ -21,7 +21,7 @@ using Eigen::Vector3d;
 // The sphere of radius `radius` about the origin: h = radius, i.e. radius sqrt(4 pi) Y_0^0.
 SupportFunction sphereFunction(double radius) {
   Eigen::VectorXd coefficients(1);
-  coefficients[0] = radius * std::sqrt(4.0 * test::kPi);
+  coefficients[0] = radius * std::sqrt(4.0 * kPi);
   return SupportFunction(0, coefficients);
 }
 

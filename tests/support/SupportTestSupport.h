@@ -12,12 +12,12 @@
 #include <vector>
 
 #include "common/WithThreads.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 #include "d2vdb/support/SupportFit.h"
 
 namespace d2vdb::test {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// `count` unit vectors, uniformly distributed, from a fixed seed.
 inline std::vector<Eigen::Vector3d> randomUnitVectors(std::size_t count, unsigned seed) {

@@ -43,7 +43,7 @@ TEST(SupportValidity, EllipsoidSafeRangeIsMinusTheSmallestRadius) {
 TEST(SupportValidity, FindsTheParabolicSetOfANonConvexFunction) {
   // h = 1 + 0.3 Y_3^0-like bump: x_h has saddle regions and parabolic curves between them.
   Eigen::VectorXd c = Eigen::VectorXd::Zero(harmonicCount(4));
-  c[0] = std::sqrt(4 * test::kPi);
+  c[0] = std::sqrt(4 * kPi);
   c[harmonicIndex(4, 0)] = 0.9;
   const SupportFunction h(4, c);
   const SupportValidity validity = analyzeSupportValidity(h, validationSphere(4));
@@ -82,7 +82,7 @@ TEST(SupportValidity, HyperboloidPatchOverItsGaussImage) {
   // Errors at points between the samples.
   double worst = 0.0;
   for (int i = 0; i < 200; ++i) {
-    const double theta = 2.0 * test::kPi * (i + 0.37) / 200.0;
+    const double theta = 2.0 * kPi * (i + 0.37) / 200.0;
     for (int j = 0; j < 50; ++j) {
       const double z = -0.5 + (j + 0.5) / 50.0;
       const double rho = std::sqrt(1.0 + z * z);

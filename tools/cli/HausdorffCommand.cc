@@ -23,7 +23,7 @@ struct HausdorffArguments {
 };
 
 /// Significant digits of the text report.
-constexpr int kDigits = 15;
+constexpr int kDistanceDigits = 15;
 
 const char* caseName(HausdorffCase pairCase) {
   switch (pairCase) {
@@ -109,18 +109,18 @@ nlohmann::json hausdorffJson(const HausdorffArguments& args, const BSplineCurve&
 
 std::string oneSidedText(const std::string& name, const OneSidedHausdorff& result) {
   std::ostringstream text;
-  text.precision(kDigits);
+  text.precision(kDistanceDigits);
   text << "  " << name << " = " << result.distance << "  bracket [" << result.lowerBound << ", "
        << result.upperBound << "]\n"
-       << "    pair u = " << result.fromParameter << " " << formatPoint(result.fromPoint, kDigits)
-       << ", v = " << result.toParameter << " " << formatPoint(result.toPoint, kDigits) << ", case "
+       << "    pair u = " << result.fromParameter << " " << formatPoint(result.fromPoint, kDistanceDigits)
+       << ", v = " << result.toParameter << " " << formatPoint(result.toPoint, kDistanceDigits) << ", case "
        << static_cast<int>(result.pairCase) << ": " << caseName(result.pairCase) << '\n';
   return text.str();
 }
 
 std::string hausdorffText(const HausdorffArguments& args, const HausdorffDistance& result) {
   std::ostringstream text;
-  text.precision(kDigits);
+  text.precision(kDistanceDigits);
   text << (args.oneSided ? "one-sided Hausdorff distance h(A -> B) = "
                          : "Hausdorff distance H(A, B) = ")
        << result.distance << "  bracket [" << result.lowerBound << ", " << result.upperBound

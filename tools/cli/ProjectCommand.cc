@@ -18,7 +18,7 @@ struct ProjectArguments {
 };
 
 /// Significant digits of the text report.
-constexpr int kDigits = 15;
+constexpr int kProjectionDigits = 15;
 
 const char* kindName(ExtremumKind kind) {
   switch (kind) {
@@ -61,13 +61,13 @@ nlohmann::json projectionJson(const ProjectArguments& args, const Eigen::Vector3
 
 std::string projectionText(const PointProjection& projection, int dimension) {
   std::ostringstream text;
-  text.precision(kDigits);
-  text << "nearest point " << formatPoint(projection.point, kDigits, dimension)
+  text.precision(kProjectionDigits);
+  text << "nearest point " << formatPoint(projection.point, kProjectionDigits, dimension)
        << " at t = " << projection.parameter << ", distance " << projection.distance << '\n'
        << "local extrema of the distance (" << projection.extrema.size() << "):\n";
   for (const CurveExtremum& extremum : projection.extrema) {
     text << "  t = " << extremum.parameter << "  " << kindName(extremum.kind) << "  distance "
-         << extremum.distance << "  at " << formatPoint(extremum.point, kDigits, dimension)
+         << extremum.distance << "  at " << formatPoint(extremum.point, kProjectionDigits, dimension)
          << (extremum.atEndPoint ? "  (end point)" : "") << '\n';
   }
   return text.str();

@@ -28,7 +28,7 @@ struct QueryArguments {
 };
 
 /// Significant digits of the text report.
-constexpr int kDigits = 9;
+constexpr int kAnswerDigits = 9;
 
 void declareQuery(CLI::App& command, QueryArguments& args) {
   command.add_option("field", args.field, "Field .vdb file")->required();
@@ -93,12 +93,12 @@ nlohmann::json queryJson(const QueryArguments& args, const QueryAnswer& answer) 
 
 std::string formText(const char* name, const QuadraticForm& form) {
   std::ostringstream text;
-  text << std::setprecision(kDigits) << "  " << name << " form  Q(x) = x^T A x - 2 b.x + c\n";
+  text << std::setprecision(kAnswerDigits) << "  " << name << " form  Q(x) = x^T A x - 2 b.x + c\n";
   for (int row = 0; row < 3; ++row) {
     text << "    A[" << row << "]  " << form.A(row, 0) << ' ' << form.A(row, 1) << ' '
          << form.A(row, 2) << '\n';
   }
-  text << "    b     " << formatPoint(form.b, kDigits) << "\n    c     " << form.c << '\n';
+  text << "    b     " << formatPoint(form.b, kAnswerDigits) << "\n    c     " << form.c << '\n';
   return text.str();
 }
 
@@ -115,23 +115,23 @@ std::string queryText(const QueryArguments& args, const QueryAnswer& answer) {
   const Approximant& approximant = answer.approximant;
   const bool surface = approximant.kind == TargetKind::Surface;
   std::ostringstream text;
-  text << std::setprecision(kDigits) << args.field << " at " << formatPoint(answer.point, kDigits)
+  text << std::setprecision(kAnswerDigits) << args.field << " at " << formatPoint(answer.point, kAnswerDigits)
        << ": " << targetKindName(approximant.kind) << " field, level " << answer.level
        << (answer.level == 0 ? " (narrow band)" : " (beyond the band)") << '\n'
        << "  distance         " << approximant.distance << '\n'
-       << "  footpoint        " << formatPoint(approximant.footpoint, kDigits) << '\n'
-       << "  normal           " << formatPoint(approximant.normal, kDigits) << '\n'
+       << "  footpoint        " << formatPoint(approximant.footpoint, kAnswerDigits) << '\n'
+       << "  normal           " << formatPoint(approximant.normal, kAnswerDigits) << '\n'
        << "  " << (surface ? "e1 (principal)  " : "tangent         ") << ' '
-       << formatPoint(approximant.tangent, kDigits) << '\n';
+       << formatPoint(approximant.tangent, kAnswerDigits) << '\n';
   if (surface) {
     text << "  curvatures       k1 " << approximant.k1 << ", k2 " << approximant.k2 << '\n';
   }
   if (approximant.kind == TargetKind::Curve) {
     text << "  curvature        " << approximant.k1 << '\n'
-         << "  principal normal " << formatPoint(approximant.principalNormal, kDigits) << '\n';
+         << "  principal normal " << formatPoint(approximant.principalNormal, kAnswerDigits) << '\n';
   }
   text << "  flags            " << flagsText(approximant.flags) << '\n'
-       << "  SDM weights      " << formatPoint(approximant.sdmWeights(), kDigits) << '\n'
+       << "  SDM weights      " << formatPoint(approximant.sdmWeights(), kAnswerDigits) << '\n'
        << formText("SDM", approximant.form(ErrorTerm::SDM));
   if (args.form == "all") {
     text << formText("PDM", approximant.form(ErrorTerm::PDM))

@@ -14,7 +14,7 @@
 namespace d2vdb {
 namespace {
 
-constexpr int kBlockSize = 8;
+constexpr int kSliceBlockSize = 8;
 
 void checkAxisAligned(const openvdb::math::Transform& transform) {
   if (!transform.isLinear()) {
@@ -62,12 +62,12 @@ class SquareMarcher {
     std::vector<std::pair<int, int>> blocks;
     for (auto leaf = grid_.tree().cbeginLeaf(); leaf; ++leaf) {
       const openvdb::Coord origin = leaf->origin();
-      const bool holdsLayer = origin[axis_] <= layer_ && layer_ < origin[axis_] + kBlockSize;
+      const bool holdsLayer = origin[axis_] <= layer_ && layer_ < origin[axis_] + kSliceBlockSize;
       const bool holdsNext =
-          blend_ > 0.0 && origin[axis_] <= layer_ + 1 && layer_ + 1 < origin[axis_] + kBlockSize;
+          blend_ > 0.0 && origin[axis_] <= layer_ + 1 && layer_ + 1 < origin[axis_] + kSliceBlockSize;
       if (!holdsLayer && !holdsNext) continue;
-      for (int du = 0; du <= kBlockSize; du += kBlockSize) {
-        for (int dv = 0; dv <= kBlockSize; dv += kBlockSize) {
+      for (int du = 0; du <= kSliceBlockSize; du += kSliceBlockSize) {
+        for (int dv = 0; dv <= kSliceBlockSize; dv += kSliceBlockSize) {
           blocks.emplace_back(origin[u_] - du, origin[v_] - dv);
         }
       }
@@ -112,15 +112,15 @@ class SquareMarcher {
   }
 
   void marchBlock(int bu, int bv) {
-    std::array<std::array<double, kBlockSize + 1>, kBlockSize + 1> values{};
-    for (int i = 0; i <= kBlockSize; ++i) {
-      for (int j = 0; j <= kBlockSize; ++j) values[i][j] = planeValue(bu + i, bv + j);
+    std::array<std::array<double, kSliceBlockSize + 1>, kSliceBlockSize + 1> values{};
+    for (int i = 0; i <= kSliceBlockSize; ++i) {
+      for (int j = 0; j <= kSliceBlockSize; ++j) values[i][j] = planeValue(bu + i, bv + j);
     }
     const double iso = options_.isoValue;
     // Corners q0..q3 counter-clockwise; edge e joins q_e and q_(e+1).
     static constexpr std::array<std::array<int, 2>, 4> kCorner{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
-    for (int i = 0; i < kBlockSize; ++i) {
-      for (int j = 0; j < kBlockSize; ++j) {
+    for (int i = 0; i < kSliceBlockSize; ++i) {
+      for (int j = 0; j < kSliceBlockSize; ++j) {
         std::array<double, 4> value{};
         std::array<bool, 4> inside{};
         for (int q = 0; q < 4; ++q) {

@@ -5,19 +5,19 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/core/NumberFormat.h"
 
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Messages show shapes with 9 significant digits.
-constexpr int kDigits = 9;
+constexpr int kShapeDigits = 9;
 
 void requireFinitePoint(const Eigen::Vector3d& p, const char* shape, const char* what) {
   if (!p.allFinite()) {
-    throw InputError(std::string(shape) + ": the " + what + " " + formatPoint(p, kDigits) +
+    throw InputError(std::string(shape) + ": the " + what + " " + formatPoint(p, kShapeDigits) +
                      " is not finite; give finite coordinates");
   }
 }
@@ -25,7 +25,7 @@ void requireFinitePoint(const Eigen::Vector3d& p, const char* shape, const char*
 void requirePositive(double value, const char* shape, const char* what) {
   if (!std::isfinite(value) || !(value > 0.0)) {
     throw InputError(std::string(shape) + ": the " + what +
-                     " must be a finite positive number, got " + formatNumber(value, kDigits));
+                     " must be a finite positive number, got " + formatNumber(value, kShapeDigits));
   }
 }
 
@@ -60,8 +60,8 @@ double Sphere::surfaceArea() const {
 }
 
 std::string Sphere::describe() const {
-  return "sphere(centre " + formatPoint(center_, kDigits) + ", radius " +
-         formatNumber(radius_, kDigits) + ")";
+  return "sphere(centre " + formatPoint(center_, kShapeDigits) + ", radius " +
+         formatNumber(radius_, kShapeDigits) + ")";
 }
 
 SurfacePoint Sphere::closestSurfacePoint(const Eigen::Vector3d& point) const {
@@ -85,8 +85,8 @@ Box::Box(const Eigen::Vector3d& min, const Eigen::Vector3d& max) : min_(min), ma
   requireFinitePoint(min, "box", "minimum corner");
   requireFinitePoint(max, "box", "maximum corner");
   if (!(min.array() < max.array()).all()) {
-    throw InputError("box: the minimum corner " + formatPoint(min, kDigits) +
-                     " must be below the maximum corner " + formatPoint(max, kDigits) +
+    throw InputError("box: the minimum corner " + formatPoint(min, kShapeDigits) +
+                     " must be below the maximum corner " + formatPoint(max, kShapeDigits) +
                      " in every coordinate");
   }
 }
@@ -111,7 +111,7 @@ double Box::surfaceArea() const {
 }
 
 std::string Box::describe() const {
-  return "box(min " + formatPoint(min_, kDigits) + ", max " + formatPoint(max_, kDigits) + ")";
+  return "box(min " + formatPoint(min_, kShapeDigits) + ", max " + formatPoint(max_, kShapeDigits) + ")";
 }
 
 // ----------------------------------------------------------------------------------------- Torus
@@ -122,9 +122,9 @@ Torus::Torus(const Eigen::Vector3d& center, double majorRadius, double minorRadi
   requirePositive(majorRadius, "torus", "major radius");
   requirePositive(minorRadius, "torus", "minor radius");
   if (!(minorRadius < majorRadius)) {
-    throw InputError("torus: the minor radius " + formatNumber(minorRadius, kDigits) +
+    throw InputError("torus: the minor radius " + formatNumber(minorRadius, kShapeDigits) +
                      " must be smaller than the major radius " +
-                     formatNumber(majorRadius, kDigits) + " (only ring tori are supported)");
+                     formatNumber(majorRadius, kShapeDigits) + " (only ring tori are supported)");
   }
 }
 
@@ -145,9 +145,9 @@ double Torus::surfaceArea() const {
 }
 
 std::string Torus::describe() const {
-  return "torus(centre " + formatPoint(center_, kDigits) + ", major radius " +
-         formatNumber(majorRadius_, kDigits) + ", minor radius " +
-         formatNumber(minorRadius_, kDigits) + ", axis +z)";
+  return "torus(centre " + formatPoint(center_, kShapeDigits) + ", major radius " +
+         formatNumber(majorRadius_, kShapeDigits) + ", minor radius " +
+         formatNumber(minorRadius_, kShapeDigits) + ", axis +z)";
 }
 
 SurfacePoint Torus::closestSurfacePoint(const Eigen::Vector3d& point) const {
@@ -202,8 +202,8 @@ double CappedCylinder::surfaceArea() const {
 }
 
 std::string CappedCylinder::describe() const {
-  return "capped cylinder(centre " + formatPoint(center_, kDigits) + ", radius " +
-         formatNumber(radius_, kDigits) + ", height " + formatNumber(height_, kDigits) +
+  return "capped cylinder(centre " + formatPoint(center_, kShapeDigits) + ", radius " +
+         formatNumber(radius_, kShapeDigits) + ", height " + formatNumber(height_, kShapeDigits) +
          ", axis +z)";
 }
 

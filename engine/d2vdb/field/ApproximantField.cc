@@ -48,7 +48,7 @@ constexpr const char* kCurveEstimator =
 constexpr const char* kPointsEstimator = "exact nearest point (k-d tree) at every voxel centre";
 
 // Messages show numbers with 6 significant digits.
-constexpr int kDigits = 6;
+constexpr int kMessageDigits = 6;
 
 openvdb::Coord roundToCoord(const Eigen::Vector3d& p) {
   return openvdb::Coord(nearestInt(p.x()), nearestInt(p.y()), nearestInt(p.z()));
@@ -57,20 +57,20 @@ openvdb::Coord roundToCoord(const Eigen::Vector3d& p) {
 void checkBandParameters(double voxelSize, double halfWidth, const char* what) {
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
     throw InputError(std::string(what) + ": the voxel size must be a positive finite number, not " +
-                     formatNumber(voxelSize, kDigits));
+                     formatNumber(voxelSize, kMessageDigits));
   }
   checkVoxelSizeIsRepresentable(voxelSize, what);
   if (!(halfWidth >= 1.0) || !std::isfinite(halfWidth) || halfWidth > 64.0) {
     throw InputError(std::string(what) +
                      ": the band half-width must be between 1 and 64 voxels, "
                      "not " +
-                     formatNumber(halfWidth, kDigits));
+                     formatNumber(halfWidth, kMessageDigits));
   }
 }
 
 void checkBudget(double estimate, std::uint64_t limit, const std::string& what) {
   if (estimate > static_cast<double>(limit)) {
-    throw InputError(what + " would need about " + formatNumber(estimate, kDigits) +
+    throw InputError(what + " would need about " + formatNumber(estimate, kMessageDigits) +
                      " active voxels, above the limit of " + std::to_string(limit) +
                      "; use a larger voxel size or a narrower band");
   }
@@ -321,7 +321,7 @@ Eigen::AlignedBox3d checkSeeds(const FieldBand& band, const std::string& source)
   checkBandParameters(band.voxelSize(), band.halfWidth(), source.c_str());
   if (!(band.seedReach() > 0.0 && band.seedReach() <= 8.0)) {
     throw InputError(source + ": the seeds' reach must lie in (0, 8] voxels, not " +
-                     formatNumber(band.seedReach(), kDigits));
+                     formatNumber(band.seedReach(), kMessageDigits));
   }
   if (band.seeds().empty()) throw InputError(source + ": no seed points given");
   Eigen::AlignedBox3d bounds;
@@ -397,7 +397,7 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
   const double halfWidth =
       std::abs(static_cast<double>(levelSet->background())) / frame.voxelSize();
   if (!(halfWidth >= 2.0 - 1e-6)) {
-    throw InputError(source + " has a band half-width of " + formatNumber(halfWidth, kDigits) +
+    throw InputError(source + " has a band half-width of " + formatNumber(halfWidth, kMessageDigits) +
                      " voxels (background / voxel size); the curvature estimator needs at least 2;"
                      " rebuild it with --half-width 3");
   }
@@ -537,7 +537,7 @@ double ApproximantField::resolvedLength() const {
 std::string ApproximantField::describe() const {
   return std::string(targetKindName(storage_->kind())) + " field (" +
          std::to_string(storage_->records().size()) + " band voxels, voxel size " +
-         formatNumber(storage_->voxelSize(), kDigits) + ") of " + storage_->label();
+         formatNumber(storage_->voxelSize(), kMessageDigits) + ") of " + storage_->label();
 }
 
 ApproximantField::Accessor::Accessor(const ApproximantField& field)
@@ -548,10 +548,10 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
   if (!point.allFinite()) throw InputError("field query: the point is not finite");
   if (!storage.domain().contains(point)) {
     const double outside = std::sqrt(storage.domain().squaredExteriorDistance(point));
-    throw InputError("the point " + formatPoint(point, kDigits) + " lies " +
-                     formatNumber(outside, kDigits) + " outside the field's working domain " +
-                     formatPoint(storage.domain().min(), kDigits) + " to " +
-                     formatPoint(storage.domain().max(), kDigits));
+    throw InputError("the point " + formatPoint(point, kMessageDigits) + " lies " +
+                     formatNumber(outside, kMessageDigits) + " outside the field's working domain " +
+                     formatPoint(storage.domain().min(), kMessageDigits) + " to " +
+                     formatPoint(storage.domain().max(), kMessageDigits));
   }
   const Eigen::Vector3d index = storage.frame().worldToIndex(point);
   const auto lookup = [&](int level, const LeafTable& table,
@@ -592,7 +592,7 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
     }
   }
   throw RuntimeFailure("internal error: no level of the field covers the point " +
-                       formatPoint(point, kDigits) + " inside its domain");
+                       formatPoint(point, kMessageDigits) + " inside its domain");
 }
 
 std::optional<Approximant> ApproximantField::Accessor::bandApproximant(const openvdb::Coord& ijk) {

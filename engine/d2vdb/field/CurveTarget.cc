@@ -17,7 +17,7 @@ namespace d2vdb {
 namespace {
 
 // Messages show points with 9 significant digits.
-constexpr int kDigits = 9;
+constexpr int kCurveDigits = 9;
 
 /// Completes an approximant's direction fields: `normal` from footpoint toward the point (or any
 /// unit vector orthogonal to the tangent when the point lies on the curve).
@@ -61,7 +61,7 @@ CurveTarget::CurveTarget(const BSplineCurve& curve, double domainPadding)
   for (const auto& p : points) allEqual = allEqual && (p - points.front()).norm() == 0.0;
   if (allEqual) {
     throw InputError("curve target: all control points coincide at " +
-                     formatPoint(points.front(), kDigits) + "; the curve has no tangent");
+                     formatPoint(points.front(), kCurveDigits) + "; the curve has no tangent");
   }
   curveBounds_ = projector_->bounds();
   domain_ = paddedDomain(curveBounds_, domainPadding);
@@ -171,7 +171,7 @@ std::string CurveTarget::describe() const {
 Approximant CurveTarget::approximantAt(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("curve target: the query point is not finite");
   if (!domain_.contains(point)) {
-    detail::throwOutsideDomain(point, domain_, describe(), kDigits);
+    detail::throwOutsideDomain(point, domain_, describe(), kCurveDigits);
   }
   return approximantAtAnyPoint(point);
 }

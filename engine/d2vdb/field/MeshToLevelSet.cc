@@ -21,6 +21,7 @@
 #include "d2vdb/field/detail/SelfIntersection.h"
 #include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshMeasures.h"
+#include "d2vdb/field/VoxelBudget.h"
 
 namespace d2vdb {
 
@@ -28,7 +29,6 @@ using detail::ensureOpenVdbInitialized;
 namespace {
 
 constexpr const char* kStage = "mesh to level set";
-constexpr double kMaxIndexCoordinate = 1 << 30;
 
 // Forwards OpenVDB's percentage reports (made from the calling thread) to a ProgressCallback.
 // The parameterless checks that worker threads make are answered without locking.

@@ -13,6 +13,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
+#include "d2vdb/field/VoxelBudget.h"
 
 namespace d2vdb {
 
@@ -22,8 +23,6 @@ namespace {
 using LeafNode = openvdb::FloatTree::LeafNodeType;
 constexpr std::int64_t kLeafDim = LeafNode::DIM;  // voxels along a leaf side (8)
 
-// Index coordinates are kept well inside OpenVDB's 32-bit range.
-constexpr double kMaxIndexCoordinate = 1 << 30;
 
 // An inclusive range of leaf blocks; block b covers voxels [8 b, 8 b + 7] on each axis.
 struct BlockRange {

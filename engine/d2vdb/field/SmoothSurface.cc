@@ -18,7 +18,7 @@ namespace d2vdb {
 namespace {
 
 /// Significant digits of the numbers in messages.
-constexpr int kDigits = 6;
+constexpr int kSmoothSurfaceDigits = 6;
 
 /// Below this 1 + d k_i the SDM weights are near a centre of curvature (the field's threshold).
 constexpr double kCutLocusMargin = 0.05;
@@ -73,7 +73,7 @@ PseudoManifold::Projection SmoothSurface::project(const Eigen::Vector3d& point) 
 Approximant SmoothSurface::approximantAt(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("smooth-surface target: the query point is not finite");
   if (!domain_.contains(point)) {
-    detail::throwOutsideDomain(point, domain_, describe(), kDigits);
+    detail::throwOutsideDomain(point, domain_, describe(), kSmoothSurfaceDigits);
   }
   return approximantAtAnyPoint(point);
 }

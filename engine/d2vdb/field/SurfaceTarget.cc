@@ -15,7 +15,7 @@ namespace d2vdb {
 namespace {
 
 // Messages show points with 9 significant digits.
-constexpr int kDigits = 9;
+constexpr int kSurfaceDigits = 9;
 
 }  // namespace
 
@@ -50,7 +50,7 @@ SurfaceTarget::SurfaceTarget(const BSplineSurface& surface, double domainPadding
   for (const Eigen::Vector3d& point : surface.controlPoints()) surfaceBounds_.extend(point);
   if (!(surfaceBounds_.sizes().maxCoeff() > 0.0)) {
     throw InputError("surface target: all control points coincide at " +
-                     formatPoint(surface.controlPoints().front(), kDigits) +
+                     formatPoint(surface.controlPoints().front(), kSurfaceDigits) +
                      "; the surface is a point");
   }
   projector_ = std::make_unique<SurfaceProjector>(surface);
@@ -80,7 +80,7 @@ std::string SurfaceTarget::describe() const {
 Approximant SurfaceTarget::approximantAt(const Eigen::Vector3d& point) const {
   if (!point.allFinite()) throw InputError("surface target: the query point is not finite");
   if (!domain_.contains(point)) {
-    detail::throwOutsideDomain(point, domain_, describe(), kDigits);
+    detail::throwOutsideDomain(point, domain_, describe(), kSurfaceDigits);
   }
   return approximantAtAnyPoint(point);
 }

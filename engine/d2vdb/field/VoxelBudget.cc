@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 
 namespace d2vdb {
 
@@ -28,7 +29,6 @@ double voxelSizeForBox(double longestSide, double voxelSize, int resolution,
 }
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Volume of the box with sides `sides` grown by r (Steiner's formula), and its terms.

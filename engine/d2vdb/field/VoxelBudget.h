@@ -34,6 +34,9 @@ double voxelSizeForBox(double longestSide, double voxelSize, int resolution,
 /// metres) to be resolved.
 inline constexpr double kMinimumVoxelSize = 1.5e-5;
 
+/// The largest |index coordinate| a level set may reach: well inside OpenVDB's 32-bit range.
+inline constexpr double kMaxIndexCoordinate = 1 << 30;
+
 /// Throws InputError, naming `subject` (e.g. "the level set of sphere(...)"), unless
 /// `voxelSize` is finite and at least kMinimumVoxelSize; the message gives the voxel size, the
 /// limit and the remedy (larger voxels, or the geometry in smaller units).

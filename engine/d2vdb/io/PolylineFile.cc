@@ -15,7 +15,7 @@ using detail::elementPath;
 using detail::Json;
 using detail::memberPath;
 
-constexpr int kFormatVersion = 1;
+constexpr int kPolylineFormatVersion = 1;
 constexpr const char* kPolylineType = "polyline";
 constexpr const char* kFileKind = "polyline file";
 
@@ -24,9 +24,9 @@ std::size_t minimumPoints(bool closed) {
   return closed ? 3 : 2;
 }
 
-class Reader : public detail::JsonFieldReader {
+class PolylineReader : public detail::JsonFieldReader {
  public:
-  explicit Reader(std::string sourceName) : JsonFieldReader(kFileKind, std::move(sourceName)) {}
+  explicit PolylineReader(std::string sourceName) : JsonFieldReader(kFileKind, std::move(sourceName)) {}
 
   std::vector<Polyline> polylines(const Json& root) const {
     object(root, "");
@@ -37,7 +37,7 @@ class Reader : public detail::JsonFieldReader {
 
  private:
   Polyline polyline(const Json& root) const {
-    checkTypeAndVersion(root, kPolylineType, kFormatVersion);
+    checkTypeAndVersion(root, kPolylineType, kPolylineFormatVersion);
     rejectUnknownFields(root, {"type", "version", "dimension", "closed", "points"}, kPolylineType);
     const int dimension = integer(root, "dimension");
     if (dimension != 2 && dimension != 3) {
@@ -112,11 +112,11 @@ class Reader : public detail::JsonFieldReader {
 
 std::vector<Polyline> detail::polylinesFromJson(const Json& document,
                                                 const std::string& sourceName) {
-  return Reader(sourceName).polylines(document);
+  return PolylineReader(sourceName).polylines(document);
 }
 
 std::vector<Polyline> parsePolylines(const std::string& text, const std::string& sourceName) {
-  const Reader reader(sourceName);
+  const PolylineReader reader(sourceName);
   return reader.polylines(reader.parse(text));
 }
 
@@ -151,7 +151,7 @@ std::string polylineToJson(const Polyline& polyline) {
   }
   std::string text = "{\n";
   text += "  \"type\": \"" + std::string(kPolylineType) + "\",\n";
-  text += "  \"version\": " + std::to_string(kFormatVersion) + ",\n";
+  text += "  \"version\": " + std::to_string(kPolylineFormatVersion) + ",\n";
   text += "  \"dimension\": " + std::to_string(dimension) + ",\n";
   text += std::string("  \"closed\": ") + (polyline.closed ? "true" : "false") + ",\n";
   text += "  \"points\": [\n";

@@ -20,22 +20,22 @@ namespace {
 
 using Json = detail::Json;
 
-constexpr int kFormatVersion = 1;
+constexpr int kSplineFormatVersion = 1;
 constexpr const char* kCurveType = "bspline_curve";
 constexpr const char* kSurfaceType = "bspline_surface";
 
 // Validates one parsed JSON document against the format, reporting errors with the source name
 // and the JSON path of the offending field.
-class Reader : public detail::JsonFieldReader {
+class SplineReader : public detail::JsonFieldReader {
  public:
-  explicit Reader(std::string sourceName) : JsonFieldReader("spline file", std::move(sourceName)) {}
+  explicit SplineReader(std::string sourceName) : JsonFieldReader("spline file", std::move(sourceName)) {}
 
   // The root object with a known "type" and "version"; rejects fields outside `allowed`.
   void checkHeader(const Json& root, const std::string& expectedType,
                    std::initializer_list<const char*> allowed) const {
     if (!root.is_object())
       fail("", "expected a JSON object, got " + detail::describeJsonType(root));
-    checkTypeAndVersion(root, expectedType, kFormatVersion);
+    checkTypeAndVersion(root, expectedType, kSplineFormatVersion);
     rejectUnknownFields(root, allowed, expectedType);
   }
 
@@ -175,46 +175,42 @@ std::string readText(const std::filesystem::path& file) {
   return detail::readTextFile(file, "spline file");
 }
 
-std::string number(double value) {
-  return detail::jsonNumberText(value);
-}
-
 std::string pointText(const Eigen::Vector3d& point, int dimension) {
   std::string text = "[";
   for (int axis = 0; axis < dimension; ++axis) {
-    text += (axis == 0 ? "" : ", ") + number(point[axis]);
+    text += (axis == 0 ? "" : ", ") + detail::jsonNumberText(point[axis]);
   }
   return text + "]";
 }
 
 std::string knotsText(const KnotVector& knots) {
   std::string text = "[";
-  for (int i = 0; i < knots.size(); ++i) text += (i == 0 ? "" : ", ") + number(knots[i]);
+  for (int i = 0; i < knots.size(); ++i) text += (i == 0 ? "" : ", ") + detail::jsonNumberText(knots[i]);
   return text + "]";
 }
 
 }  // namespace
 
 BSplineCurve detail::curveFromJson(const Json& document, const std::string& sourceName) {
-  return Reader(sourceName).curve(document);
+  return SplineReader(sourceName).curve(document);
 }
 
 BSplineSurface detail::surfaceFromJson(const Json& document, const std::string& sourceName) {
-  return Reader(sourceName).surface(document);
+  return SplineReader(sourceName).surface(document);
 }
 
 BSplineCurve parseCurveJson(const std::string& text, const std::string& sourceName) {
-  const Reader reader(sourceName);
+  const SplineReader reader(sourceName);
   return reader.curve(reader.parse(text));
 }
 
 BSplineSurface parseSurfaceJson(const std::string& text, const std::string& sourceName) {
-  const Reader reader(sourceName);
+  const SplineReader reader(sourceName);
   return reader.surface(reader.parse(text));
 }
 
 Spline parseSplineJson(const std::string& text, const std::string& sourceName) {
-  const Reader reader(sourceName);
+  const SplineReader reader(sourceName);
   return reader.spline(reader.parse(text));
 }
 
@@ -233,7 +229,7 @@ Spline readSplineJson(const std::filesystem::path& file) {
 std::string curveToJson(const BSplineCurve& curve) {
   std::string text = "{\n";
   text += "  \"type\": \"" + std::string(kCurveType) + "\",\n";
-  text += "  \"version\": " + std::to_string(kFormatVersion) + ",\n";
+  text += "  \"version\": " + std::to_string(kSplineFormatVersion) + ",\n";
   text += "  \"dimension\": " + std::to_string(curve.dimension()) + ",\n";
   text += "  \"degree\": " + std::to_string(curve.degree()) + ",\n";
   text += std::string("  \"closed\": ") + (curve.isClosed() ? "true" : "false") + ",\n";
@@ -250,7 +246,7 @@ std::string curveToJson(const BSplineCurve& curve) {
 std::string surfaceToJson(const BSplineSurface& surface) {
   std::string text = "{\n";
   text += "  \"type\": \"" + std::string(kSurfaceType) + "\",\n";
-  text += "  \"version\": " + std::to_string(kFormatVersion) + ",\n";
+  text += "  \"version\": " + std::to_string(kSplineFormatVersion) + ",\n";
   text += "  \"degree_u\": " + std::to_string(surface.degreeU()) + ",\n";
   text += "  \"degree_v\": " + std::to_string(surface.degreeV()) + ",\n";
   text += std::string("  \"closed_u\": ") + (surface.isClosedU() ? "true" : "false") + ",\n";

@@ -15,12 +15,12 @@ namespace {
 
 using Json = detail::Json;
 
-constexpr int kFormatVersion = 1;
+constexpr int kSupportFormatVersion = 1;
 constexpr const char* kBasis = "real_spherical_harmonics";
 
-class Reader : public detail::JsonFieldReader {
+class SupportFunctionReader : public detail::JsonFieldReader {
  public:
-  explicit Reader(std::string sourceName)
+  explicit SupportFunctionReader(std::string sourceName)
       : JsonFieldReader("support-function file", std::move(sourceName)) {}
 
   SupportFunctionDocument document(const Json& root) const {
@@ -30,10 +30,10 @@ class Reader : public detail::JsonFieldReader {
       fail("type", "is \"" + type + "\", expected \"" + kSupportFunctionJsonType + "\"");
     }
     const int version = integer(root, "version");
-    if (version != kFormatVersion) {
+    if (version != kSupportFormatVersion) {
       fail("version", "version " + std::to_string(version) +
                           " is not supported (this reader reads version " +
-                          std::to_string(kFormatVersion) + ")");
+                          std::to_string(kSupportFormatVersion) + ")");
     }
     rejectUnknownFields(root,
                         {"type", "version", "basis", "degree", "coefficients", "domain", "fit"},
@@ -139,21 +139,17 @@ class Reader : public detail::JsonFieldReader {
   }
 };
 
-std::string number(double value) {
-  return detail::jsonNumberText(value);
-}
-
 }  // namespace
 
 SupportFunctionDocument parseSupportFunctionJson(const std::string& text,
                                                  const std::string& sourceName) {
-  const Reader reader(sourceName);
+  const SupportFunctionReader reader(sourceName);
   return reader.document(reader.parse(text));
 }
 
 SupportFunctionDocument detail::supportFunctionFromJson(const Json& document,
                                                         const std::string& sourceName) {
-  return Reader(sourceName).document(document);
+  return SupportFunctionReader(sourceName).document(document);
 }
 
 SupportFunctionDocument readSupportFunctionJson(const std::filesystem::path& file) {
@@ -165,7 +161,7 @@ std::string supportFunctionToJson(const SupportFunctionDocument& document) {
   const SupportFunction& h = document.function;
   std::string text = "{\n";
   text += "  \"type\": \"" + std::string(kSupportFunctionJsonType) + "\",\n";
-  text += "  \"version\": " + std::to_string(kFormatVersion) + ",\n";
+  text += "  \"version\": " + std::to_string(kSupportFormatVersion) + ",\n";
   text += "  \"basis\": \"" + std::string(kBasis) + "\",\n";
   text += "  \"degree\": " + std::to_string(h.degree()) + ",\n";
   text += "  \"coefficients\": [\n";
@@ -173,7 +169,7 @@ std::string supportFunctionToJson(const SupportFunctionDocument& document) {
   for (int l = 0; l <= h.degree(); ++l) {
     text += "    ";
     for (int m = -l; m <= l; ++m) {
-      text += number(h.coefficients()[harmonicIndex(l, m)]);
+      text += detail::jsonNumberText(h.coefficients()[harmonicIndex(l, m)]);
       if (l < h.degree() || m < l) text += ", ";
     }
     text += "\n";
@@ -194,7 +190,7 @@ std::string supportFunctionToJson(const SupportFunctionDocument& document) {
     text += "  \"domain\": {\n    \"kind\": \"patch\",\n    \"normals\": [\n";
     for (std::size_t i = 0; i < patch.normals.size(); ++i) {
       const Eigen::Vector3d& n = patch.normals[i];
-      text += "      [" + number(n.x()) + ", " + number(n.y()) + ", " + number(n.z()) + "]" +
+      text += "      [" + detail::jsonNumberText(n.x()) + ", " + detail::jsonNumberText(n.y()) + ", " + detail::jsonNumberText(n.z()) + "]" +
               (i + 1 < patch.normals.size() ? ",\n" : "\n");
     }
     text += "    ],\n    \"triangles\": [\n";
@@ -213,9 +209,9 @@ std::string supportFunctionToJson(const SupportFunctionDocument& document) {
     }
     text += ",\n  \"fit\": {\"source\": " + Json(fit.source).dump() +
             ", \"samples\": " + std::to_string(fit.samples) +
-            ", \"regularization\": " + number(fit.regularization) +
-            ", \"rms_residual\": " + number(fit.rmsResidual) +
-            ", \"max_residual\": " + number(fit.maxResidual) + "}";
+            ", \"regularization\": " + detail::jsonNumberText(fit.regularization) +
+            ", \"rms_residual\": " + detail::jsonNumberText(fit.rmsResidual) +
+            ", \"max_residual\": " + detail::jsonNumberText(fit.maxResidual) + "}";
   }
   return text + "\n}\n";
 }

@@ -9,7 +9,7 @@
 namespace d2vdb {
 
 using detail::kCos30;
-using detail::kPi;
+
 using detail::PolarMap;
 
 double ChartAtlas::radius(int degree) {

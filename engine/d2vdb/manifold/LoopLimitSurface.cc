@@ -365,7 +365,7 @@ Eigen::Vector3d LoopLimitSurface::limitNormal(Index vertex) const {
   Eigen::Vector3d t2 = Eigen::Vector3d::Zero();
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d p = mesh_->position(mesh_->to(mesh_->ring(vertex, k)));
-    const double angle = 2.0 * detail::kPi * k / n;
+    const double angle = 2.0 * kPi * k / n;
     t1 += std::cos(angle) * p;
     t2 += std::sin(angle) * p;
   }

@@ -25,7 +25,7 @@ namespace d2vdb {
 using detail::SquaredDistanceTensor;
 namespace {
 
-constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+constexpr double kDoubleEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // The `to` segments an item must search; null means all of them (searched through the box tree).
@@ -81,7 +81,7 @@ double maxSquaredDifference(const BezierCurve& a, const BezierCurve& b) {
   const BezierCurve differenceCurve(difference);
   const BernsteinPolynomial squared = dot(differenceCurve, differenceCurve);
   const double largest = difference.colwise().squaredNorm().maxCoeff();
-  return squared.maxCoefficient() + 16.0 * (2 * degree + 2) * kEpsilon * largest;
+  return squared.maxCoefficient() + 16.0 * (2 * degree + 2) * kDoubleEpsilon * largest;
 }
 
 // Newton's method for the mutually orthogonal case 3 on piece x to-segment:

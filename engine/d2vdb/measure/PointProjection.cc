@@ -21,7 +21,7 @@ namespace {
 
 constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 
-void requireFinite(const Eigen::Vector3d& point) {
+void requireFinitePoint(const Eigen::Vector3d& point) {
   if (!point.allFinite()) {
     throw InputError("point projection: the point (" + std::to_string(point.x()) + ", " +
                      std::to_string(point.y()) + ", " + std::to_string(point.z()) +
@@ -129,7 +129,7 @@ void CurveProjector::visitSegment(const Eigen::Vector3d& point, int index, bool 
 
 NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
                                      const std::optional<SegmentPoint>& hint) const {
-  requireFinite(point);
+  requireFinitePoint(point);
   NearestPoint best;
   best.squaredDistance = std::numeric_limits<double>::infinity();
   if (hint) {
@@ -185,7 +185,7 @@ bool CurveProjector::segmentsNear(const Eigen::AlignedBox3d& box, double squared
 NearestPoint CurveProjector::nearest(const Eigen::Vector3d& point,
                                      const std::vector<int>& candidateSegments,
                                      const std::optional<SegmentPoint>& hint) const {
-  requireFinite(point);
+  requireFinitePoint(point);
   if (candidateSegments.empty() && !hint) {
     throw InputError("point projection: no segment to project onto");
   }
@@ -223,7 +223,7 @@ PointProjection CurveProjector::project(const Eigen::Vector3d& point) const {
 }
 
 PointProjection CurveProjector::project(const Eigen::Vector3d& point, double searchRadius) const {
-  requireFinite(point);
+  requireFinitePoint(point);
   if (!(searchRadius >= 0.0)) {
     throw InputError("point projection: the search radius must be >= 0");
   }
@@ -319,7 +319,7 @@ PointProjection CurveProjector::project(const Eigen::Vector3d& point, double sea
 
 std::vector<PointProjection> CurveProjector::project(
     const std::vector<Eigen::Vector3d>& points) const {
-  for (const Eigen::Vector3d& point : points) requireFinite(point);
+  for (const Eigen::Vector3d& point : points) requireFinitePoint(point);
   std::vector<PointProjection> results(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()),
                     [&](const tbb::blocked_range<std::size_t>& range) {

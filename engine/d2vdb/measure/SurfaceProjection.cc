@@ -28,7 +28,7 @@ std::uint64_t mortonCode(std::uint32_t x, std::uint32_t y) {
   return code;
 }
 
-void requireFinite(const Eigen::Vector3d& point) {
+void requireFiniteQuery(const Eigen::Vector3d& point) {
   if (!point.allFinite()) {
     throw InputError("surface projection: the query point is not finite");
   }
@@ -176,7 +176,7 @@ void SurfaceProjector::visitPatch(int index, const Eigen::Vector3d& point,
 
 SurfaceFootpoint SurfaceProjector::nearest(const Eigen::Vector3d& point,
                                            const SurfaceFootpoint* hint) const {
-  requireFinite(point);
+  requireFiniteQuery(point);
   SurfaceFootpoint best;
   int hinted = -1;
   if (hint != nullptr && hint->patch >= 0 && hint->patch < static_cast<int>(patches_.size()) &&

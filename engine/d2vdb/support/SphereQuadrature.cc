@@ -6,11 +6,11 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/GaussLegendre.h"
+#include "d2vdb/core/MathConstants.h"
 
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 

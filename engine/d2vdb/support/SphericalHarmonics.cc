@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/support/detail/HarmonicKernels.h"
 
 // The recurrences and ladder relations below follow from the generating function of the harmonic
@@ -24,7 +25,6 @@ namespace d2vdb {
 namespace detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void checkDegree(int degree) {
   if (degree < 0 || degree > kMaxSupportDegree) {

@@ -12,13 +12,13 @@
 #include <string>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/support/detail/HarmonicKernels.h"
 #include "d2vdb/support/detail/SupportDesign.h"
 
 namespace d2vdb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Samples per block of the Gram accumulation (rows of one rank update).
 constexpr std::size_t kFitBlock = 256;

@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/support/SphereQuadrature.h"
 #include "d2vdb/support/SphericalTriangulation.h"
 #include "d2vdb/support/detail/HarmonicKernels.h"
@@ -259,7 +260,6 @@ SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const SupportBlockVa
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // The unit vector of `normal`; the message is only built on failure (this runs per normal).
 Eigen::Vector3d normalized(const Eigen::Vector3d& normal) {

@@ -71,7 +71,7 @@ float storedClearance(double distance) {
   return static_cast<float>(distance * (1.0 - 1e-6));
 }
 
-/// The per-voxel records of every leaf (in LeafTable order) the passes share.
+/// The per-voxel records of every leaf (in SignLeafTable order) the passes share.
 struct VoxelData {
   std::vector<States> states;
   std::vector<Windings> windings;
@@ -93,9 +93,9 @@ openvdb::Index faceOffset(int axis, int depth, int u, int v) {
 }
 
 /// Leaves in tree order, with their six face neighbours and a coordinate lookup.
-class LeafTable {
+class SignLeafTable {
  public:
-  explicit LeafTable(openvdb::FloatTree& tree) {
+  explicit SignLeafTable(openvdb::FloatTree& tree) {
     leaves_.reserve(tree.leafCount());
     tree.getNodes(leaves_);
     sorted_.resize(leaves_.size());
@@ -172,7 +172,7 @@ struct PaddedBlock {
   std::array<std::int16_t, kSide * kSide * kSide> winding{};
   std::array<float, kSide * kSide * kSide> clearance{};
 
-  PaddedBlock(const LeafTable& table, const VoxelData& data, std::size_t i) {
+  PaddedBlock(const SignLeafTable& table, const VoxelData& data, std::size_t i) {
     for (int x = 0; x < kDim; ++x)
       for (int y = 0; y < kDim; ++y)
         for (int z = 0; z < kDim; ++z) copy(index(x, y, z), data, i, offsetOf(x, y, z));
@@ -219,7 +219,7 @@ bool linked(float a, float b) {
   return double(a) + double(b) > kLinkSum;
 }
 
-LocalGroups groupVoxels(const LeafTable& table, const VoxelData& data, std::size_t i) {
+LocalGroups groupVoxels(const SignLeafTable& table, const VoxelData& data, std::size_t i) {
   LocalGroups groups;
   groups.label.fill(kNoLabel);
   const States& state = data.states[i];
@@ -308,7 +308,7 @@ bool isEmpty(const Mask& m) {
 
 /// The voxels of leaf i that are 6-neighbours of a set voxel of masks (in leaf i or across one
 /// of its faces).
-Mask neighborsOf(const std::vector<Mask>& masks, const LeafTable& table, std::size_t i) {
+Mask neighborsOf(const std::vector<Mask>& masks, const SignLeafTable& table, std::size_t i) {
   const Mask& m = masks[i];
   Mask out{};
   for (int x = 0; x < kDim; ++x) {
@@ -338,7 +338,7 @@ Mask neighborsOf(const std::vector<Mask>& masks, const LeafTable& table, std::si
 }
 
 /// The masks dilated by one voxel along `axis` (0 x, 1 y, 2 z), across the leaves' faces.
-std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const LeafTable& table, int axis) {
+std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const SignLeafTable& table, int axis) {
   std::vector<Mask> out(masks.size());
   tbb::parallel_for(std::size_t{0}, masks.size(), [&](std::size_t i) {
     const Mask& m = masks[i];
@@ -397,7 +397,7 @@ void growWithinLeaf(Mask& reached, const Mask& far) {
 
 /// One round of the reachability search for leaf i: what its neighbours reached in the previous
 /// round, then grown inside the leaf, into `next`. True when leaf i reached more than before.
-bool reachRound(const LeafTable& table, const std::vector<Mask>& far,
+bool reachRound(const SignLeafTable& table, const std::vector<Mask>& far,
                 const std::vector<Mask>& reached, std::size_t i, Mask& next) {
   Mask r = reached[i];
   if (isEmpty(far[i])) {
@@ -416,7 +416,7 @@ bool reachRound(const LeafTable& table, const std::vector<Mask>& far,
 /// Whether every voxel of `far` is reachable through far-far links from a far voxel next to one
 /// of `seeds`: grown in rounds (each leaf in parallel from the previous round's state, so the
 /// result does not depend on the schedule) until nothing changes.
-bool allFarReachable(const LeafTable& table, const std::vector<Mask>& far,
+bool allFarReachable(const SignLeafTable& table, const std::vector<Mask>& far,
                      const std::vector<Mask>& seeds) {
   const std::size_t leafCount = table.size();
   std::vector<Mask> reached(leafCount);
@@ -446,7 +446,7 @@ bool allFarReachable(const LeafTable& table, const std::vector<Mask>& far,
 /// far-far link and with every linked near voxel, and every far voxel is reachable from a linked
 /// near voxel through far-far links. Then each group of far voxels has one sign, which is its
 /// seeds' W. False when a check fails (the caller then groups the far voxels explicitly).
-bool farSignsVerified(const LeafTable& table, const std::vector<LeafSummary>& summaries) {
+bool farSignsVerified(const SignLeafTable& table, const std::vector<LeafSummary>& summaries) {
   const std::size_t leafCount = table.size();
   std::vector<Mask> far(leafCount), farIn(leafCount), inSide(leafCount), outSide(leafCount),
       seeds(leafCount);
@@ -510,7 +510,7 @@ struct FarGroups {
   DisjointSets<std::uint32_t> sets;
 };
 
-FarGroups joinFarGroups(const LeafTable& table, const VoxelData& data) {
+FarGroups joinFarGroups(const SignLeafTable& table, const VoxelData& data) {
   const std::size_t leafCount = table.size();
   std::vector<LocalGroups> local(leafCount);
   tbb::parallel_for(std::size_t{0}, leafCount,
@@ -549,7 +549,7 @@ FarGroups joinFarGroups(const LeafTable& table, const VoxelData& data) {
 class BandSignCorrection {
  public:
   BandSignCorrection(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
-                     const BandSignInputs& inputs, const LeafTable& table)
+                     const BandSignInputs& inputs, const SignLeafTable& table)
       : grid_(grid),
         table_(table),
         mesh_(*inputs.mesh),
@@ -917,7 +917,7 @@ class BandSignCorrection {
   }
 
   openvdb::FloatGrid& grid_;
-  const LeafTable& table_;
+  const SignLeafTable& table_;
   const InsideOutsideMesh& mesh_;
   const WindingNumberField& closed_;
   const WindingNumberField* caps_;            ///< null without caps
@@ -982,7 +982,7 @@ std::vector<ComponentSides> componentSides(const InsideOutsideMesh& mesh,
 
 BandSignReport correctBandSigns(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
                                 const BandSignInputs& inputs) {
-  const LeafTable table(grid.tree());
+  const SignLeafTable table(grid.tree());
   if (table.size() == 0) return BandSignReport{};
   BandSignCorrection correction(grid, closest, inputs, table);
   return correction.run();

@@ -1,4 +1,5 @@
 #include "d2vdb/field/detail/WindingNumber.h"
+#include "d2vdb/core/MathConstants.h"
 
 #include <tbb/task_group.h>
 
@@ -10,7 +11,6 @@ namespace d2vdb::detail {
 namespace {
 
 constexpr double kFourPi = 4.0 * 3.14159265358979323846;
-constexpr double kPi = 3.14159265358979323846;
 /// Rounding in the exact sums and the moments, well above double precision for the sums of the
 /// meshes d2vdb handles (at most ~1e8 triangles) and far below any decision margin.
 constexpr double kRoundingSlack = 1e-9;

@@ -7,11 +7,11 @@
 #include <cmath>
 #include <vector>
 
+#include "d2vdb/core/MathConstants.h"
 #include "d2vdb/manifold/detail/Jet.h"
 
 namespace d2vdb::detail {
 
-inline constexpr double kPi = 3.14159265358979323846;
 /// cos(pi / 6) = sqrt(3) / 2: the chart radius of a degree-6 vertex and the height of the
 /// canonical unit triangle.
 inline constexpr double kCos30 = 0.86602540378443864676;
