@@ -200,5 +200,69 @@ TEST(VoxelBudget, AdvisedVoxelSizeAndHalfWidthFitAndAreTight) {
   EXPECT_NEAR(minimumActiveVoxels(100), 5.236e6, 1e3);
 }
 
+// The number after `prefix` in `message` (InputError text), or NaN when it is not there.
+double numberAfter(const std::string& message, const std::string& prefix) {
+  const std::size_t at = message.find(prefix);
+  return at == std::string::npos ? std::nan("") : std::stod(message.substr(at + prefix.size()));
+}
+
+std::string refusal(const VoxelBudgetRequest& request) {
+  try {
+    enforceVoxelBudget(request);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(VoxelBudget, MemoryBudgetBindsBeforeTheVoxelLimitAndNamesWhatFits) {
+  // field small.obj --resolution 64 --half-width 200: within the voxel limit, but not within a
+  // 4 GB memory budget at a field's bytes per voxel; the ball of 200 voxels alone would not fit,
+  // so the message names the half-width that does.
+  const TriangleMesh cube = boxMesh({0, 0, 0}, {1, 1, 1});
+  VoxelBudgetRequest request = meshRequest(cube, 1.0 / 64, 200.0);
+  ASSERT_LT(estimateActiveVoxels(request), double(kDefaultMaxActiveVoxels));
+  request.bytesPerVoxel = kLevelSetPeakBytesPerVoxel + kApproximantBytesPerVoxel;
+  request.fixedBytes = 12 * kLevelSetBytesPerTriangle;
+  request.maxMemoryBytes = 4'000'000'000;
+  EXPECT_NEAR(estimateBandMemoryBytes(request),
+              request.fixedBytes + request.bytesPerVoxel * estimateActiveVoxels(request), 1.0);
+  ASSERT_GT(estimateBandMemoryBytes(request), double(request.maxMemoryBytes));
+  std::string message = refusal(request);
+  EXPECT_NE(message.find("above the memory budget of 4 GB (--max-memory)"), std::string::npos)
+      << message;
+  const double halfWidth = numberAfter(message, "a half-width of at most ");
+  ASSERT_TRUE(halfWidth >= 1.0) << message;
+  VoxelBudgetRequest narrower = request;
+  narrower.halfWidth = halfWidth;
+  EXPECT_LE(estimateBandMemoryBytes(narrower), double(request.maxMemoryBytes));
+  narrower.halfWidth = halfWidth + 1.0;
+  EXPECT_GT(estimateBandMemoryBytes(narrower), double(request.maxMemoryBytes));
+  narrower.halfWidth = halfWidth;
+  EXPECT_NO_THROW(enforceVoxelBudget(narrower));
+
+  // A narrower band that a coarser voxel fits: the advised voxel size fits the memory budget.
+  request.halfWidth = 20.0;
+  request.maxMemoryBytes = 100'000'000;
+  ASSERT_GT(estimateBandMemoryBytes(request), double(request.maxMemoryBytes));
+  message = refusal(request);
+  EXPECT_NE(message.find("(--max-memory)"), std::string::npos) << message;
+  VoxelBudgetRequest advised = request;
+  advised.voxelSize = numberAfter(message, "a voxel size of at least ");
+  ASSERT_TRUE(advised.voxelSize > request.voxelSize) << message;
+  EXPECT_LE(estimateBandMemoryBytes(advised), double(request.maxMemoryBytes));
+  EXPECT_NO_THROW(enforceVoxelBudget(advised));
+  // Without a memory figure only the voxel limit counts.
+  request.bytesPerVoxel = 0;
+  EXPECT_NO_THROW(enforceVoxelBudget(request));
+  // meshToLevelSet() makes the same check with its options' budget.
+  LevelSetOptions options;
+  options.resolution = 64;
+  options.halfWidth = 200;
+  options.maxMemoryBytes = 4'000'000'000;
+  options.extraBytesPerVoxel = kApproximantBytesPerVoxel;
+  EXPECT_THROW(meshToLevelSet(cube, options), InputError);
+}
+
 }  // namespace
 }  // namespace d2vdb

@@ -162,6 +162,28 @@ CLI::Validator nonNegativeNumber() {
   return numberValidator(true);
 }
 
+void declareBudgetOptions(CLI::App& app, ResourceBudget& budget) {
+  const auto add = [&app](const std::string& name, std::uint64_t& value, std::uint64_t fallback,
+                          const std::string& description) {
+    app.add_option_function<std::string>(
+           name,
+           [&value, name](const std::string& text) {
+             try {
+               value = parseByteSize(text, name);
+             } catch (const InputError& error) {
+               throw CLI::ValidationError(error.what());
+             }
+           },
+           description + " (default " + byteSizeText(static_cast<double>(fallback)) +
+               "; units k, M, G, T or KiB, MiB, GiB, TiB; 0 = no limit)")
+        ->type_name("BYTES");
+  };
+  add("--max-memory", budget.maxMemoryBytes, kDefaultMaxMemoryBytes,
+      "Refuse, before allocating, work whose estimated peak memory exceeds this");
+  add("--max-output", budget.maxOutputBytes, kDefaultMaxOutputBytes,
+      "Refuse, before writing, outputs whose estimated size (all files together) exceeds this");
+}
+
 CLI::Option* addVector3Option(CLI::App& app, const std::string& name, std::array<double, 3>& value,
                               const std::string& description) {
   return app

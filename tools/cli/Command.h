@@ -19,6 +19,7 @@
 
 #include "OutputFiles.h"
 #include "d2vdb/core/Progress.h"
+#include "d2vdb/core/ResourceBudget.h"
 
 namespace d2vdb::cli {
 
@@ -35,6 +36,9 @@ struct GlobalOptions {
   int threads = 0;     ///< 0 = all cores
   bool quiet = false;  ///< no progress or summaries on stderr
   bool json = false;   ///< the report as one JSON document on stdout instead of text
+  /// --max-memory and --max-output: what every command checks its estimates against before it
+  /// allocates or writes anything (core/ResourceBudget.h).
+  ResourceBudget budget;
 };
 
 /// What a sub-command returns: its report, as JSON and as text for people, and its exit code.
@@ -171,6 +175,10 @@ void checkResolvesShape(const openvdb::FloatGrid& grid, double longestSide,
 /// be a positive number, got 0".
 CLI::Validator positiveNumber();
 CLI::Validator nonNegativeNumber();
+
+/// Declares --max-memory and --max-output into `budget` (on the top-level command, like --json):
+/// byte counts as parseByteSize() reads them, 0 = no limit.
+void declareBudgetOptions(CLI::App& app, ResourceBudget& budget);
 
 /// Adds an option that reads exactly three comma- or space-separated numbers (e.g. "1,2,3").
 CLI::Option* addVector3Option(CLI::App& app, const std::string& name, std::array<double, 3>& value,

@@ -78,6 +78,7 @@ FieldBuildOptions fieldBuildOptions(const FieldArguments& args, const CommandCon
   build.halfWidth = args.band.halfWidth;
   build.field.domainPadding = args.padding;
   build.field.maxActiveVoxels = args.band.maxVoxels;
+  build.field.maxMemoryBytes = context.options().budget.maxMemoryBytes;
   if (!args.smooth.empty()) {
     build.smooth =
         args.smooth == "pn" ? SmoothSurfaceSource::PnTriangles : SmoothSurfaceSource::LoopLimit;

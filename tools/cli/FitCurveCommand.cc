@@ -3,6 +3,7 @@
 // the iteration history and optionally drawing the iterates and the convergence as SVG.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "Command.h"
 #include "ConvergencePlot.h"
 #include "FitReports.h"
+#include "d2vdb/core/AtomicFileSet.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/CurveFitter.h"
 #include "d2vdb/fit/InitialCurve.h"
@@ -242,11 +244,24 @@ Report runFitCurve(const FitCurveArguments& args, const CommandContext& context)
   fit.keepIterates = !args.svg.empty();
   fit.progress = context.progress();
   const CurveFitResult result = runFit(initial, target, fit);
-  writeCurveJson(args.out, result.curve);
-
   const ComparedFits extra = args.compare ? compareFits(initial, target, fit) : ComparedFits{};
-  if (!args.svg.empty()) writeIterationSvg(args.svg, target, result, args.every);
-  if (!args.plot.empty()) writePlot(args.plot, method, result, extra);
+
+  // All outputs to temporary names; none replaces its target unless all were written.
+  AtomicFileSet files;
+  files.stage(args.out, [&](const std::filesystem::path& temporary) {
+    writeCurveJson(temporary, result.curve);
+  });
+  if (!args.svg.empty()) {
+    files.stage(args.svg, [&](const std::filesystem::path& temporary) {
+      writeIterationSvg(temporary.string(), target, result, args.every);
+    });
+  }
+  if (!args.plot.empty()) {
+    files.stage(args.plot, [&](const std::filesystem::path& temporary) {
+      writePlot(temporary.string(), method, result, extra);
+    });
+  }
+  files.commit();
 
   std::string text = fitReportText(result, method);
   for (const auto& [other, otherResult] : extra) text += fitReportText(otherResult, other);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "ConvergencePlot.h"
 #include "FitReports.h"
 #include "d2vdb/core/AtomicFile.h"
+#include "d2vdb/core/AtomicFileSet.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/RuledSurface.h"
@@ -100,11 +102,17 @@ std::function<double(const Eigen::Vector3d&)> distanceFunction(const FitTarget& 
 // most of the time after the fit.
 constexpr const char* kMeshStage = "writing --mesh (distances to the target)";
 
-nlohmann::json writeSurfaceMesh(const std::string& file, const BSplineSurface& surface, int samples,
+// The --mesh grid: `samples` vertices per control point in each direction.
+std::array<int, 2> meshSamples(const BSplineSurface& surface, int samples) {
+  return {std::max(surface.isClosedU() ? 3 : 2, samples * surface.countU()),
+          std::max(surface.isClosedV() ? 3 : 2, samples * surface.countV())};
+}
+
+nlohmann::json writeSurfaceMesh(const std::string& file, const std::string& target,
+                                const BSplineSurface& surface, int samples,
                                 const std::function<double(const Eigen::Vector3d&)>& distance,
                                 const ProgressCallback& progress) {
-  const int samplesU = std::max(surface.isClosedU() ? 3 : 2, samples * surface.countU());
-  const int samplesV = std::max(surface.isClosedV() ? 3 : 2, samples * surface.countV());
+  const auto [samplesU, samplesV] = meshSamples(surface, samples);
   const TriangleMesh mesh = tessellate(surface, samplesU, samplesV);
   double largest = 0.0;
   if (progress) progress(kMeshStage, 0.0);
@@ -116,13 +124,21 @@ nlohmann::json writeSurfaceMesh(const std::string& file, const BSplineSurface& s
   };
   writeMesh(file, mesh, distanceAttributes(mesh, counted, largest));
   if (progress) progress(kMeshStage, 1.0);
-  return {{"file", file},
+  return {{"file", target},
           {"vertices", mesh.vertexCount()},
           {"triangles", mesh.triangleCount()},
           {"max_distance", largest}};
 }
 
-nlohmann::json writeRulings(const std::string& file, const BSplineSurface& surface, int samples,
+// What one ruling costs in the --rulings file (dump(1): eight numbers of up to 24 characters,
+// the keys and the indentation; 278 bytes measured on average) and in memory while the JSON
+// document is built (its nodes and the dumped text: 1.95 kB measured, 'fit-surface --ruled
+// --ctrl 20,20 --ruling-samples 1000', 323,342 rulings, 700 MB peak).
+constexpr double kRulingFileBytes = 330.0;
+constexpr double kRulingMemoryBytes = 2500.0;
+
+nlohmann::json writeRulings(const std::string& file, const std::string& target,
+                            const BSplineSurface& surface, int samples,
                             const std::function<double(const Eigen::Vector3d&)>& distance) {
   const std::vector<Ruling> rulings = surfaceRulings(surface, samples);
   nlohmann::json list = nlohmann::json::array();
@@ -146,7 +162,7 @@ nlohmann::json writeRulings(const std::string& file, const BSplineSurface& surfa
                                    {"max_distance", worst},
                                    {"rulings", list}};
   writeStreamAtomically(file, [&](std::ostream& out) { out << document.dump(1) << '\n'; });
-  return {{"file", file}, {"count", rulings.size()}, {"max_distance", worst}};
+  return {{"file", target}, {"count", rulings.size()}, {"max_distance", worst}};
 }
 
 void declareFitSurfaceShape(CLI::App& command, FitSurfaceArguments& args) {
@@ -221,33 +237,130 @@ SurfaceFitResult runFit(const FitSurfaceArguments& args, FitMethod method,
   fit.exactSecondOrder = !args.plainSdm;
   fit.reparametrize = !args.noRestart;
   fit.progress = context.progress();
+  fit.budget = context.options().budget;
   return target.kind == InputKind::PointSet ? fitSurfaceToPoints(initial, target.points, fit)
                                             : fitSurface(initial, target.fitTarget(), fit);
 }
 
+// The estimated bytes written and the memory of writing them (the mesh, the rulings' JSON
+// document) for `meshSamples` and `rulingSamples` (the fit keeps the initial surface's knots, so
+// its grid and rulings are known before the fit).
+struct OutputEstimate {
+  double fileBytes = 0.0;
+  double memoryBytes = 0.0;
+};
+
+OutputEstimate estimateFitSurfaceOutputs(const FitSurfaceArguments& args,
+                                         const BSplineSurface& initial, int meshSamplesPerPoint,
+                                         int rulingSamples) {
+  OutputEstimate estimate;
+  estimate.fileBytes = 4096.0 + 100.0 * static_cast<double>(initial.controlPoints().size()) +
+                       25.0 * (initial.countU() + initial.countV());
+  if (!args.mesh.empty()) {
+    const auto [samplesU, samplesV] = meshSamples(initial, meshSamplesPerPoint);
+    const double vertices = static_cast<double>(samplesU) * samplesV;
+    const double triangles = 2.0 * vertices;
+    MeshFileContents contents;
+    contents.normals = contents.colours = true;
+    contents.scalars = 1;
+    estimate.fileBytes +=
+        estimateMeshFileBytes(meshFormatFromPath(args.mesh), vertices, triangles, contents);
+    // Positions, normals, distances, colours; triangles; the attribute copies.
+    estimate.memoryBytes += vertices * (24.0 + 8.0 + 8.0 + 3.0) + triangles * 12.0;
+  }
+  if (!args.rulings.empty() && initial.degreeU() == 1) {
+    const double rulings = surfaceRulingCount(initial, rulingSamples);
+    estimate.fileBytes += kRulingFileBytes * rulings;
+    estimate.memoryBytes += (kRulingMemoryBytes + kRulingFileBytes) * rulings;
+  }
+  return estimate;
+}
+
+// Refuses, before the fit, outputs whose size or memory would exceed the budget, naming the
+// largest --mesh-samples and --ruling-samples that would fit.
+void checkFitSurfaceOutputs(const FitSurfaceArguments& args, const BSplineSurface& initial,
+                            const ResourceBudget& budget) {
+  const auto fits = [&](int mesh, int rulings) {
+    const OutputEstimate e = estimateFitSurfaceOutputs(args, initial, mesh, rulings);
+    return (budget.maxOutputBytes == 0 || e.fileBytes <= double(budget.maxOutputBytes)) &&
+           (budget.maxMemoryBytes == 0 || e.memoryBytes <= double(budget.maxMemoryBytes));
+  };
+  if (fits(args.meshSamples, args.rulingSamples)) return;
+  const bool withRulings = !args.rulings.empty() && initial.degreeU() == 1;
+  std::vector<std::string> remedies;
+  if (withRulings) {
+    const long long rulings = largestFitting(0, args.rulingSamples, [&](long long r) {
+      return fits(args.meshSamples, static_cast<int>(r));
+    });
+    if (rulings >= 0) remedies.push_back("--ruling-samples " + std::to_string(rulings));
+  }
+  if (!args.mesh.empty()) {
+    const long long mesh = largestFitting(1, args.meshSamples, [&](long long m) {
+      return fits(static_cast<int>(m), args.rulingSamples);
+    });
+    if (mesh >= 1) remedies.push_back("--mesh-samples " + std::to_string(mesh));
+  }
+  std::string remedy = "use fewer control points (--ctrl)";
+  if (!remedies.empty()) {
+    remedy = "use " + remedies.front();
+    for (std::size_t i = 1; i < remedies.size(); ++i) remedy += " or " + remedies[i];
+    remedy += " or less, or fewer control points (--ctrl)";
+  }
+  std::string subject = "the outputs of a surface of " + std::to_string(initial.countU()) + " x " +
+                        std::to_string(initial.countV()) + " control points";
+  if (!args.mesh.empty()) {
+    const auto [samplesU, samplesV] = meshSamples(initial, args.meshSamples);
+    subject += ", a --mesh of " + std::to_string(samplesU) + " x " + std::to_string(samplesV) +
+               " vertices (--mesh-samples " + std::to_string(args.meshSamples) + ")";
+  }
+  if (withRulings) {
+    subject +=
+        ", " +
+        std::to_string(static_cast<long long>(surfaceRulingCount(initial, args.rulingSamples))) +
+        " --rulings (--ruling-samples " + std::to_string(args.rulingSamples) + ")";
+  }
+  const OutputEstimate estimate =
+      estimateFitSurfaceOutputs(args, initial, args.meshSamples, args.rulingSamples);
+  enforceOutputBudget({subject, estimate.fileBytes, remedy}, budget);
+  enforceMemoryBudget({"writing " + subject, estimate.memoryBytes, remedy}, budget);
+}
+
 // The surface, the mesh, the rulings and the plot, each with its entry of the report; each
-// output a progress stage of its own ("writing --mesh ...").
+// output a progress stage of its own ("writing --mesh ..."). All are written to temporary names
+// and replace their targets only when every one of them has been written.
 void writeFitSurfaceOutputs(const FitSurfaceArguments& args, FitMethod method,
                             const FitTarget& target, const SurfaceFitResult& result,
                             const ProgressCallback& progress, nlohmann::json& report) {
   const auto distance = distanceFunction(target);
+  AtomicFileSet files;
   if (progress) progress("writing --out", 0.0);
-  writeSurfaceJson(args.out, result.surface);
+  files.stage(args.out, [&](const std::filesystem::path& temporary) {
+    writeSurfaceJson(temporary, result.surface);
+  });
   if (progress) progress("writing --out", 1.0);
   if (!args.mesh.empty()) {
-    report["mesh"] =
-        writeSurfaceMesh(args.mesh, result.surface, args.meshSamples, distance, progress);
+    files.stage(args.mesh, [&](const std::filesystem::path& temporary) {
+      report["mesh"] = writeSurfaceMesh(temporary.string(), args.mesh, result.surface,
+                                        args.meshSamples, distance, progress);
+    });
   }
   if (!args.rulings.empty()) {
     if (progress) progress("writing --rulings", 0.0);
-    report["rulings"] = writeRulings(args.rulings, result.surface, args.rulingSamples, distance);
+    files.stage(args.rulings, [&](const std::filesystem::path& temporary) {
+      report["rulings"] = writeRulings(temporary.string(), args.rulings, result.surface,
+                                       args.rulingSamples, distance);
+    });
     if (progress) progress("writing --rulings", 1.0);
   }
   if (!args.plot.empty()) {
-    writeConvergencePlot(args.plot, {{method, &result.history, result.iterations(), result.status}},
-                         "fit-surface");
+    files.stage(args.plot, [&](const std::filesystem::path& temporary) {
+      writeConvergencePlot(temporary.string(),
+                           {{method, &result.history, result.iterations(), result.status}},
+                           "fit-surface");
+    });
     report["plot"] = args.plot;
   }
+  files.commit();
 }
 
 Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& context) {
@@ -268,6 +381,8 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
         "--rulings needs a ruled surface (--ruled, or an initial surface of degree "
         "1 in u)");
   }
+  const ResourceBudget& budget = context.options().budget;
+  checkFitSurfaceOutputs(args, initial, budget);
   const SurfaceFitResult result = runFit(args, method, initial, target, context);
 
   nlohmann::json json = fitReportJson(result, method);

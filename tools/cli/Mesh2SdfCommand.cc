@@ -42,7 +42,7 @@ Report runMesh2Sdf(const Mesh2SdfArguments& args, const CommandContext& context)
   const TriangleMesh mesh = loadInputAs<MeshInput>(args.input, load).mesh;
   context.status("read " + args.input + ": " + std::to_string(mesh.vertexCount()) + " vertices, " +
                  std::to_string(mesh.triangleCount()) + " triangles");
-  LevelSetOptions levelSet = args.band.levelSetOptions();
+  LevelSetOptions levelSet = args.band.levelSetOptions(context.options().budget);
   levelSet.unsignedDistance = args.unsignedDistance;
   levelSet.exactSigns = !args.openVdbSigns;
   const LevelSetResult result = meshToLevelSet(mesh, levelSet, context.progress());

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "Command.h"
 #include "SharedOptions.h"
 #include "SupportReports.h"
+#include "d2vdb/core/AtomicFileSet.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/field/MeshToLevelSet.h"
@@ -108,15 +110,25 @@ struct OffsetRun {
   std::vector<std::string> warnings;
 };
 
-// Writes every offset once all are computed, so a bad input never leaves some of them written.
+// Writes every offset once all are computed, each to a temporary name, and replaces the targets
+// only when all were written: a bad input or a failed write never leaves some of them written.
 void writeAll(const std::vector<Written>& written, const CommandContext& context) {
+  AtomicFileSet files;
+  for (const Written& w : written) {
+    files.stage(w.path, [&w](const std::filesystem::path& temporary) {
+      if (w.grid) {
+        writeVdb(temporary, {w.grid});
+      } else {
+        writeMesh(temporary, w.mesh);
+      }
+    });
+  }
+  files.commit();
   for (const Written& w : written) {
     if (w.grid) {
-      writeVdb(w.path, {w.grid});
       context.status("wrote " + w.path + ": offset " + shortNumber(w.distance) + ", level set of " +
                      std::to_string(w.grid->activeVoxelCount()) + " active voxels");
     } else {
-      writeMesh(w.path, w.mesh);
       context.status("wrote " + w.path + ": offset " + shortNumber(w.distance) + ", " +
                      std::to_string(w.mesh.vertexCount()) + " vertices");
     }
@@ -153,14 +165,20 @@ OffsetRun offsetBySupport(const OffsetArguments& args, const CommandContext& con
       fitAndCheck(input, args.input, {args.degree, args.regularization, args.allowSingular});
   run.warnings.insert(run.warnings.end(), support.warnings.begin(), support.warnings.end());
   requireRegularOffsets(support.validity, args.distances, args.allowSingular, run.warnings);
-  const SphericalTriangulation domain =
-      tessellationDomain(support.document.patch, args.subdivisions);
   const bool toLevelSet = isVdbPath(args.output);
   if (toLevelSet && support.document.patch) {
     throw InputError("'" + args.input +
                      "' is fitted over a patch's Gauss image: its offsets are open surfaces, which "
                      "have no inside for a signed level set; write a mesh (.obj, .ply, .stl)");
   }
+  // Every offset's tessellation (and, for .vdb outputs, its conversion) within the budget before
+  // the domain is built; each level set's voxels are checked by meshToLevelSet().
+  enforceSupportOffsetBudget(
+      support.document.patch, args.subdivisions, args.distances.size(),
+      toLevelSet ? std::nullopt : std::optional<MeshFormat>(meshFormatFromPath(args.output)),
+      toLevelSet ? kLevelSetBytesPerTriangle : 0.0, context.options().budget);
+  const SphericalTriangulation domain =
+      tessellationDomain(support.document.patch, args.subdivisions);
   for (const double d : args.distances) {
     const Stopwatch clock;
     Written w;
@@ -168,8 +186,8 @@ OffsetRun offsetBySupport(const OffsetArguments& args, const CommandContext& con
     w.path = outputFor(args.output, d, args.distances.size()).string();
     w.mesh = tessellateSupport(support.document.function, domain, d);
     if (toLevelSet) {
-      LevelSetResult result =
-          meshToLevelSet(w.mesh, args.band.levelSetOptions(), context.progress());
+      LevelSetResult result = meshToLevelSet(
+          w.mesh, args.band.levelSetOptions(context.options().budget), context.progress());
       run.warnings.insert(run.warnings.end(), result.warnings.begin(), result.warnings.end());
       w.grid = result.grid;
       w.mesh = TriangleMesh();
@@ -222,7 +240,7 @@ OffsetRun offsetByLevelSet(const OffsetArguments& args, const CommandContext& co
   const Stopwatch setup;
   OffsetRun run;
   const OffsetLevelSet input =
-      loadOffsetLevelSet(args.input, args.band.levelSetOptions(), progress);
+      loadOffsetLevelSet(args.input, args.band.levelSetOptions(context.options().budget), progress);
   run.warnings = input.warnings;
   const double voxel = input.grid->voxelSize()[0];
   const double setupSeconds = setup.seconds();

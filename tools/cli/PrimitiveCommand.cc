@@ -76,6 +76,7 @@ Report runPrimitive(const PrimitiveArguments& args, const CommandContext& contex
   levelSet.voxelSize = args.band.voxelSizeFor(bounds, "shape");
   levelSet.halfWidth = args.band.halfWidth;
   levelSet.maxActiveVoxels = args.band.maxVoxels;
+  levelSet.maxMemoryBytes = context.options().budget.maxMemoryBytes;
   const openvdb::FloatGrid::Ptr grid = primitiveLevelSet(*shape, levelSet);
   checkResolvesShape(*grid, bounds.sizes().maxCoeff(), "the shape");
   grid->setName(args.gridName);

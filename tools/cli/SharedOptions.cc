@@ -12,12 +12,13 @@ double BandArguments::voxelSizeFor(const Eigen::AlignedBox3d& bounds,
   return voxelSizeForBox(bounds.sizes().maxCoeff(), voxelSize, resolutionOrDefault(), what);
 }
 
-LevelSetOptions BandArguments::levelSetOptions() const {
+LevelSetOptions BandArguments::levelSetOptions(const ResourceBudget& budget) const {
   LevelSetOptions options;
   options.voxelSize = voxelSize;
   options.resolution = voxelSize > 0 ? 0 : resolutionOrDefault();
   options.halfWidth = halfWidth;
   options.maxActiveVoxels = maxVoxels;
+  options.maxMemoryBytes = budget.maxMemoryBytes;
   return options;
 }
 

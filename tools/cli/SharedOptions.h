@@ -29,8 +29,9 @@ struct BandArguments {
   /// longest side over resolutionOrDefault(). Throws InputError (naming `what`) when the box has
   /// no extent and no voxel size was given.
   double voxelSizeFor(const Eigen::AlignedBox3d& bounds, const std::string& what) const;
-  /// The level-set options of these arguments (the voxel size or the resolution in force).
-  LevelSetOptions levelSetOptions() const;
+  /// The level-set options of these arguments (the voxel size or the resolution in force), with
+  /// the memory budget of --max-memory.
+  LevelSetOptions levelSetOptions(const ResourceBudget& budget) const;
 };
 
 /// Help texts of the band options that differ between sub-commands.

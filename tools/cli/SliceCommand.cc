@@ -1,4 +1,5 @@
 // d2vdb slice: iso-lines of a .vdb grid on an axis-aligned plane (marching squares) as SVG.
+#include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <string>
@@ -10,6 +11,7 @@
 #include "d2vdb/contour/IsoLinesSvg.h"
 #include "d2vdb/contour/SliceMeasures.h"
 #include "d2vdb/core/AtomicFile.h"
+#include "d2vdb/core/AtomicFileSet.h"
 
 namespace d2vdb::cli {
 namespace {
@@ -75,12 +77,19 @@ Report runSlice(const SliceArguments& args, const CommandContext& context) {
   const Slice slice = sliceIsoLines(*grid, options);
   const SliceLineCounts counts = countSliceLines(slice);
   warnAboutLines(slice, counts);
-  writeIsoLinesSvg(args.output, slice);
+  // Both outputs to temporary names; neither replaces its target unless both were written.
+  AtomicFileSet files;
+  files.stage(args.output, [&](const std::filesystem::path& temporary) {
+    writeIsoLinesSvg(temporary.string(), slice);
+  });
   if (!args.polylines.empty()) {
     const nlohmann::json lines = polylinesJson(slice, options.isoValue);
-    writeStreamAtomically(
-        args.polylines, [&](std::ostream& out) { out << std::setprecision(17) << lines << '\n'; });
+    files.stage(args.polylines, [&](const std::filesystem::path& temporary) {
+      writeStreamAtomically(
+          temporary, [&](std::ostream& out) { out << std::setprecision(17) << lines << '\n'; });
+    });
   }
+  files.commit();
   Report report;
   report.json = {
       {"input", args.input},

@@ -185,8 +185,13 @@ MeshSmoothSurface buildSmoothSurface(const SmoothArguments& args, const Triangle
   options.surface.maxBidegree = args.maxBidegree;
   options.label = args.input;
   const int lod = args.lod;
-  options.beforeBuilding = [lod](const HalfEdgeMesh& mesh) {
-    checkSmoothTessellation(mesh, lod);  // refuse absurd sizes before any work
+  const bool curvature = args.curvature;
+  const MeshFormat format = meshFormatFromPath(args.output);
+  const ResourceBudget budget = context.options().budget;
+  options.beforeBuilding = [lod, curvature, format, budget](const HalfEdgeMesh& mesh) {
+    // Refuse absurd sizes before any work.
+    checkSmoothTessellation(mesh, lod);
+    enforceSmoothTessellationBudget(mesh, lod, curvature, format, budget);
   };
   return smoothSurfaceFromMesh(input, options, context.progress());
 }

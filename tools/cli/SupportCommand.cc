@@ -8,6 +8,7 @@
 #include "Command.h"
 #include "ReportText.h"
 #include "SupportReports.h"
+#include "d2vdb/core/AtomicFileSet.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/io/SupportFunctionJson.h"
 #include "d2vdb/io/SupportInput.h"
@@ -67,11 +68,16 @@ Report runPatches(const SupportArguments& args, const CommandContext& context,
   report.json = patchesJson(patched);
   const std::vector<SupportFunctionDocument> documents =
       supportPatchDocuments(patched.set, args.input);
+  // Every patch file to a temporary name; none replaces its target unless all were written.
+  AtomicFileSet files;
   for (std::size_t i = 0; i < documents.size(); ++i) {
     const std::string path = patchOutput(args.output, i).string();
-    writeSupportFunctionJson(path, documents[i]);
+    files.stage(path, [&](const std::filesystem::path& temporary) {
+      writeSupportFunctionJson(temporary, documents[i]);
+    });
     report.json["patches"][i]["output"] = path;
   }
+  files.commit();
   report.json["input"] = args.input;
   report.json["warnings"] = patched.warnings;
   report.json["seconds"] = clock.seconds();

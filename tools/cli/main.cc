@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", options.quiet, "No progress or summary on stderr");
   app.add_flag("--json", options.json,
                "Print the sub-command's report as one JSON document on stdout");
+  declareBudgetOptions(app, options.budget);
 
   CommandRegistry registry(app, options);
   using AddCommand = void (*)(CommandRegistry&);

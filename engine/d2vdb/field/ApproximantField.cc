@@ -68,12 +68,19 @@ void checkBandParameters(double voxelSize, double halfWidth, const char* what) {
   }
 }
 
-void checkBudget(double estimate, std::uint64_t limit, const std::string& what) {
+void checkBudget(double estimate, const ApproximantFieldOptions& options, const std::string& what) {
+  const std::uint64_t limit = options.maxActiveVoxels;
   if (estimate > static_cast<double>(limit)) {
     throw InputError(what + " would need about " + formatNumber(estimate, kMessageDigits) +
                      " active voxels, above the limit of " + std::to_string(limit) +
                      "; use a larger voxel size or a narrower band");
   }
+  ResourceBudget budget;
+  budget.maxMemoryBytes = options.maxMemoryBytes;
+  enforceMemoryBudget({what + " (about " + formatNumber(estimate, kDigits) + " active voxels)",
+                       estimate * kApproximantBytesPerVoxel,
+                       "use a larger voxel size or a narrower band (--half-width)"},
+                      budget);
 }
 
 /// nanoflann adaptor over input points (double).
@@ -230,9 +237,10 @@ openvdb::MaskGrid::Ptr seedCandidates(const std::vector<Eigen::Vector3d>& seeds,
 }
 
 /// A band found from seeds (FieldBand::nearSeeds()): its layout (a new distance grid) and records.
-/// Throws InputError when more than `maxActiveVoxels` voxels are kept, before making the grid.
+/// Throws InputError when more than options.maxActiveVoxels voxels are kept or their memory
+/// exceeds options.maxMemoryBytes, before making the grid.
 std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
-                                                        std::uint64_t maxActiveVoxels,
+                                                        const ApproximantFieldOptions& options,
                                                         const std::string& source,
                                                         const ProgressCallback& progress) {
   const double h = band.voxelSize();
@@ -274,7 +282,7 @@ std::pair<BandLayout, std::vector<BandRecord>> seedBand(const FieldBand& band,
   if (keptCount == 0) {
     throw InputError("the target has no voxel within the band at this voxel size");
   }
-  checkBudget(static_cast<double>(keptCount), maxActiveVoxels, "the band of " + source);
+  checkBudget(static_cast<double>(keptCount), options, "the band of " + source);
   // The distance grid, leaf by leaf in candidate order.
   auto grid = openvdb::FloatGrid::create(static_cast<float>(limit));
   grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
@@ -376,7 +384,7 @@ ApproximantField ApproximantField::fromBand(const FieldBand& band,
   description.domain =
       detail::workingDomain(band.targetBounds().value_or(seedBounds), options.domainPadding,
                             options.domain, band.voxelSize());
-  auto [layout, records] = seedBand(band, options.maxActiveVoxels, source, progress);
+  auto [layout, records] = seedBand(band, options, source, progress);
   return ApproximantField(
       std::make_unique<FieldStorage>(description, std::move(layout), std::move(records)));
 }
@@ -401,8 +409,7 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
                      " voxels (background / voxel size); the curvature estimator needs at least 2;"
                      " rebuild it with --half-width 3");
   }
-  checkBudget(1.4 * static_cast<double>(active), options.maxActiveVoxels,
-              "the approximant field of " + source);
+  checkBudget(1.4 * static_cast<double>(active), options, "the approximant field of " + source);
   if (levelSet->tree().hasActiveTiles()) {
     auto voxelized = levelSet->deepCopy();
     voxelized->tree().voxelizeActiveTiles();
@@ -434,7 +441,7 @@ ApproximantField ApproximantField::fromCurve(const CurveTarget& curve, double vo
   checkBandParameters(voxelSize, halfWidth, "curve field");
   const double radius = halfWidth + 1.0;
   checkBudget(curve.length() / voxelSize * 3.2 * radius * radius + 8 * radius * radius * radius,
-              options.maxActiveVoxels, "the field of the " + curve.describe());
+              options, "the field of the " + curve.describe());
   FieldBand band = FieldBand::nearSeeds(TargetKind::Curve, curve.samplePoints(0.5 * voxelSize),
                                         voxelSize, halfWidth);
   band.setApproximants([&](const openvdb::Coord&, const Eigen::Vector3d& center) {
@@ -463,7 +470,7 @@ ApproximantField ApproximantField::fromPoints(const std::vector<Eigen::Vector3d>
   const double radius = 2.0 * halfWidth + 3.0;
   const double boxVoxels = ((bounds.sizes().array() / voxelSize) + radius).prod();
   checkBudget(std::min(static_cast<double>(points.size()) * radius * radius * radius, boxVoxels),
-              options.maxActiveVoxels, "the field of " + std::to_string(points.size()) + " points");
+              options, "the field of " + std::to_string(points.size()) + " points");
   PointCloud cloud{&points};
   using PointTree =
       nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloud>,

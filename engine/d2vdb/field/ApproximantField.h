@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "d2vdb/core/Progress.h"
+#include "d2vdb/core/ResourceBudget.h"
 #include "d2vdb/field/FieldBand.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
 
@@ -37,6 +38,9 @@ struct ApproximantFieldOptions {
   int coarseHalfWidth = 4;
   /// Refuse fields whose estimated active voxel count (all levels) exceeds this.
   std::uint64_t maxActiveVoxels = 150'000'000;
+  /// Refuse fields whose estimated memory (kApproximantBytesPerVoxel, field/VoxelBudget.h, per
+  /// estimated active voxel) exceeds this many bytes, before allocating; 0 = no limit.
+  std::uint64_t maxMemoryBytes = kDefaultMaxMemoryBytes;
 };
 
 /// Per-level and total sizes, for `d2vdb info` and the benchmarks.

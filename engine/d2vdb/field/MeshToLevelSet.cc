@@ -224,6 +224,9 @@ double checkedVoxelSize(const TriangleMesh& mesh, const LevelSetOptions& options
   budget.halfWidth = options.halfWidth;
   budget.longestSide = longestSide;
   budget.maxActiveVoxels = options.maxActiveVoxels;
+  budget.bytesPerVoxel = kLevelSetPeakBytesPerVoxel + options.extraBytesPerVoxel;
+  budget.fixedBytes = kLevelSetBytesPerTriangle * static_cast<double>(mesh.triangles.size());
+  budget.maxMemoryBytes = options.maxMemoryBytes;
   enforceVoxelBudget(budget);
 
   const double reach = std::max(bounds.min.cwiseAbs().maxCoeff(), bounds.max.cwiseAbs().maxCoeff());

@@ -29,6 +29,13 @@ struct LevelSetOptions {
   /// across holes, but costs nothing extra.
   bool exactSigns = true;
   std::uint64_t maxActiveVoxels = kDefaultMaxActiveVoxels;  ///< see VoxelBudget.h
+  /// Refuse conversions whose estimated peak memory exceeds this many bytes (0 = no limit): per
+  /// estimated active voxel kLevelSetPeakBytesPerVoxel plus extraBytesPerVoxel, plus
+  /// kLevelSetBytesPerTriangle per triangle (VoxelBudget.h).
+  std::uint64_t maxMemoryBytes = kDefaultMaxMemoryBytes;
+  /// Memory per voxel of what the caller builds on the level set while it is alive (e.g.
+  /// kApproximantBytesPerVoxel for a field), counted against maxMemoryBytes.
+  double extraBytesPerVoxel = 0;
 };
 
 /// How meshToLevelSet() decided inside and outside.

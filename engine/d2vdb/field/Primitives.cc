@@ -137,6 +137,8 @@ openvdb::FloatGrid::Ptr primitiveLevelSet(const AnalyticShape& shape,
   budget.halfWidth = options.halfWidth;
   budget.longestSide = shape.bounds().sizes().maxCoeff();
   budget.maxActiveVoxels = options.maxActiveVoxels;
+  budget.bytesPerVoxel = kLevelSetPeakBytesPerVoxel;
+  budget.maxMemoryBytes = options.maxMemoryBytes;
   enforceVoxelBudget(budget);
 
   // Index range of voxel centres that can lie in the band, rounded out to whole leaf blocks.

@@ -15,6 +15,9 @@ struct PrimitiveLevelSetOptions {
   double voxelSize = 0;  ///< world units; must be finite and positive
   double halfWidth = 3;  ///< narrow-band half-width in voxels; at least 1
   std::uint64_t maxActiveVoxels = kDefaultMaxActiveVoxels;  ///< see VoxelBudget.h
+  /// Refuse level sets whose estimated memory (kLevelSetPeakBytesPerVoxel per estimated active
+  /// voxel) exceeds this many bytes; 0 = no limit.
+  std::uint64_t maxMemoryBytes = kDefaultMaxMemoryBytes;
 };
 
 /// Builds the narrow-band level set of `shape`:

@@ -10,6 +10,7 @@
 
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/MathConstants.h"
+#include "d2vdb/core/ResourceBudget.h"
 
 namespace d2vdb {
 
@@ -197,7 +198,23 @@ void checkVoxelSizeIsRepresentable(double voxelSize, const std::string& subject)
   throw InputError(message.str());
 }
 
-void enforceVoxelBudget(const VoxelBudgetRequest& request) {
+double estimateBandMemoryBytes(const VoxelBudgetRequest& request) {
+  return request.fixedBytes + request.bytesPerVoxel * estimateActiveVoxels(request);
+}
+
+void enforceVoxelBudget(const VoxelBudgetRequest& original) {
+  // The memory budget, when it binds before the voxel limit, becomes the voxel limit.
+  VoxelBudgetRequest request = original;
+  bool memoryBinds = false;
+  if (original.bytesPerVoxel > 0.0 && original.maxMemoryBytes > 0) {
+    const double byMemory =
+        std::max(0.0, (static_cast<double>(original.maxMemoryBytes) - original.fixedBytes) /
+                          original.bytesPerVoxel);
+    if (byMemory < static_cast<double>(original.maxActiveVoxels)) {
+      request.maxActiveVoxels = static_cast<std::uint64_t>(byMemory);
+      memoryBinds = true;
+    }
+  }
   const double estimate = estimateActiveVoxels(request);
   if (estimate <= static_cast<double>(request.maxActiveVoxels)) {
     // Within the budget; the voxel can still be too small for OpenVDB (a tiny shape).
@@ -209,8 +226,15 @@ void enforceVoxelBudget(const VoxelBudgetRequest& request) {
   message.precision(3);
   message << request.subject << " at voxel size " << request.voxelSize << " would need about "
           << estimate << " active voxels (half-width " << halfWidthText(request.halfWidth)
-          << " voxels), above the limit of " << static_cast<double>(request.maxActiveVoxels)
-          << " active voxels";
+          << " voxels)";
+  if (memoryBinds) {
+    message << ", about " << byteSizeText(estimateBandMemoryBytes(original)) << " of memory ("
+            << original.bytesPerVoxel << " bytes per voxel), above the memory budget of "
+            << byteSizeText(static_cast<double>(original.maxMemoryBytes)) << " (--max-memory)";
+  } else {
+    message << ", above the limit of " << static_cast<double>(request.maxActiveVoxels)
+            << " active voxels";
+  }
   std::vector<std::string> remedies;
   const double smallestVoxel = roundUp3(smallestVoxelSizeWithinBudget(request));
   if (std::isfinite(smallestVoxel)) {
@@ -236,7 +260,8 @@ void enforceVoxelBudget(const VoxelBudgetRequest& request) {
   } else if (!std::isfinite(smallestVoxel)) {
     remedies.push_back("a smaller half-width");
   }
-  remedies.push_back("a higher active-voxel limit if the machine has the memory");
+  remedies.push_back(memoryBinds ? "a higher --max-memory if the machine has the memory"
+                                 : "a higher active-voxel limit if the machine has the memory");
   message << "; use ";
   for (std::size_t i = 0; i < remedies.size(); ++i) {
     message << (i == 0 ? "" : i + 1 == remedies.size() ? " or " : ", ") << remedies[i];

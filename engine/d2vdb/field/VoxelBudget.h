@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "d2vdb/core/ResourceBudget.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb {
@@ -70,7 +71,30 @@ struct VoxelBudgetRequest {
   double halfWidth = 3;    ///< voxels on each side of the surface
   double longestSide = 0;  ///< longest bounding-box side (world); 0 = unknown (no resolution hint)
   std::uint64_t maxActiveVoxels = kDefaultMaxActiveVoxels;
+  /// Peak memory per active voxel of what is built on the band (kLevelSetPeakBytesPerVoxel for a
+  /// level set, plus kApproximantBytesPerVoxel for a field); 0 = no memory check.
+  double bytesPerVoxel = 0;
+  /// Memory besides the voxels (e.g. the conversion's per-triangle structures), bytes.
+  double fixedBytes = 0;
+  /// The memory budget (core/ResourceBudget.h); 0 = no limit.
+  std::uint64_t maxMemoryBytes = kDefaultMaxMemoryBytes;
 };
+
+/// Peak memory of converting a mesh to a level set, bytes per active voxel: measured 37 (README,
+/// "mesh2sdf": peak-RSS increase during meshToLevelSet of an 81,920-triangle icosphere, 7.5e5 to
+/// 4.8e7 voxels), rounded up.
+inline constexpr double kLevelSetPeakBytesPerVoxel = 40.0;
+
+/// Memory of the approximant grids that share a level set's topology (ApproximantField.h), bytes
+/// per band voxel: measured about 96 (README, "mesh2sdf"), plus the level set's own 12, rounded
+/// up.
+inline constexpr double kApproximantBytesPerVoxel = 110.0;
+
+/// Peak memory of OpenVDB's mesh conversion per input triangle, bytes (its polygon copy, the
+/// closest-triangle index grids and the exact-sign pass's bounding-volume tree): measured about
+/// 200 ('d2vdb offset' of a support function at --subdivisions 7 to a .vdb, 327,680 triangles),
+/// rounded up.
+inline constexpr double kLevelSetBytesPerTriangle = 250.0;
 
 /// Estimated active voxel count of the request's band: the volume within r = halfWidth *
 /// voxelSize of the surface, over voxelSize^3, times kActiveVoxelSafetyFactor. A piece of area A
@@ -94,7 +118,13 @@ double smallestVoxelSizeWithinBudget(const VoxelBudgetRequest& request);
 /// halfWidth^3.
 double minimumActiveVoxels(double halfWidth);
 
-/// Throws InputError when the estimate exceeds the limit or, within it, request.voxelSize is not
+/// The band's estimated memory: request.fixedBytes + request.bytesPerVoxel *
+/// estimateActiveVoxels(request).
+double estimateBandMemoryBytes(const VoxelBudgetRequest& request);
+
+/// Throws InputError when the estimate exceeds the voxel limit or, with request.bytesPerVoxel
+/// set, its memory (estimateBandMemoryBytes()) exceeds request.maxMemoryBytes (the message then
+/// names --max-memory), or, within both, request.voxelSize is not
 /// representable (checkVoxelSizeIsRepresentable()), before anything is allocated. The
 /// message states the estimate, the limit, and the smallest voxel size (and, when the longest side
 /// is known, the largest resolution along it) that would fit, or, when no voxel size fits, the

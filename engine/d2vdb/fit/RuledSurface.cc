@@ -32,4 +32,10 @@ std::vector<Ruling> surfaceRulings(const BSplineSurface& surface, int samplesPer
   return rulings;
 }
 
+double surfaceRulingCount(const BSplineSurface& surface, int samplesPerSpan) {
+  const double spansU = static_cast<double>(surface.knotsU().breakpoints().size()) - 1.0;
+  const double spansV = static_cast<double>(surface.knotsV().breakpoints().size()) - 1.0;
+  return (spansV * (samplesPerSpan + 1.0) + (surface.isClosedV() ? 0.0 : 1.0)) * spansU;
+}
+
 }  // namespace d2vdb

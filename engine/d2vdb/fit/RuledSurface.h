@@ -25,4 +25,8 @@ struct Ruling {
 /// in u is not 1 or samplesPerSpan is negative.
 std::vector<Ruling> surfaceRulings(const BSplineSurface& surface, int samplesPerSpan);
 
+/// How many rulings surfaceRulings() returns, without making them: (v spans * (samplesPerSpan +
+/// 1) + 1 [open v]) * u spans. A double, so that absurd requests do not overflow.
+double surfaceRulingCount(const BSplineSurface& surface, int samplesPerSpan);
+
 }  // namespace d2vdb

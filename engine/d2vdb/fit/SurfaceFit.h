@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "d2vdb/core/ResourceBudget.h"
 #include "d2vdb/fit/FitHistory.h"
 #include "d2vdb/fit/FitOptions.h"
 #include "d2vdb/spline/BSplineSurface.h"
@@ -29,6 +30,9 @@ struct SurfaceFitOptions : FitOptions {
   /// only very slowly, and a crowded spread approximates worse. false = one run. Not used by
   /// fitSurfaceToPoints.
   bool reparametrize = true;
+  /// The memory budget both fitters check their estimate against before allocating anything
+  /// (enforceSurfaceFitBudget(), SurfaceFitter.h); only maxMemoryBytes is used.
+  ResourceBudget budget;
 };
 
 /// The outcome of a surface fit.

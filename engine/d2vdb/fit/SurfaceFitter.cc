@@ -410,6 +410,8 @@ SurfaceFitResult joined(SurfaceFitResult first, SurfaceFitResult second) {
 SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistanceTarget& target,
                             const SurfaceFitOptions& options) {
   detail::validateSurfaceFit(initial, options);
+  enforceSurfaceFitBudget(initial, surfaceSensorCount(initial, options.sensorsPerSpan),
+                          options.sensorsPerSpan, options.budget);
   SurfaceTargetProblem problem(initial, target, options);
   problem.requireCovered(initial.controlPoints(), "surface");
   const Eigen::AlignedBox3d domain = target.domain();
@@ -477,8 +479,67 @@ SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
                      " control points; use fewer control points or more data");
   }
   detail::validateSurfaceFit(initial, options);
+  enforceSurfaceFitBudget(initial, static_cast<double>(points.size()), 0, options.budget);
   PointProblem problem(initial, points, options);
   return detail::runSurfaceFit(initial, options, problem);
+}
+
+double surfaceSensorCount(const BSplineSurface& surface, int sensorsPerSpan) {
+  const auto direction = [sensorsPerSpan](const KnotVector& knots, bool closed) {
+    const double spans = static_cast<double>(knots.breakpoints().size()) - 1.0;
+    return spans * sensorsPerSpan + (closed ? 0.0 : 2.0);
+  };
+  return direction(surface.knotsU(), surface.isClosedU()) *
+         direction(surface.knotsV(), surface.isClosedV());
+}
+
+double estimateSurfaceFitMemoryBytes(const BSplineSurface& surface, double sensors) {
+  const double controlPoints = static_cast<double>(surface.controlPoints().size());
+  return kSurfaceFitBytesPerSensor * sensors +
+         kSurfaceFitBytesPerControlPoint15 * std::pow(controlPoints, 1.5);
+}
+
+void enforceSurfaceFitBudget(const BSplineSurface& surface, double sensors, int sensorsPerSpan,
+                             const ResourceBudget& budget) {
+  const double limit = static_cast<double>(budget.maxMemoryBytes);
+  BudgetRequest request;
+  request.estimatedBytes = estimateSurfaceFitMemoryBytes(surface, sensors);
+  if (budget.maxMemoryBytes == 0 || request.estimatedBytes <= limit) return;
+  const std::string grid =
+      std::to_string(surface.countU()) + " x " + std::to_string(surface.countV());
+  request.subject = "fitting a surface of " + grid + " control points to " +
+                    std::to_string(static_cast<long long>(sensors)) +
+                    (sensorsPerSpan > 0 ? " sensors (" + std::to_string(sensorsPerSpan) +
+                                              "^2 per knot cell, --sensors)"
+                                        : std::string(" data points"));
+  const long long fittingSensors =
+      sensorsPerSpan > 0
+          ? largestFitting(1, sensorsPerSpan,
+                           [&](long long s) {
+                             return estimateSurfaceFitMemoryBytes(
+                                        surface,
+                                        surfaceSensorCount(surface, static_cast<int>(s))) <= limit;
+                           })
+          : 0;
+  if (fittingSensors >= 1) {
+    request.remedy = "use --sensors " + std::to_string(fittingSensors) + " or fewer";
+  } else {
+    // Scale both counts by one factor: the sensors per control point stay as they are.
+    const double perControlPoint = sensors / static_cast<double>(surface.controlPoints().size());
+    const long long side =
+        largestFitting(2, std::max(surface.countU(), surface.countV()), [&](long long n) {
+          const double count = static_cast<double>(n) * static_cast<double>(n);
+          return kSurfaceFitBytesPerSensor * perControlPoint * count +
+                     kSurfaceFitBytesPerControlPoint15 * std::pow(count, 1.5) <=
+                 limit;
+        });
+    request.remedy =
+        side >= 2 ? "use fewer control points (--ctrl), about " + std::to_string(side) + "," +
+                        std::to_string(side) + " or fewer" +
+                        (sensorsPerSpan > 0 ? std::string(", or fewer --sensors") : std::string(""))
+                  : "use fewer control points (--ctrl)";
+  }
+  enforceMemoryBudget(request, budget);
 }
 
 }  // namespace d2vdb

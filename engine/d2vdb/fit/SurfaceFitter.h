@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <vector>
 
 #include "d2vdb/field/Approximant.h"
@@ -27,7 +28,8 @@ namespace d2vdb {
 /// PDM, SDM and TDM+PDM, a Levenberg-Marquardt schedule for TDM. It stops as SurfaceFitOptions
 /// says and states why. Deterministic: bitwise identical for any thread count.
 ///
-/// Throws InputError for invalid options, an initial surface whose control points all coincide,
+/// Throws InputError for invalid options, an estimated memory need above options.budget
+/// (enforceSurfaceFitBudget()), an initial surface whose control points all coincide,
 /// or a sensor of the initial surface outside target.domain() (the message names the sensor and
 /// the domain). Later iterates that would leave the domain are treated as failed steps.
 SurfaceFitResult fitSurface(const BSplineSurface& initial, const SquaredDistanceTarget& target,
@@ -54,10 +56,41 @@ Approximant surfaceApproximantAt(const BSplineSurface& surface, double u, double
 /// smoothing. Deterministic for any thread count.
 ///
 /// Throws InputError for an empty cloud, a non-finite coordinate, fewer data points than unknowns
-/// (3 per control point), invalid options, or an initial surface whose control points all
-/// coincide.
+/// (3 per control point), an estimated memory need above options.budget, invalid options, or an
+/// initial surface whose control points all coincide.
 SurfaceFitResult fitSurfaceToPoints(const BSplineSurface& initial,
                                     const std::vector<Eigen::Vector3d>& points,
                                     const SurfaceFitOptions& options = {});
+
+/// Memory per sensor of SDM I (or data point of SDM II) in a surface fit, in bytes: its basis
+/// weights and indices, parameters, approximant, quadratic form, rank-one terms and the measured
+/// distances. Measured 780 bytes (peak RSS of 'd2vdb fit-surface' on volumes/torus.vdb with
+/// --ctrl 20,20 and --sensors 6 against 24: 14,400 against 230,400 sensors), rounded up.
+inline constexpr double kSurfaceFitBytesPerSensor = 1000.0;
+
+/// Memory of a surface fit's linear systems, in bytes per N^1.5 for N control points: the sparse
+/// Cholesky factor of a two-dimensional net of control points fills in like N^1.5 (nested
+/// dissection; George 1973, "Nested dissection of a regular finite element mesh"), plus the
+/// indefinite fallback's LDLT. Fitted to the peak RSS of 'd2vdb fit-surface' on volumes/torus.vdb
+/// from --ctrl 10,10 to 60,60 (518 MB at 60,60 with 100 iterations, of which this term is 367 MB).
+inline constexpr double kSurfaceFitBytesPerControlPoint15 = 1700.0;
+
+/// The number of sensors fitSurface() places on `surface` with `sensorsPerSpan` per knot span
+/// and direction: (spans_u * s + 2 [open u]) * (spans_v * s + 2 [open v]). A double, so that
+/// absurd requests do not overflow.
+double surfaceSensorCount(const BSplineSurface& surface, int sensorsPerSpan);
+
+/// Estimated peak memory (bytes) of fitting `surface` with `sensors` sensors (SDM I:
+/// surfaceSensorCount(); SDM II: the data points), beyond the target's own memory:
+/// kSurfaceFitBytesPerSensor * sensors + kSurfaceFitBytesPerControlPoint15 * N^1.5. Within a
+/// factor of two of the measured figures above.
+double estimateSurfaceFitMemoryBytes(const BSplineSurface& surface, double sensors);
+
+/// Throws InputError, before anything is allocated, when estimateSurfaceFitMemoryBytes() exceeds
+/// budget.maxMemoryBytes. `sensorsPerSpan` > 0 (SDM I) makes the message name the largest
+/// --sensors that fits, or, when none does, the control points that would; 0 (SDM II, `sensors`
+/// data points) names the control points.
+void enforceSurfaceFitBudget(const BSplineSurface& surface, double sensors, int sensorsPerSpan,
+                             const ResourceBudget& budget);
 
 }  // namespace d2vdb

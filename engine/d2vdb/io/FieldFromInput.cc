@@ -53,6 +53,8 @@ BuiltField levelSetMeshField(const TriangleMesh& mesh, const FieldBuildOptions& 
   levelSet.resolution = options.voxelSize > 0 ? 0 : options.resolution;
   levelSet.halfWidth = options.halfWidth;
   levelSet.maxActiveVoxels = options.field.maxActiveVoxels;
+  levelSet.maxMemoryBytes = options.field.maxMemoryBytes;
+  levelSet.extraBytesPerVoxel = kApproximantBytesPerVoxel;
   LevelSetResult result = meshToLevelSet(mesh, levelSet, options.progress);
   return BuiltField{ApproximantField::fromLevelSet(result.grid, options.field, options.progress),
                     InputKind::Mesh, std::move(result.warnings), std::nullopt, result.signs};

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -18,6 +19,60 @@ std::size_t smoothTessellationTriangles(const HalfEdgeMesh& mesh, int levels) {
     return std::numeric_limits<std::size_t>::max();
   }
   return mesh.faceCount() * perFace;
+}
+
+double smoothTessellationVertices(const HalfEdgeMesh& mesh, int levels) {
+  const double g = std::ldexp(1.0, levels);  // intervals per edge
+  double used = 0.0;
+  for (Index v = 0; v < mesh.vertexCount(); ++v) used += mesh.degree(v) > 0 ? 1.0 : 0.0;
+  const double edges = 0.5 * static_cast<double>(mesh.halfEdgeCount());
+  return used + edges * (g - 1.0) +
+         static_cast<double>(mesh.faceCount()) * (g - 1.0) * (g - 2.0) / 2.0;
+}
+
+namespace {
+
+double smoothFileBytes(const HalfEdgeMesh& mesh, int levels, bool curvature, MeshFormat format) {
+  MeshFileContents contents;
+  contents.normals = true;
+  contents.colours = curvature;
+  contents.scalars = curvature ? 2 : 0;
+  return estimateMeshFileBytes(format, smoothTessellationVertices(mesh, levels),
+                               std::ldexp(static_cast<double>(mesh.faceCount()), 2 * levels),
+                               contents);
+}
+
+}  // namespace
+
+double estimateSmoothTessellationMemoryBytes(const HalfEdgeMesh& mesh, int levels, bool curvature) {
+  const double perVertex = 32.0 + 24.0 + (curvature ? 51.0 : 0.0) + 24.0;
+  return perVertex * smoothTessellationVertices(mesh, levels);
+}
+
+void enforceSmoothTessellationBudget(const HalfEdgeMesh& mesh, int levels, bool curvature,
+                                     MeshFormat format, const ResourceBudget& budget) {
+  const auto fits = [&](long long level) {
+    const int l = static_cast<int>(level);
+    return (budget.maxMemoryBytes == 0 ||
+            estimateSmoothTessellationMemoryBytes(mesh, l, curvature) <=
+                static_cast<double>(budget.maxMemoryBytes)) &&
+           (budget.maxOutputBytes == 0 || smoothFileBytes(mesh, l, curvature, format) <=
+                                              static_cast<double>(budget.maxOutputBytes));
+  };
+  if (fits(levels)) return;
+  const long long fitting = largestFitting(0, levels, fits);
+  BudgetRequest request;
+  request.subject = "level of detail " + std::to_string(levels) + " (--lod) of " +
+                    std::to_string(mesh.faceCount()) + " faces, " +
+                    std::to_string(static_cast<long long>(
+                        std::ldexp(static_cast<double>(mesh.faceCount()), 2 * levels))) +
+                    " triangles in " + meshFormatName(format);
+  request.remedy =
+      fitting >= 0 ? "use --lod " + std::to_string(fitting) + " or lower" : "use a smaller mesh";
+  request.estimatedBytes = smoothFileBytes(mesh, levels, curvature, format);
+  enforceOutputBudget(request, budget);
+  request.estimatedBytes = estimateSmoothTessellationMemoryBytes(mesh, levels, curvature);
+  enforceMemoryBudget(request, budget);
 }
 
 void checkSmoothTessellation(const HalfEdgeMesh& mesh, int levels, std::size_t maxTriangles) {

@@ -6,7 +6,9 @@
 #include <cstddef>
 #include <vector>
 
+#include "d2vdb/core/ResourceBudget.h"
 #include "d2vdb/manifold/PseudoManifold.h"
+#include "d2vdb/mesh/MeshIO.h"
 #include "d2vdb/mesh/TriangleMesh.h"
 
 namespace d2vdb {
@@ -23,6 +25,22 @@ struct SmoothTessellation {
 
 /// Number of triangles tessellateSmooth() makes: 4^levels per input face. Saturates at SIZE_MAX.
 std::size_t smoothTessellationTriangles(const HalfEdgeMesh& mesh, int levels);
+
+/// Number of vertices tessellateSmooth() makes: the used vertices, 2^levels - 1 per edge and
+/// (2^levels - 1)(2^levels - 2) / 2 inside every face. A double, so that it cannot overflow.
+double smoothTessellationVertices(const HalfEdgeMesh& mesh, int levels);
+
+/// Peak memory (bytes) of tessellateSmooth() and of writing its result: per vertex its face point
+/// (32 bytes), float position and normal (24), and with `curvature` k1, k2, e1 and the written
+/// attributes (51); 24 bytes of triangles per vertex (two triangles each).
+double estimateSmoothTessellationMemoryBytes(const HalfEdgeMesh& mesh, int levels, bool curvature);
+
+/// Throws InputError, before anything is allocated, when the tessellation's memory
+/// (estimateSmoothTessellationMemoryBytes()) or its file in `format` (estimateMeshFileBytes():
+/// normals, and with `curvature` k1, k2 and colours) exceeds `budget`; the message names --lod,
+/// the estimate and the largest level that fits.
+void enforceSmoothTessellationBudget(const HalfEdgeMesh& mesh, int levels, bool curvature,
+                                     MeshFormat format, const ResourceBudget& budget);
 
 /// The checks tessellateSmooth() makes before allocating anything (so a caller can make them
 /// before building the surface): throws InputError for levels outside 0..10 or more than

@@ -1,5 +1,8 @@
 #include "d2vdb/mesh/MeshIO.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/detail/FileExtension.h"
@@ -89,6 +92,39 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
         break;
     }
   });
+}
+
+double estimateMeshFileBytes(MeshFormat format, double vertices, double triangles,
+                             const MeshFileContents& contents, const MeshWriteOptions& options) {
+  constexpr double kFloatText = 15.0;  // "-1.2345679e-05": the longest shortest float form
+  constexpr double kHeader = 512.0;    // the comment line, a PLY or STL header
+  const double indexDigits = std::floor(std::log10(std::max(vertices, 1.0))) + 1.0;
+  switch (format) {
+    case MeshFormat::Obj: {
+      double perVertex = 2.0 + 3.0 * (1.0 + kFloatText);                  // "v x y z\n"
+      if (contents.colours) perVertex += 3.0 * (1.0 + 10.0);              // " 0.49803922"
+      if (contents.normals) perVertex += 3.0 + 3.0 * (1.0 + kFloatText);  // "vn x y z\n"
+      const double perIndex = contents.normals ? 3.0 + 2.0 * indexDigits : 1.0 + indexDigits;
+      return kHeader + vertices * perVertex + triangles * (2.0 + 3.0 * perIndex);
+    }
+    case MeshFormat::Ply: {
+      const double properties = 3.0 + (contents.normals ? 3.0 : 0.0) + contents.scalars;
+      if (options.binary) {
+        return kHeader + vertices * (4.0 * properties + (contents.colours ? 3.0 : 0.0)) +
+               triangles * (1.0 + 3.0 * 4.0);
+      }
+      return kHeader +
+             vertices *
+                 (properties * (1.0 + kFloatText) + (contents.colours ? 3.0 * 4.0 : 0.0) + 1.0) +
+             triangles * (2.0 + 3.0 * (1.0 + indexDigits));
+    }
+    case MeshFormat::Stl:
+      // Binary: 50 bytes a facet; ASCII: facet normal, outer loop, three vertices, two ends.
+      return options.binary
+                 ? 84.0 + 50.0 * triangles
+                 : kHeader + triangles * (4.0 * (16.0 + 3.0 * (1.0 + kFloatText)) + 40.0);
+  }
+  return kHeader;
 }
 
 }  // namespace d2vdb

@@ -69,4 +69,22 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
 void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
                const VertexAttributes& attributes, const MeshWriteOptions& options = {});
 
+/// What a mesh file holds besides positions and triangles, for estimateMeshFileBytes().
+struct MeshFileContents {
+  bool normals = false;  ///< per-vertex normals (OBJ, PLY; STL always has facet normals)
+  bool colours = false;  ///< per-vertex RGB (OBJ, PLY)
+  int scalars = 0;       ///< per-vertex float properties (PLY only)
+};
+
+/// An upper bound on the bytes writeMesh() writes for a mesh of `vertices` vertices and
+/// `triangles` triangles with `contents`, before the mesh exists (for the output budget,
+/// core/ResourceBudget.h). Binary encodings are exact up to the header; text encodings count
+/// every coordinate at its longest shortest-round-trip form (15 characters) and every index at
+/// the digits of the largest one, so they stay within 1.5 times the real size for coordinates of
+/// order one (tests/mesh/MeshFileEstimateTest.cc). Doubles, so that absurd requests do not
+/// overflow.
+double estimateMeshFileBytes(MeshFormat format, double vertices, double triangles,
+                             const MeshFileContents& contents,
+                             const MeshWriteOptions& options = {});
+
 }  // namespace d2vdb

@@ -1,5 +1,7 @@
 #include "d2vdb/support/SupportOffsets.h"
 
+#include <cmath>
+
 #include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/support/SupportTessellation.h"
@@ -57,6 +59,75 @@ TriangleMesh tessellatePatchOffsets(const SupportPatchSet& set, double distance)
     }
   }
   return mesh;
+}
+
+std::array<double, 2> tessellationDomainSize(const std::optional<SphericalTriangulation>& patch,
+                                             int subdivisions) {
+  if (patch) {
+    return {static_cast<double>(patch->normals.size()),
+            static_cast<double>(patch->triangles.size())};
+  }
+  const double cells = std::ldexp(1.0, 2 * subdivisions);  // 4^s
+  return {10.0 * cells + 2.0, 20.0 * cells};
+}
+
+namespace {
+
+struct OffsetCosts {
+  double memoryBytes = 0.0;
+  double fileBytes = 0.0;
+};
+
+OffsetCosts supportOffsetCosts(const std::optional<SphericalTriangulation>& patch, int subdivisions,
+                               std::size_t count, const std::optional<MeshFormat>& format,
+                               double bytesPerTriangle) {
+  const auto [vertices, triangles] = tessellationDomainSize(patch, subdivisions);
+  const double offsets = static_cast<double>(count);
+  OffsetCosts costs;
+  costs.memoryBytes = kSupportOffsetBytesPerVertex * vertices + bytesPerTriangle * triangles;
+  if (format) {
+    costs.memoryBytes += offsets * (24.0 * vertices + 12.0 * triangles);
+    MeshFileContents contents;
+    contents.normals = true;
+    costs.fileBytes = offsets * estimateMeshFileBytes(*format, vertices, triangles, contents);
+  }
+  return costs;
+}
+
+}  // namespace
+
+void enforceSupportOffsetBudget(const std::optional<SphericalTriangulation>& patch,
+                                int subdivisions, std::size_t count,
+                                const std::optional<MeshFormat>& format, double bytesPerTriangle,
+                                const ResourceBudget& budget) {
+  const auto fits = [&](long long s) {
+    const OffsetCosts costs =
+        supportOffsetCosts(patch, static_cast<int>(s), count, format, bytesPerTriangle);
+    return (budget.maxMemoryBytes == 0 ||
+            costs.memoryBytes <= static_cast<double>(budget.maxMemoryBytes)) &&
+           (budget.maxOutputBytes == 0 ||
+            costs.fileBytes <= static_cast<double>(budget.maxOutputBytes));
+  };
+  if (fits(subdivisions)) return;
+  const auto [vertices, triangles] = tessellationDomainSize(patch, subdivisions);
+  BudgetRequest request;
+  request.subject =
+      std::to_string(count) + (count == 1 ? " offset" : " offsets") + " over " +
+      (patch ? std::string("the patch's Gauss image")
+             : "a geodesic sphere of --subdivisions " + std::to_string(subdivisions)) +
+      " (" + std::to_string(static_cast<long long>(vertices)) + " vertices, " +
+      std::to_string(static_cast<long long>(triangles)) + " triangles each)";
+  if (!patch) {
+    const long long fitting = largestFitting(0, subdivisions, fits);
+    request.remedy = fitting >= 0 ? "use --subdivisions " + std::to_string(fitting) + " or fewer"
+                                  : "use fewer --distance values";
+  }
+  const OffsetCosts costs =
+      supportOffsetCosts(patch, subdivisions, count, format, bytesPerTriangle);
+  request.estimatedBytes = costs.fileBytes;
+  enforceOutputBudget(request, budget);
+  request.estimatedBytes = costs.memoryBytes;
+  enforceMemoryBudget(request, budget);
 }
 
 }  // namespace d2vdb
