@@ -13,12 +13,25 @@ nlohmann::json signReportJson(const SignReport& report) {
       {"watertight", report.watertight},
       {"holes_closed", report.holesClosed},
       {"self_intersecting", report.selfIntersecting},
+      {"pockets_filled", report.pocketsFilled},
+      {"pocket_voxels", report.pocketVoxels},
+      {"hole_voxels", report.holeVoxels},
   };
 }
 
 std::string signSummary(const SignReport& report) {
-  return std::string("signs checked by ") + signMethodName(report.method) + ": " +
-         std::to_string(report.correctedVoxels) + " voxels of OpenVDB's conversion corrected\n";
+  std::string text = std::string("signs checked by ") + signMethodName(report.method) + ": " +
+                     std::to_string(report.correctedVoxels) +
+                     " voxels of OpenVDB's conversion corrected";
+  if (report.pocketsFilled > 0) {
+    text += ", " + std::to_string(report.pocketsFilled) + " pockets of open parts filled (" +
+            std::to_string(report.pocketVoxels) + " voxels)";
+  }
+  if (report.holeVoxels > 0) {
+    text += ", " + std::to_string(report.holeVoxels) +
+            " voxels added where the surfaces closing holes leave the band";
+  }
+  return text + "\n";
 }
 
 nlohmann::json meshReportJson(const MeshReport& report) {

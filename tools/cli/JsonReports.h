@@ -23,7 +23,8 @@ nlohmann::json meshReportJson(const MeshReport& report);
 
 /// {"method": "closest feature" | "winding number" | "none", "corrected_voxels",
 ///  "winding_number_queries", "reoriented_triangles", "watertight", "holes_closed",
-///  "self_intersecting"}: how mesh2sdf decided inside and outside.
+///  "self_intersecting", "pockets_filled", "pocket_voxels", "hole_voxels"}: how mesh2sdf decided
+///  inside and outside.
 nlohmann::json signReportJson(const SignReport& report);
 
 /// "signs checked by closest feature: N voxels of OpenVDB's conversion corrected\n" (text

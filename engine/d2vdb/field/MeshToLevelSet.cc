@@ -16,9 +16,11 @@
 #include "d2vdb/core/Error.h"
 #include "d2vdb/field/detail/BandRenormalization.h"
 #include "d2vdb/field/detail/BandSigns.h"
+#include "d2vdb/field/detail/HoleCrossings.h"
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/field/detail/SelfIntersection.h"
+#include "d2vdb/field/detail/SignPockets.h"
 #include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 #include "d2vdb/field/VoxelBudget.h"
@@ -168,6 +170,23 @@ class ExactSigns {
     report.windingNumberQueries += band.windingNumberQueries + band.capQueries;
     if (progress) progress(name, 1.0);
     return report;
+  }
+
+  /// After the band's renormalisation and trimming: activates the voxels beside the surfaces
+  /// that close the holes where they leave the band (coverHoleCrossings()), then fills the
+  /// pockets that only open or non-manifold parts bound (fillSignPockets(); after the closing
+  /// voxels, which enclose the pockets that reach beyond the band), and counts both in `report`.
+  void finish(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closestTriangles,
+              SignReport& report) const {
+    if (caps_) {
+      const detail::HoleCrossingReport holes =
+          detail::coverHoleCrossings(grid, mesh_, closed_, *caps_);
+      report.holeVoxels = holes.addedVoxels;
+      report.windingNumberQueries += holes.windingNumberQueries;
+    }
+    const detail::SignPocketReport pockets = detail::fillSignPockets(grid, closestTriangles, mesh_);
+    report.pocketsFilled = pockets.pockets;
+    report.pocketVoxels = pockets.voxels;
   }
 
  private:
@@ -360,6 +379,7 @@ LevelSetResult meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o
       result.signs = signs->correct(*result.grid, closestTriangles, progress);
       detail::renormalizeBand(*result.grid);
       if (bandWidth < 4.0f) detail::trimBand(*result.grid);
+      signs->finish(*result.grid, closestTriangles, result.signs);
     }
     addSignWarnings(mesh, exactSigns, result);
   }

@@ -62,6 +62,12 @@ struct SignReport {
   bool watertight = false;        ///< every edge crossed equally often both ways (after repair)
   std::size_t holesClosed = 0;    ///< boundary loops closed by a virtual cap (not watertight)
   bool selfIntersecting = false;  ///< the mesh, holes closed, intersects or touches itself
+  /// Pockets given the side around them: regions of one side enclosed by the other within the
+  /// band next to open or non-manifold parts of the mesh (see meshToLevelSet()).
+  std::size_t pocketsFilled = 0;
+  std::size_t pocketVoxels = 0;  ///< their voxels
+  /// Voxels activated beyond the band beside the surfaces that close holes (see meshToLevelSet()).
+  std::size_t holeVoxels = 0;
 };
 
 /// What meshToLevelSet() produced.
@@ -97,6 +103,19 @@ struct LevelSetResult {
 /// triangle with the new sign, and inactive values are flood-filled again. `signs` reports the
 /// method and the number of corrected voxels (a report, not a warning: correcting them is the
 /// check's job); holes and self-intersections produce warnings.
+///
+/// Two rules make the sign field of an open or non-manifold mesh mesh as closed surfaces (both
+/// leave closed 2-manifold meshes untouched):
+/// - Holes: where the surface w = 1/2 that closes a hole leaves the band, the voxels on both of
+///   its sides are activated (decided exactly, with the band's largest magnitude, so marching
+///   cubes puts the closing within half a voxel of w = 1/2), and the inactive values around them
+///   take their exact sides (detail::coverHoleCrossings()); `signs.holeVoxels` counts them.
+/// - Pockets: a region of one side enclosed by the other within the band (thinner than the band)
+///   next to a part of the mesh that is not a closed 2-manifold (a flap, a sheet meeting the body
+///   at non-manifold edges, a hole) takes the side around it when it is outside (a cavity the
+///   winding number leaves beside junk inside a solid), or when it is inside and at most 8 voxels
+///   (a speck). Cavities bounded by closed 2-manifold shells stay
+///   (detail::fillSignPockets()); `signs.pocketsFilled` and `signs.pocketVoxels` count them.
 ///
 /// Without exact signs, the sign does not depend on triangle orientation and holes a few voxels
 /// across are bridged by the voxels the surrounding triangles touch; wider holes let the outside

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "d2vdb/core/detail/DisjointSets.h"
+#include "d2vdb/field/detail/HoleCrossings.h"
 #include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/mesh/TriangleClosestPoint.h"
 
@@ -735,9 +736,10 @@ class BandSignCorrection {
     data_.clearances[i][o] = storedClearance(distance);
     if (distance <= kOnSurface) {
       // On a cap, off M: W and w_S both jump here, but their difference w does not.
-      const double w = closed_.exact(p) - caps_->exact(p);
-      state = s | kFinal | (w >= 0.5 ? kInside : 0);
-      if ((w >= 0.5) != (value < 0.0f)) summary.flipped.push_back(ijk);
+      // On a planar hole's flat cap w is 1/2 up to rounding: ties are inside (kClosingTie).
+      const bool inside = closed_.exact(p) - caps_->exact(p) >= 0.5 - kClosingTie;
+      state = s | kFinal | (inside ? kInside : 0);
+      if (inside != (value < 0.0f)) summary.flipped.push_back(ijk);
       return;
     }
     state = s;
@@ -865,7 +867,7 @@ class BandSignCorrection {
               caps_->decide(pointOf(voxel.getCoord()), [w](const WindingNumberField::Estimate& e) {
                 return std::abs(w - e.value - 0.5) > e.errorBound;
               });
-          inside = w - wS >= 0.5;
+          inside = w - wS >= 0.5 - kClosingTie;
           ++capQueries[i];
         }
         s |= kFinal | (inside ? kInside : 0);
