@@ -224,8 +224,8 @@ double puffDistance(const openvdb::Vec3d& p) {
   const std::array<std::pair<openvdb::Vec3d, double>, 3> balls = {
       {{{0, 0, 0}, 0.5}, {{0.45, 0.1, 0.2}, 0.35}, {{-0.35, 0.3, -0.1}, 0.3}}};
   double distance = 1e300;
-  for (const auto& [centre, radius] : balls) {
-    distance = std::min(distance, (p - centre).length() - radius);
+  for (const auto& [center, radius] : balls) {
+    distance = std::min(distance, (p - center).length() - radius);
   }
   return distance;
 }

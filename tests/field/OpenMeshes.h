@@ -70,11 +70,11 @@ inline TriangleMesh makeDisc(double radius, int segments, double z) {
 /// The unit sphere (closed icosphere) with curved flaps inside: copies, scaled by `scale`, of
 /// the patches of the sphere within `reach` of each of `centres`, wound inward and left open.
 /// Beside each flap's concave side the winding number is below 1/2 (a lens of "outside").
-inline TriangleMesh makeSphereWithInwardFlaps(const std::vector<Eigen::Vector3f>& centres,
+inline TriangleMesh makeSphereWithInwardFlaps(const std::vector<Eigen::Vector3f>& centers,
                                               float reach, float scale) {
   const TriangleMesh sphere = unitIcosphereMesh(4);
   TriangleMesh mesh = sphere;
-  for (const Eigen::Vector3f& f : centres) {
+  for (const Eigen::Vector3f& f : centers) {
     for (const TriangleMesh::Triangle& t : sphere.triangles) {
       const Eigen::Vector3f centroid =
           (sphere.positions[t[0]] + sphere.positions[t[1]] + sphere.positions[t[2]]) / 3.0f;

@@ -27,7 +27,7 @@ TEST_F(MeshFileEstimateTest, EstimatesBoundTheWrittenBytes) {
   attributes.scalarName = "distance";
   for (std::size_t v = 0; v < plain.positions.size(); ++v) {
     attributes.scalars.push_back(0.001f * static_cast<float>(v) - 1.1f);
-    attributes.colours.push_back({static_cast<std::uint8_t>(v % 256), 77, 255});
+    attributes.colors.push_back({static_cast<std::uint8_t>(v % 256), 77, 255});
   }
   attributes.moreScalars.push_back({"k1", attributes.scalars});
   struct Case {
@@ -46,7 +46,7 @@ TEST_F(MeshFileEstimateTest, EstimatesBoundTheWrittenBytes) {
         const MeshFormat format = meshFormatFromPath(path);
         MeshFileContents contents;
         contents.normals = normals && format != MeshFormat::Stl;
-        contents.colours = withAttributes && format != MeshFormat::Stl;
+        contents.colors = withAttributes && format != MeshFormat::Stl;
         contents.scalars = withAttributes && format == MeshFormat::Ply ? 2 : 0;
         const double real = static_cast<double>(fs::file_size(path));
         const double estimate =

@@ -261,7 +261,7 @@ OutputEstimate estimateFitSurfaceOutputs(const FitSurfaceArguments& args,
     const double vertices = static_cast<double>(samplesU) * samplesV;
     const double triangles = 2.0 * vertices;
     MeshFileContents contents;
-    contents.normals = contents.colours = true;
+    contents.normals = contents.colors = true;
     contents.scalars = 1;
     estimate.fileBytes +=
         estimateMeshFileBytes(meshFormatFromPath(args.mesh), vertices, triangles, contents);

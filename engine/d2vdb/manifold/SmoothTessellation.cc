@@ -35,7 +35,7 @@ namespace {
 double smoothFileBytes(const HalfEdgeMesh& mesh, int levels, bool curvature, MeshFormat format) {
   MeshFileContents contents;
   contents.normals = true;
-  contents.colours = curvature;
+  contents.colors = curvature;
   contents.scalars = curvature ? 2 : 0;
   return estimateMeshFileBytes(format, smoothTessellationVertices(mesh, levels),
                                std::ldexp(static_cast<double>(mesh.faceCount()), 2 * levels),

@@ -102,7 +102,7 @@ double estimateMeshFileBytes(MeshFormat format, double vertices, double triangle
   switch (format) {
     case MeshFormat::Obj: {
       double perVertex = 2.0 + 3.0 * (1.0 + kFloatText);                  // "v x y z\n"
-      if (contents.colours) perVertex += 3.0 * (1.0 + 10.0);              // " 0.49803922"
+      if (contents.colors) perVertex += 3.0 * (1.0 + 10.0);              // " 0.49803922"
       if (contents.normals) perVertex += 3.0 + 3.0 * (1.0 + kFloatText);  // "vn x y z\n"
       const double perIndex = contents.normals ? 3.0 + 2.0 * indexDigits : 1.0 + indexDigits;
       return kHeader + vertices * perVertex + triangles * (2.0 + 3.0 * perIndex);
@@ -110,12 +110,12 @@ double estimateMeshFileBytes(MeshFormat format, double vertices, double triangle
     case MeshFormat::Ply: {
       const double properties = 3.0 + (contents.normals ? 3.0 : 0.0) + contents.scalars;
       if (options.binary) {
-        return kHeader + vertices * (4.0 * properties + (contents.colours ? 3.0 : 0.0)) +
+        return kHeader + vertices * (4.0 * properties + (contents.colors ? 3.0 : 0.0)) +
                triangles * (1.0 + 3.0 * 4.0);
       }
       return kHeader +
              vertices *
-                 (properties * (1.0 + kFloatText) + (contents.colours ? 3.0 * 4.0 : 0.0) + 1.0) +
+                 (properties * (1.0 + kFloatText) + (contents.colors ? 3.0 * 4.0 : 0.0) + 1.0) +
              triangles * (2.0 + 3.0 * (1.0 + indexDigits));
     }
     case MeshFormat::Stl:

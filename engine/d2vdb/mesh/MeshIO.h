@@ -72,7 +72,7 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
 /// What a mesh file holds besides positions and triangles, for estimateMeshFileBytes().
 struct MeshFileContents {
   bool normals = false;  ///< per-vertex normals (OBJ, PLY; STL always has facet normals)
-  bool colours = false;  ///< per-vertex RGB (OBJ, PLY)
+  bool colors = false;  ///< per-vertex RGB (OBJ, PLY)
   int scalars = 0;       ///< per-vertex float properties (PLY only)
 };
 
