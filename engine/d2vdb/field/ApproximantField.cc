@@ -77,7 +77,7 @@ void checkBudget(double estimate, const ApproximantFieldOptions& options, const 
   }
   ResourceBudget budget;
   budget.maxMemoryBytes = options.maxMemoryBytes;
-  enforceMemoryBudget({what + " (about " + formatNumber(estimate, kDigits) + " active voxels)",
+  enforceMemoryBudget({what + " (about " + formatNumber(estimate, kMessageDigits) + " active voxels)",
                        estimate * kApproximantBytesPerVoxel,
                        "use a larger voxel size or a narrower band (--half-width)"},
                       budget);
