@@ -31,10 +31,10 @@ TEST_F(SmoothCliTest, SmoothsTheBunnyWithCurvatures) {
       run("smooth " + bunny() + " " + path("bunny.ply") + " --lod 1 --curvature --json");
   ASSERT_EQ(result.exitCode, 0) << result.err;
   const auto report = nlohmann::json::parse(result.out);
-  for (const char* key : {"input", "output", "source", "lod", "vertices", "faces", "degrees",
-                          "output_vertices", "output_triangles", "distance_to_source",
-                          "distance_to_mesh",
-                          "subdivided_faces", "curvature", "seconds", "diagonal"}) {
+  for (const char* key :
+       {"input", "output", "source", "lod", "vertices", "faces", "degrees", "output_vertices",
+        "output_triangles", "distance_to_source", "distance_to_mesh", "subdivided_faces",
+        "curvature", "seconds", "diagonal"}) {
     EXPECT_TRUE(report.contains(key)) << key;
   }
   EXPECT_EQ(report["vertices"], 1839);

@@ -19,7 +19,6 @@
 namespace d2vdb {
 namespace {
 
-
 // Distance from `p` to the nearest of `samples`.
 double nearestSampleDistance(const std::vector<Eigen::Vector3d>& samples,
                              const Eigen::Vector3d& p) {

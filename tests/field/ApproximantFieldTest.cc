@@ -31,7 +31,6 @@ using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
 
-
 /// The exact Hessian of d^2 at a point with footpoint data `s` (a smooth surface, off the cut
 /// locus): 2 (n n^T + sum_i d k_i / (1 + d k_i) e_i e_i^T).
 Eigen::Matrix3d exactSquaredDistanceHessian(const SurfacePoint& s) {

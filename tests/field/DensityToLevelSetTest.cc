@@ -32,9 +32,10 @@ double worstSphereError(const openvdb::FloatGrid& levelSet, double radius, doubl
 }
 
 TEST(DensityToLevelSet, FogVolumeOfASphereBecomesTheSphereOfItsIsoValue) {
-  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
+  const openvdb::FloatGrid::Ptr fog =
+      primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
   const float cutoff = static_cast<float>(3.0 * kDensityVoxel);  // the band's inner half-width
-  openvdb::tools::sdfToFogVolume(*fog, cutoff);           // density -d / cutoff inside, 0 outside
+  openvdb::tools::sdfToFogVolume(*fog, cutoff);  // density -d / cutoff inside, 0 outside
   ASSERT_TRUE(holdsDensity(*fog));
   const openvdb::FloatGrid::Ptr levelSet = levelSetOfIsoSurface(*fog, 0.5, 3.0);
   EXPECT_EQ(levelSet->getGridClass(), openvdb::GRID_LEVEL_SET);
@@ -50,7 +51,8 @@ TEST(DensityToLevelSet, FogVolumeOfASphereBecomesTheSphereOfItsIsoValue) {
 }
 
 TEST(DensityToLevelSet, SignedDistancesAtAnOffsetGiveTheOffsetSurface) {
-  const openvdb::FloatGrid::Ptr sphere = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
+  const openvdb::FloatGrid::Ptr sphere =
+      primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
   ASSERT_FALSE(holdsDensity(*sphere));
   const openvdb::FloatGrid::Ptr offset = levelSetOfIsoSurface(*sphere, kDensityVoxel, 3.0);
   EXPECT_LT(worstSphereError(*offset, 1.0 + kDensityVoxel, 2.0), 0.1);
@@ -59,7 +61,8 @@ TEST(DensityToLevelSet, SignedDistancesAtAnOffsetGiveTheOffsetSurface) {
 }
 
 TEST(DensityToLevelSet, NoSurfaceAtTheIsoValueIsRefused) {
-  const openvdb::FloatGrid::Ptr fog = primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
+  const openvdb::FloatGrid::Ptr fog =
+      primitiveLevelSet(Sphere({0, 0, 0}, 1.0), {kDensityVoxel, 3.0});
   openvdb::tools::sdfToFogVolume(*fog, static_cast<float>(3.0 * kDensityVoxel));
   test::expectInputError([&] { levelSetOfIsoSurface(*fog, 1.5); }, {"no surface at iso-value 1.5"});
   test::expectInputError([&] { levelSetOfIsoSurface(*fog, std::nan("")); }, {"finite"});

@@ -32,7 +32,6 @@ using test::expectSameAnswers;
 using test::randomPoints;
 using test::withThreads;
 
-
 /// The approximant of an analytic shape at `center`: its exact closest-point data.
 template <typename Shape>
 Approximant exactApproximant(const Shape& shape, const Eigen::Vector3d& center) {

@@ -11,16 +11,15 @@
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/field/detail/SelfIntersection.h"
-#include "d2vdb/mesh/TriangleClosestPoint.h"
 #include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/mesh/TriangleClosestPoint.h"
 #include "field/FieldTestSupport.h"
 #include "field/PolycubeMeshes.h"
 #include "field/WindingNumberReference.h"
 
 namespace d2vdb {
 namespace {
-
 
 std::vector<Eigen::Vector3d> toDouble(const TriangleMesh& mesh) {
   std::vector<Eigen::Vector3d> points;
@@ -315,8 +314,8 @@ TEST(InsideOutside, PreparedMeshIsRepairedAndCapped) {
     TriangleClosestPoint closest;
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
       const TriangleIndices& tri = mesh.triangles[t];
-      const TriangleClosestPoint c = closestPointOnTriangle(
-          q, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
+      const TriangleClosestPoint c =
+          closestPointOnTriangle(q, mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
       if ((c.point - q).norm() < best) {
         best = (c.point - q).norm();
         nearest = t;

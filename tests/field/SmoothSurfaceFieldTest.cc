@@ -21,7 +21,6 @@
 namespace d2vdb {
 namespace {
 
-
 /// A torus about the z axis with `around` x `across` vertices (two triangles per quad, every
 /// vertex of degree 6, outward-facing), in double precision.
 std::shared_ptr<const HalfEdgeMesh> torusMesh(const Torus& torus, double major, double minor,

@@ -101,8 +101,8 @@ TorusErrors torusErrors(int around, int across) {
     e.normal = std::max(e.normal, std::acos(std::min(1.0, a.normal.dot(exact.normal))));
     e.curvature = std::max(
         {e.curvature, std::abs(a.k1 - exact.k1) * minor, std::abs(a.k2 - exact.k2) * minor});
-    e.direction = std::max(
-        e.direction, std::acos(std::min(1.0, std::abs(a.tangent.dot(exact.e1)))) * 180 / kPi);
+    e.direction = std::max(e.direction,
+                           std::acos(std::min(1.0, std::abs(a.tangent.dot(exact.e1)))) * 180 / kPi);
   }
   std::printf("torus %d x %d: footpoint %.3g r, normal %.3g rad, curvature %.3g / r, e1 %.3g deg\n",
               around, across, e.footpoint, e.normal, e.curvature, e.direction);

@@ -26,7 +26,6 @@ namespace {
 
 using test::expectInputError;
 
-
 class FieldFromInputTest : public test::ScratchDirectoryTest {
  protected:
   // loadInput() as buildApproximantField() expects it, then the field.

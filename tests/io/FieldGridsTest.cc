@@ -34,7 +34,6 @@ using test::bandCenters;
 using test::expectSameAnswers;
 using test::randomPoints;
 
-
 class FieldGridsTest : public test::ScratchDirectoryTest {};
 
 /// Random points of the domain plus points off the target at distances growing geometrically

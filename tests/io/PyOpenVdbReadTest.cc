@@ -29,7 +29,6 @@
 namespace d2vdb {
 namespace {
 
-
 // One grid as a reader saw it: its value type and every active voxel's values.
 struct GridDump {
   std::string valueType;

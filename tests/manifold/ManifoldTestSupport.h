@@ -25,7 +25,6 @@
 
 namespace d2vdb::test {
 
-
 /// Positions and triangles of a closed mesh in double precision.
 struct DoubleMesh {
   std::vector<Eigen::Vector3d> positions;

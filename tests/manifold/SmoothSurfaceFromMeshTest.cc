@@ -5,8 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <stdexcept>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -132,8 +132,8 @@ TEST(SmoothSurfaceFromMesh, DistanceToTheInputMeshIsTheBruteForceOneAndExceedsTh
   EXPECT_EQ(toMesh.maxDistance, worst);
   EXPECT_NEAR(toMesh.rmsDistance, std::sqrt(sumSquares / static_cast<double>(samples)), 1e-15);
   const SourceDistanceStatistics toSource = distanceToSource(smooth.surface, *smooth.source, 4);
-  std::printf("PN, icosphere 2: to the mesh max %.3g, to the source max %.3g\n",
-              toMesh.maxDistance, toSource.maxDistance);
+  std::printf("PN, icosphere 2: to the mesh max %.3g, to the source max %.3g\n", toMesh.maxDistance,
+              toSource.maxDistance);
   EXPECT_GT(toMesh.maxDistance, 10.0 * toSource.maxDistance);
   // The level-2 icosphere's edges are about 0.3 long: circumradius about 0.18, sagitta 0.016.
   EXPECT_GT(toMesh.maxDistance, 0.005);

@@ -11,7 +11,6 @@
 
 namespace d2vdb::test {
 
-
 /// A planar point (z = 0).
 inline Eigen::Vector3d xy(double x, double y) {
   return {x, y, 0.0};

@@ -59,15 +59,21 @@ TEST(MeshDistance, DegenerateTrianglesHaveClosestPointsOnTheirSegment) {
 TEST(MeshDistance, RefusesEmptyAndBrokenMeshesAndNonFiniteQueries) {
   test::expectInputError([] { MeshDistance{TriangleMesh{}}; }, {"no triangles"});
   test::expectInputError(
-      [] { MeshDistance{test::makeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 3}})}; },
+      [] {
+        MeshDistance{test::makeMesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 3}})};
+      },
       {"names vertex 3 of 3"});
   const float nan = std::numeric_limits<float>::quiet_NaN();
   test::expectInputError(
-      [nan] { MeshDistance{test::makeMesh({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}, {{0, 1, 2}})}; },
+      [nan] {
+        MeshDistance{test::makeMesh({{0, 0, 0}, {nan, 0, 0}, {0, 1, 0}}, {{0, 1, 2}})};
+      },
       {"vertex 1 has a non-finite coordinate"});
   const MeshDistance cube(test::cube());
   test::expectInputError(
-      [&] { cube.closestPoint({0.0, std::numeric_limits<double>::infinity(), 0.0}); },
+      [&] {
+        cube.closestPoint({0.0, std::numeric_limits<double>::infinity(), 0.0});
+      },
       {"non-finite"});
 }
 

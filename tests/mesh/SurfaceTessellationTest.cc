@@ -1,8 +1,8 @@
 #include "d2vdb/mesh/SurfaceTessellation.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <map>
@@ -18,8 +18,7 @@ using d2vdb::KnotVector;
 using d2vdb::TriangleMesh;
 using Eigen::Vector3d;
 
-Vector3d geometricNormal(const TriangleMesh &mesh,
-                         const TriangleMesh::Triangle &triangle) {
+Vector3d geometricNormal(const TriangleMesh& mesh, const TriangleMesh::Triangle& triangle) {
   const Vector3d p0 = mesh.positions[triangle[0]].cast<double>();
   const Vector3d p1 = mesh.positions[triangle[1]].cast<double>();
   const Vector3d p2 = mesh.positions[triangle[2]].cast<double>();
@@ -33,8 +32,7 @@ BSplineSurface wavyPatch() {
   std::vector<Vector3d> points;
   for (int i = 0; i < nu; ++i) {
     for (int j = 0; j < nv; ++j) {
-      points.emplace_back(3.0 * i / (nu - 1), 2.0 * j / (nv - 1),
-                          0.4 * std::sin(i + 2.0 * j));
+      points.emplace_back(3.0 * i / (nu - 1), 2.0 * j / (nv - 1), 0.4 * std::sin(i + 2.0 * j));
     }
   }
   return BSplineSurface::clamped(3, 3, nu, nv, points);
@@ -51,16 +49,14 @@ BSplineSurface torus() {
     for (int j = 0; j < nv; ++j) {
       const double phi = 2.0 * M_PI * j / nv;
       const double radius = 3.0 + std::cos(phi);
-      points.emplace_back(radius * std::cos(theta), radius * std::sin(theta),
-                          std::sin(phi));
+      points.emplace_back(radius * std::cos(theta), radius * std::sin(theta), std::sin(phi));
     }
   }
-  return BSplineSurface(KnotVector::periodic(3, nu),
-                        KnotVector::periodic(2, nv), points, true, true);
+  return BSplineSurface(KnotVector::periodic(3, nu), KnotVector::periodic(2, nv), points, true,
+                        true);
 }
 
-TEST(SurfaceTessellation,
-     VerticesAndNormalsSampleTheSurfaceOnTheDocumentedGrid) {
+TEST(SurfaceTessellation, VerticesAndNormalsSampleTheSurfaceOnTheDocumentedGrid) {
   const BSplineSurface surface = wavyPatch();
   const int samplesU = 7;
   const int samplesV = 5;
@@ -87,24 +83,21 @@ TEST(SurfaceTessellation, PlanarPatchIsWoundCounterClockwiseAroundSuCrossSv) {
   // seen from +z.
   std::vector<Vector3d> points;
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 4; ++j)
-      points.emplace_back(i, 0.5 * j * j, 0.0);
+    for (int j = 0; j < 4; ++j) points.emplace_back(i, 0.5 * j * j, 0.0);
   }
-  const TriangleMesh mesh =
-      d2vdb::tessellate(BSplineSurface::clamped(2, 3, 3, 4, points), 4, 6);
-  for (const TriangleMesh::Triangle &triangle : mesh.triangles) {
+  const TriangleMesh mesh = d2vdb::tessellate(BSplineSurface::clamped(2, 3, 3, 4, points), 4, 6);
+  for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     const Vector3d normal = geometricNormal(mesh, triangle);
     EXPECT_GT(normal.z(), 0.0);
     EXPECT_NEAR(normal.x(), 0.0, 1e-6);
     EXPECT_NEAR(normal.y(), 0.0, 1e-6);
   }
-  for (const Eigen::Vector3f &normal : mesh.normals)
-    EXPECT_EQ(normal, Eigen::Vector3f(0, 0, 1));
+  for (const Eigen::Vector3f& normal : mesh.normals) EXPECT_EQ(normal, Eigen::Vector3f(0, 0, 1));
 }
 
 TEST(SurfaceTessellation, TriangleOrientationAgreesWithVertexNormals) {
   const TriangleMesh mesh = d2vdb::tessellate(wavyPatch(), 30, 25);
-  for (const TriangleMesh::Triangle &triangle : mesh.triangles) {
+  for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
     const Vector3d normal = geometricNormal(mesh, triangle).normalized();
     for (const TriangleMesh::Index index : triangle) {
       EXPECT_GT(normal.dot(mesh.normals[index].cast<double>()), 0.9);
@@ -112,22 +105,19 @@ TEST(SurfaceTessellation, TriangleOrientationAgreesWithVertexNormals) {
   }
 }
 
-TEST(SurfaceTessellation,
-     DoublyClosedSurfaceGivesAClosedConsistentlyOrientedTorus) {
+TEST(SurfaceTessellation, DoublyClosedSurfaceGivesAClosedConsistentlyOrientedTorus) {
   const int samplesU = 24;
   const int samplesV = 16;
   const TriangleMesh mesh = d2vdb::tessellate(torus(), samplesU, samplesV);
   EXPECT_EQ(mesh.vertexCount(), static_cast<std::size_t>(samplesU * samplesV));
-  EXPECT_EQ(mesh.triangleCount(),
-            static_cast<std::size_t>(2 * samplesU * samplesV));
+  EXPECT_EQ(mesh.triangleCount(), static_cast<std::size_t>(2 * samplesU * samplesV));
   // Each directed edge appears once and its reverse once: closed and
   // consistently oriented.
   std::map<std::pair<TriangleMesh::Index, TriangleMesh::Index>, int> directed;
-  for (const TriangleMesh::Triangle &triangle : mesh.triangles) {
-    for (int k = 0; k < 3; ++k)
-      ++directed[{triangle[k], triangle[(k + 1) % 3]}];
+  for (const TriangleMesh::Triangle& triangle : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{triangle[k], triangle[(k + 1) % 3]}];
   }
-  for (const auto &[edge, count] : directed) {
+  for (const auto& [edge, count] : directed) {
     EXPECT_EQ(count, 1);
     const auto reverse = directed.find({edge.second, edge.first});
     ASSERT_NE(reverse, directed.end());
@@ -135,25 +125,20 @@ TEST(SurfaceTessellation,
   }
   // Euler characteristic of a torus: V - E + F = 0.
   const long edges = static_cast<long>(directed.size()) / 2;
-  EXPECT_EQ(static_cast<long>(mesh.vertexCount()) - edges +
-                static_cast<long>(mesh.triangleCount()),
+  EXPECT_EQ(static_cast<long>(mesh.vertexCount()) - edges + static_cast<long>(mesh.triangleCount()),
             0);
   // The seam vertices sample the surface at the domain start (no duplicate at
   // the end).
-  EXPECT_LT(
-      (mesh.positions[0].cast<double>() - torus().evaluate(0.0, 0.0)).norm(),
-      1e-6);
+  EXPECT_LT((mesh.positions[0].cast<double>() - torus().evaluate(0.0, 0.0)).norm(), 1e-6);
   // Normals: all on the same side (outward or inward) relative to the tube's
   // centre circle.
   int outward = 0;
   for (std::size_t index = 0; index < mesh.vertexCount(); ++index) {
     const Vector3d p = mesh.positions[index].cast<double>();
     const Vector3d center = 3.0 * Vector3d(p.x(), p.y(), 0.0).normalized();
-    if ((p - center).dot(mesh.normals[index].cast<double>()) > 0.0)
-      ++outward;
+    if ((p - center).dot(mesh.normals[index].cast<double>()) > 0.0) ++outward;
   }
-  EXPECT_TRUE(outward == 0 || outward == static_cast<int>(mesh.vertexCount()))
-      << outward;
+  EXPECT_TRUE(outward == 0 || outward == static_cast<int>(mesh.vertexCount())) << outward;
 }
 
 TEST(SurfaceTessellation, PoleVerticesGetTheNormalOfTheirTriangles) {
@@ -168,8 +153,7 @@ TEST(SurfaceTessellation, PoleVerticesGetTheNormalOfTheirTriangles) {
     const double height = i <= 1 ? 1.0 : 1.0 - radius * radius;
     for (int j = 0; j < nv; ++j) {
       const double angle = M_PI * j / (nv - 1);
-      points.emplace_back(radius * std::cos(angle), radius * std::sin(angle),
-                          height);
+      points.emplace_back(radius * std::cos(angle), radius * std::sin(angle), height);
     }
   }
   const BSplineSurface dome = BSplineSurface::clamped(2, 2, nu, nv, points);
@@ -189,8 +173,7 @@ TEST(SurfaceTessellation, ResultDoesNotDependOnTheThreadCount) {
   const BSplineSurface surface = torus();
   TriangleMesh serial;
   {
-    const tbb::global_control single(
-        tbb::global_control::max_allowed_parallelism, 1);
+    const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
     serial = d2vdb::tessellate(surface, 64, 48);
   }
   const TriangleMesh parallel = d2vdb::tessellate(surface, 64, 48);
@@ -204,9 +187,9 @@ TEST(SurfaceTessellation, RejectsTooFewSamplesAndFullyDegenerateSurfaces) {
   EXPECT_THROW(d2vdb::tessellate(wavyPatch(), 5, 1), d2vdb::InputError);
   EXPECT_THROW(d2vdb::tessellate(torus(), 2, 5), d2vdb::InputError);
   EXPECT_NO_THROW(d2vdb::tessellate(torus(), 3, 3));
-  const BSplineSurface point = BSplineSurface::clamped(
-      1, 1, 2, 2, std::vector<Vector3d>(4, Vector3d(1.0, 2.0, 3.0)));
+  const BSplineSurface point =
+      BSplineSurface::clamped(1, 1, 2, 2, std::vector<Vector3d>(4, Vector3d(1.0, 2.0, 3.0)));
   EXPECT_THROW(d2vdb::tessellate(point, 4, 4), d2vdb::InputError);
 }
 
-} // namespace
+}  // namespace

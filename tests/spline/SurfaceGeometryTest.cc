@@ -13,7 +13,6 @@
 namespace d2vdb {
 namespace {
 
-
 // Sphere of radius R, S = R (cos v cos u, cos v sin u, sin v): Su x Sv points outward.
 SurfaceDerivatives sphere(double radius, double u, double v) {
   const double cu = std::cos(u), su = std::sin(u), cv = std::cos(v), sv = std::sin(v);

@@ -12,7 +12,6 @@
 namespace d2vdb {
 namespace {
 
-
 // The solid harmonic polynomial sum_j c_j r^l Y_j(p / r) at any point p != 0.
 double solidPolynomial(const Eigen::VectorXd& c, int degree, const Eigen::Vector3d& p) {
   const double r = p.norm();

@@ -14,7 +14,6 @@
 namespace d2vdb {
 namespace {
 
-
 double maxSurfaceError(const SupportFunction& h, const test::Ellipsoid& ellipsoid,
                        const std::vector<Eigen::Vector3d>& normals) {
   double worst = 0.0;

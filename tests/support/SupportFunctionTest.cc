@@ -16,7 +16,6 @@
 namespace d2vdb {
 namespace {
 
-
 SupportFunction randomFunction(int degree, unsigned seed, double decay = 0.7) {
   std::mt19937 engine(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);

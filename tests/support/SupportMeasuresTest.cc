@@ -14,7 +14,6 @@
 namespace d2vdb {
 namespace {
 
-
 // Surface area of the ellipsoid from its parametrisation (a sin t cos p, b sin t sin p, c cos t),
 // Gauss-Legendre in cos t times the trapezoidal rule in p: an independent reference.
 double ellipsoidArea(const test::Ellipsoid& e) {

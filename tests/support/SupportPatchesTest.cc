@@ -13,7 +13,6 @@
 namespace d2vdb {
 namespace {
 
-
 constexpr double kMajor = 2.0;  // R: distance of the tube's centre circle from the axis
 constexpr double kMinor = 0.5;  // r: tube radius
 

@@ -18,7 +18,6 @@
 
 namespace d2vdb::test {
 
-
 /// `count` unit vectors, uniformly distributed, from a fixed seed.
 inline std::vector<Eigen::Vector3d> randomUnitVectors(std::size_t count, unsigned seed) {
   std::mt19937_64 engine(seed);

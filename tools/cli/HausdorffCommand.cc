@@ -112,8 +112,9 @@ std::string oneSidedText(const std::string& name, const OneSidedHausdorff& resul
   text.precision(kDistanceDigits);
   text << "  " << name << " = " << result.distance << "  bracket [" << result.lowerBound << ", "
        << result.upperBound << "]\n"
-       << "    pair u = " << result.fromParameter << " " << formatPoint(result.fromPoint, kDistanceDigits)
-       << ", v = " << result.toParameter << " " << formatPoint(result.toPoint, kDistanceDigits) << ", case "
+       << "    pair u = " << result.fromParameter << " "
+       << formatPoint(result.fromPoint, kDistanceDigits) << ", v = " << result.toParameter << " "
+       << formatPoint(result.toPoint, kDistanceDigits) << ", case "
        << static_cast<int>(result.pairCase) << ": " << caseName(result.pairCase) << '\n';
   return text.str();
 }

@@ -67,7 +67,8 @@ std::string projectionText(const PointProjection& projection, int dimension) {
        << "local extrema of the distance (" << projection.extrema.size() << "):\n";
   for (const CurveExtremum& extremum : projection.extrema) {
     text << "  t = " << extremum.parameter << "  " << kindName(extremum.kind) << "  distance "
-         << extremum.distance << "  at " << formatPoint(extremum.point, kProjectionDigits, dimension)
+         << extremum.distance << "  at "
+         << formatPoint(extremum.point, kProjectionDigits, dimension)
          << (extremum.atEndPoint ? "  (end point)" : "") << '\n';
   }
   return text.str();

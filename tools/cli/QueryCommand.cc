@@ -115,8 +115,9 @@ std::string queryText(const QueryArguments& args, const QueryAnswer& answer) {
   const Approximant& approximant = answer.approximant;
   const bool surface = approximant.kind == TargetKind::Surface;
   std::ostringstream text;
-  text << std::setprecision(kAnswerDigits) << args.field << " at " << formatPoint(answer.point, kAnswerDigits)
-       << ": " << targetKindName(approximant.kind) << " field, level " << answer.level
+  text << std::setprecision(kAnswerDigits) << args.field << " at "
+       << formatPoint(answer.point, kAnswerDigits) << ": " << targetKindName(approximant.kind)
+       << " field, level " << answer.level
        << (answer.level == 0 ? " (narrow band)" : " (beyond the band)") << '\n'
        << "  distance         " << approximant.distance << '\n'
        << "  footpoint        " << formatPoint(approximant.footpoint, kAnswerDigits) << '\n'
@@ -128,7 +129,8 @@ std::string queryText(const QueryArguments& args, const QueryAnswer& answer) {
   }
   if (approximant.kind == TargetKind::Curve) {
     text << "  curvature        " << approximant.k1 << '\n'
-         << "  principal normal " << formatPoint(approximant.principalNormal, kAnswerDigits) << '\n';
+         << "  principal normal " << formatPoint(approximant.principalNormal, kAnswerDigits)
+         << '\n';
   }
   text << "  flags            " << flagsText(approximant.flags) << '\n'
        << "  SDM weights      " << formatPoint(approximant.sdmWeights(), kAnswerDigits) << '\n'

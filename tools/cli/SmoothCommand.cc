@@ -250,7 +250,8 @@ void addSmoothCommand(CommandRegistry& registry) {
        "limit surface, or PN triangles), blended with C-infinity weights (Siqueira et al. 2009).\n"
        "--curvature adds per-vertex principal curvatures k1 >= k2 (properties k1, k2) and colours\n"
        "by mean curvature (red convex, white flat, blue concave; scale: 99th percentile of |H|)\n"
-       "to .ply output. Reports the distance from the smooth surface to its source and to the input mesh.\n"
+       "to .ply output. Reports the distance from the smooth surface to its source and to the "
+       "input mesh.\n"
        "Example: d2vdb smooth volumes/bunny.obj bunny_smooth.ply --lod 3 --curvature",
        "use a lower --lod or --max-bidegree, or a smaller mesh", declareSmooth, runSmooth,
        outputsOfSmooth});

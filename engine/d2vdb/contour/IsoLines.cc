@@ -63,8 +63,8 @@ class SquareMarcher {
     for (auto leaf = grid_.tree().cbeginLeaf(); leaf; ++leaf) {
       const openvdb::Coord origin = leaf->origin();
       const bool holdsLayer = origin[axis_] <= layer_ && layer_ < origin[axis_] + kSliceBlockSize;
-      const bool holdsNext =
-          blend_ > 0.0 && origin[axis_] <= layer_ + 1 && layer_ + 1 < origin[axis_] + kSliceBlockSize;
+      const bool holdsNext = blend_ > 0.0 && origin[axis_] <= layer_ + 1 &&
+                             layer_ + 1 < origin[axis_] + kSliceBlockSize;
       if (!holdsLayer && !holdsNext) continue;
       for (int du = 0; du <= kSliceBlockSize; du += kSliceBlockSize) {
         for (int dv = 0; dv <= kSliceBlockSize; dv += kSliceBlockSize) {

@@ -838,7 +838,7 @@ class Extractor {
             values.setLeaf(slot, leafData_[neighbor]);
           } else {
             values.setFill(slot, neighbor >= 0 ? fillValue_[neighbor]
-                                                : accessor.getValue(slotOrigin(block, slot)));
+                                               : accessor.getValue(slotOrigin(block, slot)));
           }
         }
       }

@@ -26,6 +26,8 @@ std::string formatPoint(const Eigen::Vector3d& point, int significantDigits, int
   return text + ")";
 }
 
-std::string quotedPath(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+std::string quotedPath(const std::filesystem::path& path) {
+  return "'" + path.string() + "'";
+}
 
 }  // namespace d2vdb

@@ -53,7 +53,8 @@ void checkDirectory(const std::filesystem::path& path, const std::string& label)
                      " does not exist; create it first");
   }
   if (!std::filesystem::is_directory(status)) {
-    throw InputError(label + " " + quotedPath(path) + ": " + quotedPath(directory) + " is not a directory");
+    throw InputError(label + " " + quotedPath(path) + ": " + quotedPath(directory) +
+                     " is not a directory");
   }
   if (::access(directory.c_str(), W_OK | X_OK) != 0) {
     throw InputError(label + " " + quotedPath(path) + ": the directory " + quotedPath(directory) +

@@ -11,7 +11,6 @@
 namespace d2vdb {
 namespace {
 
-
 // Messages show shapes with 9 significant digits.
 constexpr int kShapeDigits = 9;
 
@@ -111,7 +110,8 @@ double Box::surfaceArea() const {
 }
 
 std::string Box::describe() const {
-  return "box(min " + formatPoint(min_, kShapeDigits) + ", max " + formatPoint(max_, kShapeDigits) + ")";
+  return "box(min " + formatPoint(min_, kShapeDigits) + ", max " + formatPoint(max_, kShapeDigits) +
+         ")";
 }
 
 // ----------------------------------------------------------------------------------------- Torus

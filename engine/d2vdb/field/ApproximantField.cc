@@ -77,10 +77,11 @@ void checkBudget(double estimate, const ApproximantFieldOptions& options, const 
   }
   ResourceBudget budget;
   budget.maxMemoryBytes = options.maxMemoryBytes;
-  enforceMemoryBudget({what + " (about " + formatNumber(estimate, kMessageDigits) + " active voxels)",
-                       estimate * kApproximantBytesPerVoxel,
-                       "use a larger voxel size or a narrower band (--half-width)"},
-                      budget);
+  enforceMemoryBudget(
+      {what + " (about " + formatNumber(estimate, kMessageDigits) + " active voxels)",
+       estimate * kApproximantBytesPerVoxel,
+       "use a larger voxel size or a narrower band (--half-width)"},
+      budget);
 }
 
 /// nanoflann adaptor over input points (double).
@@ -405,7 +406,8 @@ ApproximantField ApproximantField::fromLevelSet(openvdb::FloatGrid::ConstPtr lev
   const double halfWidth =
       std::abs(static_cast<double>(levelSet->background())) / frame.voxelSize();
   if (!(halfWidth >= 2.0 - 1e-6)) {
-    throw InputError(source + " has a band half-width of " + formatNumber(halfWidth, kMessageDigits) +
+    throw InputError(source + " has a band half-width of " +
+                     formatNumber(halfWidth, kMessageDigits) +
                      " voxels (background / voxel size); the curvature estimator needs at least 2;"
                      " rebuild it with --half-width 3");
   }
@@ -556,7 +558,8 @@ Approximant ApproximantField::Accessor::approximantAt(const Eigen::Vector3d& poi
   if (!storage.domain().contains(point)) {
     const double outside = std::sqrt(storage.domain().squaredExteriorDistance(point));
     throw InputError("the point " + formatPoint(point, kMessageDigits) + " lies " +
-                     formatNumber(outside, kMessageDigits) + " outside the field's working domain " +
+                     formatNumber(outside, kMessageDigits) +
+                     " outside the field's working domain " +
                      formatPoint(storage.domain().min(), kMessageDigits) + " to " +
                      formatPoint(storage.domain().max(), kMessageDigits));
   }

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "d2vdb/core/Error.h"
+#include "d2vdb/field/VoxelBudget.h"
 #include "d2vdb/field/detail/BandRenormalization.h"
 #include "d2vdb/field/detail/BandSigns.h"
 #include "d2vdb/field/detail/HoleCrossings.h"
@@ -23,7 +24,6 @@
 #include "d2vdb/field/detail/SignPockets.h"
 #include "d2vdb/field/detail/WindingNumber.h"
 #include "d2vdb/mesh/MeshMeasures.h"
-#include "d2vdb/field/VoxelBudget.h"
 
 namespace d2vdb {
 

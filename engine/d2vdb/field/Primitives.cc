@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "d2vdb/core/Error.h"
-#include "d2vdb/field/detail/OpenVdbSetup.h"
 #include "d2vdb/field/VoxelBudget.h"
+#include "d2vdb/field/detail/OpenVdbSetup.h"
 
 namespace d2vdb {
 
@@ -22,7 +22,6 @@ namespace {
 
 using LeafNode = openvdb::FloatTree::LeafNodeType;
 constexpr std::int64_t kLeafDim = LeafNode::DIM;  // voxels along a leaf side (8)
-
 
 // An inclusive range of leaf blocks; block b covers voxels [8 b, 8 b + 7] on each axis.
 struct BlockRange {

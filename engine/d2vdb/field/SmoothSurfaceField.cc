@@ -337,18 +337,18 @@ class SeedBlocks {
 /// neighbours at -z, -y, -x (the first kFaceNeighbors), then the edge and corner neighbours among
 /// the voxels visited before it in offset order (x, then y, then z ascending).
 constexpr std::array<std::array<int, 3>, 13> kStartNeighbors = {{{0, 0, -1},
-                                                                  {0, -1, 0},
-                                                                  {-1, 0, 0},
-                                                                  {0, -1, -1},
-                                                                  {0, -1, 1},
-                                                                  {-1, 0, -1},
-                                                                  {-1, 0, 1},
-                                                                  {-1, -1, 0},
-                                                                  {-1, 1, 0},
-                                                                  {-1, -1, -1},
-                                                                  {-1, -1, 1},
-                                                                  {-1, 1, -1},
-                                                                  {-1, 1, 1}}};
+                                                                 {0, -1, 0},
+                                                                 {-1, 0, 0},
+                                                                 {0, -1, -1},
+                                                                 {0, -1, 1},
+                                                                 {-1, 0, -1},
+                                                                 {-1, 0, 1},
+                                                                 {-1, -1, 0},
+                                                                 {-1, 1, 0},
+                                                                 {-1, -1, -1},
+                                                                 {-1, -1, 1},
+                                                                 {-1, 1, -1},
+                                                                 {-1, 1, 1}}};
 constexpr std::size_t kFaceNeighbors = 3;
 
 /// The number of lattice points of faces with these intervals per edge.
@@ -599,8 +599,7 @@ class VoxelProjector {
     for (std::size_t k = 0; k < kStartNeighbors.size() && !modeledFace; ++k) {
       const int candidate = projectedSlot(k);
       if (candidate < 0) continue;
-      const bool modeled =
-          state.projections[static_cast<std::size_t>(candidate)].model.has_value();
+      const bool modeled = state.projections[static_cast<std::size_t>(candidate)].model.has_value();
       if (start.neighbor < 0 || modeled) start = {candidate, static_cast<std::uint8_t>(k + 1)};
       if (modeled) break;
     }

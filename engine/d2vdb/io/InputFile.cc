@@ -178,8 +178,8 @@ std::pair<std::string, std::uint64_t> readHead(const std::filesystem::path& path
   if (error)
     throw InputError("cannot determine the size of " + quotedPath(path) + ": " + error.message());
   if (size == 0) {
-    throw InputError("the file " + quotedPath(path) + " is empty; " + options.purpose + " must be " +
-                     acceptedList(accepted));
+    throw InputError("the file " + quotedPath(path) + " is empty; " + options.purpose +
+                     " must be " + acceptedList(accepted));
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open " + quotedPath(path) + " for reading (permissions?)");

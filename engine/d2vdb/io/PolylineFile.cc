@@ -26,7 +26,8 @@ std::size_t minimumPoints(bool closed) {
 
 class PolylineReader : public detail::JsonFieldReader {
  public:
-  explicit PolylineReader(std::string sourceName) : JsonFieldReader(kFileKind, std::move(sourceName)) {}
+  explicit PolylineReader(std::string sourceName)
+      : JsonFieldReader(kFileKind, std::move(sourceName)) {}
 
   std::vector<Polyline> polylines(const Json& root) const {
     object(root, "");

@@ -28,7 +28,8 @@ constexpr const char* kSurfaceType = "bspline_surface";
 // and the JSON path of the offending field.
 class SplineReader : public detail::JsonFieldReader {
  public:
-  explicit SplineReader(std::string sourceName) : JsonFieldReader("spline file", std::move(sourceName)) {}
+  explicit SplineReader(std::string sourceName)
+      : JsonFieldReader("spline file", std::move(sourceName)) {}
 
   // The root object with a known "type" and "version"; rejects fields outside `allowed`.
   void checkHeader(const Json& root, const std::string& expectedType,
@@ -185,7 +186,8 @@ std::string pointText(const Eigen::Vector3d& point, int dimension) {
 
 std::string knotsText(const KnotVector& knots) {
   std::string text = "[";
-  for (int i = 0; i < knots.size(); ++i) text += (i == 0 ? "" : ", ") + detail::jsonNumberText(knots[i]);
+  for (int i = 0; i < knots.size(); ++i)
+    text += (i == 0 ? "" : ", ") + detail::jsonNumberText(knots[i]);
   return text + "]";
 }
 

@@ -190,7 +190,8 @@ std::string supportFunctionToJson(const SupportFunctionDocument& document) {
     text += "  \"domain\": {\n    \"kind\": \"patch\",\n    \"normals\": [\n";
     for (std::size_t i = 0; i < patch.normals.size(); ++i) {
       const Eigen::Vector3d& n = patch.normals[i];
-      text += "      [" + detail::jsonNumberText(n.x()) + ", " + detail::jsonNumberText(n.y()) + ", " + detail::jsonNumberText(n.z()) + "]" +
+      text += "      [" + detail::jsonNumberText(n.x()) + ", " + detail::jsonNumberText(n.y()) +
+              ", " + detail::jsonNumberText(n.z()) + "]" +
               (i + 1 < patch.normals.size() ? ",\n" : "\n");
     }
     text += "    ],\n    \"triangles\": [\n";

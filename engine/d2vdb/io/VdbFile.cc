@@ -44,7 +44,8 @@ std::uint64_t checkIsVdbFile(const std::filesystem::path& path) {
     throw InputError(quotedPath(path) + " is not a regular file (a .vdb file was expected)");
   }
   const std::uint64_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError("cannot determine the size of " + quotedPath(path) + ": " + ec.message());
+  if (ec)
+    throw InputError("cannot determine the size of " + quotedPath(path) + ": " + ec.message());
   if (size == 0)
     throw InputError("the file " + quotedPath(path) + " is empty (a .vdb file was expected)");
   std::int64_t magic = 0;
@@ -300,7 +301,8 @@ void writeVdb(const std::filesystem::path& path, const openvdb::GridPtrVec& grid
     }
     std::error_code ec;
     if (std::filesystem::file_size(temporary, ec) == 0 || ec) {
-      throw RuntimeFailure("cannot write " + quotedPath(path) + ": nothing was written (disk full?)");
+      throw RuntimeFailure("cannot write " + quotedPath(path) +
+                           ": nothing was written (disk full?)");
     }
   });
 }
@@ -332,7 +334,9 @@ std::vector<openvdb::GridBase::Ptr> VdbPartialReader::read(const openvdb::BBoxd&
   return readGrids(&worldBox);
 }
 
-std::vector<openvdb::GridBase::Ptr> VdbPartialReader::readAll() const { return readGrids(nullptr); }
+std::vector<openvdb::GridBase::Ptr> VdbPartialReader::readAll() const {
+  return readGrids(nullptr);
+}
 
 std::vector<openvdb::GridBase::Ptr> VdbPartialReader::readGrids(
     const openvdb::BBoxd* worldBox) const {

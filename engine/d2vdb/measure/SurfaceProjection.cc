@@ -122,7 +122,8 @@ void SurfaceProjector::solveInPatch(int index, const Eigen::Vector3d& point, dou
     for (int halving = 0; halving < 40; ++halving, scale *= 0.5) {
       nextU = std::clamp(u + scale * du, iu.start, iu.end);
       nextV = std::clamp(v + scale * dv, iv.start, iv.end);
-      nextValue = (surface_.evaluateInSpans(patch.spanU, patch.spanV, nextU, nextV) - point).squaredNorm();
+      nextValue =
+          (surface_.evaluateInSpans(patch.spanU, patch.spanV, nextU, nextV) - point).squaredNorm();
       // Near the solution the decrease drops below the rounding of the squared distance (whose
       // error is about eps |S - p| (|S| + |p|)); the full step is then taken as long as it does not
       // increase it beyond that.

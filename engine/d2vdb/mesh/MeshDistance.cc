@@ -38,9 +38,7 @@ const std::vector<TriangleIndices>& checkedTriangles(const TriangleMesh& mesh) {
 }  // namespace
 
 MeshDistance::MeshDistance(const TriangleMesh& mesh)
-    : points_(checkedPoints(mesh)),
-      triangles_(checkedTriangles(mesh)),
-      bvh_(points_, triangles_) {}
+    : points_(checkedPoints(mesh)), triangles_(checkedTriangles(mesh)), bvh_(points_, triangles_) {}
 
 MeshClosestPoint MeshDistance::closestPoint(const Eigen::Vector3d& query) const {
   if (!query.allFinite()) throw InputError("the query point has a non-finite coordinate");

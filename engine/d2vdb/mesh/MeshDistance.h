@@ -13,9 +13,9 @@ namespace d2vdb {
 
 /// The point of a mesh closest to a query point.
 struct MeshClosestPoint {
-  std::uint32_t triangle = 0;                        ///< index into the mesh's triangles
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();   ///< world units
-  double distance = 0.0;                             ///< |point - query|, world units
+  std::uint32_t triangle = 0;                       ///< index into the mesh's triangles
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< world units
+  double distance = 0.0;                            ///< |point - query|, world units
 };
 
 /// Closest points on the triangles of a mesh, from a TriangleBvh over them (corners converted to

@@ -102,7 +102,7 @@ double estimateMeshFileBytes(MeshFormat format, double vertices, double triangle
   switch (format) {
     case MeshFormat::Obj: {
       double perVertex = 2.0 + 3.0 * (1.0 + kFloatText);                  // "v x y z\n"
-      if (contents.colors) perVertex += 3.0 * (1.0 + 10.0);              // " 0.49803922"
+      if (contents.colors) perVertex += 3.0 * (1.0 + 10.0);               // " 0.49803922"
       if (contents.normals) perVertex += 3.0 + 3.0 * (1.0 + kFloatText);  // "vn x y z\n"
       const double perIndex = contents.normals ? 3.0 + 2.0 * indexDigits : 1.0 + indexDigits;
       return kHeader + vertices * perVertex + triangles * (2.0 + 3.0 * perIndex);

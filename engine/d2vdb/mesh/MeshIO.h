@@ -45,8 +45,8 @@ struct MeshWriteOptions {
 /// MeshLab and Blender read), no scalar; STL: neither. Each list is empty (not written) or holds
 /// one entry per vertex.
 struct VertexAttributes {
-  std::string scalarName;                            ///< e.g. "distance"; a PLY identifier
-  std::vector<float> scalars;                        ///< one per vertex, finite
+  std::string scalarName;                           ///< e.g. "distance"; a PLY identifier
+  std::vector<float> scalars;                       ///< one per vertex, finite
   std::vector<std::array<std::uint8_t, 3>> colors;  ///< RGB, one per vertex
   /// Further named scalars (PLY only, as "property float <name>" after the scalar above, in this
   /// order; OBJ and STL leave them out): names are PLY identifiers distinct from each other,
@@ -72,7 +72,7 @@ void writeMesh(const std::filesystem::path& path, const TriangleMesh& mesh,
 /// What a mesh file holds besides positions and triangles, for estimateMeshFileBytes().
 struct MeshFileContents {
   bool normals = false;  ///< per-vertex normals (OBJ, PLY; STL always has facet normals)
-  bool colors = false;  ///< per-vertex RGB (OBJ, PLY)
+  bool colors = false;   ///< per-vertex RGB (OBJ, PLY)
   int scalars = 0;       ///< per-vertex float properties (PLY only)
 };
 

@@ -33,7 +33,7 @@ SvgCanvas logPlot(const std::vector<PlotSeries>& series, const LogPlotLabels& la
         kTop + (kHeight - kTop - kBottom) * (top - std::log10(y)) / (top - bottom));
   };
   static constexpr std::array<const char*, 4> kColors = {"#b3261e", "#1f4e9c", "#2e7d32",
-                                                          "#6a1b9a"};
+                                                         "#6a1b9a"};
 
   SvgCanvas canvas = SvgCanvas::page(kWidth, kHeight);
   if (!labels.description.empty()) canvas.comment(labels.description);

@@ -9,10 +9,7 @@
 #include "d2vdb/core/MathConstants.h"
 
 namespace d2vdb {
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 SphereQuadrature sphereQuadrature(int exactDegree) {
   if (exactDegree < 0 || exactDegree > 400) {

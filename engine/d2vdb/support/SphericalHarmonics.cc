@@ -25,7 +25,6 @@ namespace d2vdb {
 namespace detail {
 namespace {
 
-
 void checkDegree(int degree) {
   if (degree < 0 || degree > kMaxSupportDegree) {
     throw InputError("spherical-harmonic degree " + std::to_string(degree) +

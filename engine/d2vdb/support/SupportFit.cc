@@ -19,7 +19,6 @@
 namespace d2vdb {
 namespace {
 
-
 // Samples per block of the Gram accumulation (rows of one rank update).
 constexpr std::size_t kFitBlock = 256;
 // The reduction tree has at most this many leaves (a function of the sample count only, so the

@@ -260,7 +260,6 @@ SupportPoint assembleSupportPoint(const Eigen::Vector3d& n, const SupportBlockVa
 
 namespace {
 
-
 // The unit vector of `normal`; the message is only built on failure (this runs per normal).
 Eigen::Vector3d normalized(const Eigen::Vector3d& normal) {
   const double length = normal.norm();

@@ -339,7 +339,8 @@ Mask neighborsOf(const std::vector<Mask>& masks, const SignLeafTable& table, std
 }
 
 /// The masks dilated by one voxel along `axis` (0 x, 1 y, 2 z), across the leaves' faces.
-std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const SignLeafTable& table, int axis) {
+std::vector<Mask> dilateAlong(const std::vector<Mask>& masks, const SignLeafTable& table,
+                              int axis) {
   std::vector<Mask> out(masks.size());
   tbb::parallel_for(std::size_t{0}, masks.size(), [&](std::size_t i) {
     const Mask& m = masks[i];
