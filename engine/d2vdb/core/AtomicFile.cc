@@ -20,8 +20,7 @@ std::filesystem::path temporaryBeside(const std::filesystem::path& target) {
 
 }  // namespace
 
-void writeFileAtomically(const std::filesystem::path& target,
-                         const std::function<void(const std::filesystem::path&)>& write) {
+void requireWritableTarget(const std::filesystem::path& target) {
   if (target.empty()) throw InputError("no output file name was given");
   const std::filesystem::path directory =
       target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
@@ -33,6 +32,12 @@ void writeFileAtomically(const std::filesystem::path& target,
   if (std::filesystem::is_directory(target, ec)) {
     throw RuntimeFailure("cannot write '" + target.string() + "': it is a directory");
   }
+}
+
+void writeFileAtomically(const std::filesystem::path& target,
+                         const std::function<void(const std::filesystem::path&)>& write) {
+  requireWritableTarget(target);
+  std::error_code ec;
   const std::filesystem::path temporary = temporaryBeside(target);
   try {
     write(temporary);

@@ -7,6 +7,10 @@
 
 namespace d2vdb {
 
+/// The checks made before an atomic write of `target`: throws InputError for an empty name, and
+/// RuntimeFailure when its directory does not exist or `target` is itself a directory.
+void requireWritableTarget(const std::filesystem::path& target);
+
 /// Writes `target` atomically: `write` receives the path of a temporary file in the same
 /// directory (so the final rename stays on one file system), and only when it returns normally is
 /// the temporary renamed over `target`. If `write` throws, the temporary is removed, `target` is

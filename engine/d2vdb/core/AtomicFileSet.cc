@@ -6,6 +6,7 @@
 #include <string>
 #include <system_error>
 
+#include "d2vdb/core/AtomicFile.h"
 #include "d2vdb/core/Error.h"
 
 namespace d2vdb {
@@ -28,22 +29,13 @@ AtomicFileSet::~AtomicFileSet() {
 
 void AtomicFileSet::stage(const std::filesystem::path& target,
                           const std::function<void(const std::filesystem::path&)>& write) {
-  if (target.empty()) throw InputError("no output file name was given");
+  requireWritableTarget(target);
   for (const auto& file : staged_) {
     if (std::filesystem::absolute(file.first) == std::filesystem::absolute(target)) {
       throw InputError("the output '" + target.string() + "' is written twice");
     }
   }
-  const std::filesystem::path directory =
-      target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
   std::error_code ec;
-  if (!std::filesystem::is_directory(directory, ec)) {
-    throw RuntimeFailure("cannot write '" + target.string() + "': directory '" +
-                         directory.string() + "' does not exist");
-  }
-  if (std::filesystem::is_directory(target, ec)) {
-    throw RuntimeFailure("cannot write '" + target.string() + "': it is a directory");
-  }
   const std::filesystem::path temporary = temporaryFor(target);
   try {
     write(temporary);
