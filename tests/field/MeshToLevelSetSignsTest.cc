@@ -181,6 +181,40 @@ TEST(MeshToLevelSetSigns, NestedShellsAndInsideOutMeshes) {
   EXPECT_TRUE(test::containsText(flipped.warnings, "320 of 320 triangles were wound against"));
 }
 
+TEST(MeshToLevelSetSigns, CavitiesOfSelfIntersectingMeshesStayOutside) {
+  // A hollow ball (its inner shell wound inward) with a second ball through its outer wall, so
+  // that the mesh intersects itself and every sign comes from winding numbers. OpenVDB's
+  // conversion cannot reach the cavity's wall from outside; were that wall's band removed as
+  // buried, the clearances next to it would link the cavity (W = 0) with the shell (W = 1) and
+  // one winding number would decide both.
+  TriangleMesh mesh = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 3);
+  const auto append = [&mesh](const TriangleMesh& part, bool inward) {
+    const auto offset = static_cast<TriangleMesh::Index>(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
+    for (TriangleMesh::Triangle t : part.triangles) {
+      for (TriangleMesh::Index& v : t) v += offset;
+      if (inward) std::swap(t[1], t[2]);
+      mesh.triangles.push_back(t);
+    }
+  };
+  append(test::makeIcosphere(Eigen::Vector3d(0.03, -0.02, 0.01), 0.7, 3), true);
+  append(test::makeIcosphere(Eigen::Vector3d(1.05, 0.2, 0.1), 0.4, 2), false);
+  LevelSetOptions options;
+  options.voxelSize = 0.04;
+  const LevelSetResult result = meshToLevelSet(mesh, options);
+  EXPECT_TRUE(result.signs.selfIntersecting);
+  EXPECT_EQ(result.signs.method, SignMethod::windingNumber);
+  const auto accessor = result.grid->getConstAccessor();
+  EXPECT_GT(accessor.getValue(openvdb::Coord(15, 0, 0)), 0.0f);  // in the cavity, 0.6
+  EXPECT_LT(accessor.getValue(openvdb::Coord(21, 0, 0)), 0.0f);  // in the shell, 0.84
+  EXPECT_GT(accessor.getValue(openvdb::Coord(0, 0, 30)), 0.0f);  // outside, 1.2
+  const test::WindingNumberReference winding(mesh);
+  const test::SignCheck check =
+      test::compareSignsWithWindingNumbers(*result.grid, winding, 1e-4 * options.voxelSize);
+  EXPECT_GT(check.checked, 20000u);
+  EXPECT_EQ(check.wrong, 0u);
+}
+
 /// A sphere of radius 1 as a raw scan comes: two holes (the triangles within 0.25 of two surface
 /// points removed), three junk flaps inside (the triangles within 0.3 of three other surface
 /// points, copied at radius `flapRadius`, left open) and a fin that crosses the surface (the

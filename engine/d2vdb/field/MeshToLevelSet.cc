@@ -137,13 +137,18 @@ class ExactSigns {
   /// meshToVolume flags: renormalisation and trimming wait for the right signs (and the raw
   /// values prove which voxels are far from the mesh). meshToVolume also removes the band of
   /// every surface its exterior sweep cannot reach (meant for surfaces buried in self-
-  /// intersecting meshes); that removal is turned off when a surface of an embedded mesh is
-  /// enclosed by another (a cavity, a nested shell), which it would delete. The band's interior
-  /// beyond a voxel from the surface is then less accurate (OpenVDB no longer recomputes the
-  /// voxels it would have removed).
+  /// intersecting meshes). That removal is turned off when a surface of an embedded mesh is
+  /// enclosed by another (a cavity, a nested shell), which it would delete, and for every mesh
+  /// that intersects itself: there the voxels beside a removed wall keep a closest triangle that
+  /// is not their closest, so their clearances would link voxels across the wall and carry one
+  /// winding number to both sides (on the Stanford dragon's res2 scan, most of the body came out
+  /// as outside). The band's interior beyond a voxel from the surface is then less accurate
+  /// (OpenVDB no longer recomputes the voxels it would have removed).
   int conversionFlags() const {
     return openvdb::tools::DISABLE_RENORMALIZATION | openvdb::tools::DISABLE_NARROW_BAND_TRIMMING |
-           (enclosedSurface_ ? openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL : 0);
+           (enclosedSurface_ || report_.selfIntersecting
+                ? openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL
+                : 0);
   }
 
   /// The progress stage of correct(), which names the method.
