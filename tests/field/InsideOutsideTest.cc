@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "common/AppendMesh.h"
 #include "d2vdb/field/detail/InsideOutsideMesh.h"
 #include "d2vdb/field/detail/RayWinding.h"
 #include "d2vdb/field/detail/SelfIntersection.h"
@@ -108,13 +109,7 @@ TEST(InsideOutside, RayCrossingsGiveTheWindingNumberOfWatertightMeshes) {
   // brute-force winding number; queries include vertices' neighbourhoods, where rays through
   // edges must be discarded.
   TriangleMesh spheres = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 2);
-  const TriangleMesh other = test::makeIcosphere(Eigen::Vector3d(0.7, 0.2, 0.1), 0.8, 2);
-  const auto offset = static_cast<TriangleMesh::Index>(spheres.positions.size());
-  spheres.positions.insert(spheres.positions.end(), other.positions.begin(), other.positions.end());
-  for (TriangleMesh::Triangle t : other.triangles) {
-    for (TriangleMesh::Index& v : t) v += offset;
-    spheres.triangles.push_back(t);
-  }
+  test::append(spheres, test::makeIcosphere(Eigen::Vector3d(0.7, 0.2, 0.1), 0.8, 2));
   TriangleMesh holed = test::makeIcosphere(Eigen::Vector3d(0.1, 0.2, 0.3), 1.0, 2);
   holed.triangles.erase(holed.triangles.begin() + 200);
   holed.triangles.erase(holed.triangles.begin() + 100);

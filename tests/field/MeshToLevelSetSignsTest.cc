@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/AppendMesh.h"
 #include "d2vdb/field/MeshToLevelSet.h"
 #include "d2vdb/mesh/MeshMeasures.h"
 #include "d2vdb/mesh/MeshValidation.h"
@@ -129,13 +130,7 @@ TEST(MeshToLevelSetSigns, OverlappingSpheresTakeTheUnion) {
   // Two closed spheres that intersect: the winding number is 2 in the overlap (inside), and the
   // closest-feature shortcut does not apply.
   TriangleMesh mesh = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 2);
-  const TriangleMesh other = test::makeIcosphere(Eigen::Vector3d(0.9, 0.31, 0.17), 0.8, 2);
-  const auto offset = static_cast<TriangleMesh::Index>(mesh.positions.size());
-  mesh.positions.insert(mesh.positions.end(), other.positions.begin(), other.positions.end());
-  for (TriangleMesh::Triangle t : other.triangles) {
-    for (TriangleMesh::Index& v : t) v += offset;
-    mesh.triangles.push_back(t);
-  }
+  test::append(mesh, test::makeIcosphere(Eigen::Vector3d(0.9, 0.31, 0.17), 0.8, 2));
   LevelSetOptions options;
   options.voxelSize = 0.06;
   const LevelSetResult result = meshToLevelSet(mesh, options);
@@ -153,14 +148,7 @@ TEST(MeshToLevelSetSigns, OverlappingSpheresTakeTheUnion) {
 TEST(MeshToLevelSetSigns, NestedShellsAndInsideOutMeshes) {
   // A hollow ball (inner shell wound inward): the cavity is outside.
   TriangleMesh hollow = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 2);
-  const TriangleMesh inner = test::makeIcosphere(Eigen::Vector3d(0.05, -0.03, 0.02), 0.6, 2);
-  const auto offset = static_cast<TriangleMesh::Index>(hollow.positions.size());
-  hollow.positions.insert(hollow.positions.end(), inner.positions.begin(), inner.positions.end());
-  for (TriangleMesh::Triangle t : inner.triangles) {
-    for (TriangleMesh::Index& v : t) v += offset;
-    std::swap(t[1], t[2]);
-    hollow.triangles.push_back(t);
-  }
+  test::append(hollow, test::makeIcosphere(Eigen::Vector3d(0.05, -0.03, 0.02), 0.6, 2), true);
   LevelSetOptions options;
   options.voxelSize = 0.05;
   const LevelSetResult shell = meshToLevelSet(hollow, options);
@@ -188,17 +176,8 @@ TEST(MeshToLevelSetSigns, CavitiesOfSelfIntersectingMeshesStayOutside) {
   // buried, the clearances next to it would link the cavity (W = 0) with the shell (W = 1) and
   // one winding number would decide both.
   TriangleMesh mesh = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 3);
-  const auto append = [&mesh](const TriangleMesh& part, bool inward) {
-    const auto offset = static_cast<TriangleMesh::Index>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
-    for (TriangleMesh::Triangle t : part.triangles) {
-      for (TriangleMesh::Index& v : t) v += offset;
-      if (inward) std::swap(t[1], t[2]);
-      mesh.triangles.push_back(t);
-    }
-  };
-  append(test::makeIcosphere(Eigen::Vector3d(0.03, -0.02, 0.01), 0.7, 3), true);
-  append(test::makeIcosphere(Eigen::Vector3d(1.05, 0.2, 0.1), 0.4, 2), false);
+  test::append(mesh, test::makeIcosphere(Eigen::Vector3d(0.03, -0.02, 0.01), 0.7, 3), true);
+  test::append(mesh, test::makeIcosphere(Eigen::Vector3d(1.05, 0.2, 0.1), 0.4, 2));
   LevelSetOptions options;
   options.voxelSize = 0.04;
   const LevelSetResult result = meshToLevelSet(mesh, options);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/AppendMesh.h"
 #include "common/ExpectInputError.h"
 #include "common/ScratchDirectory.h"
 #include "d2vdb/core/Error.h"
@@ -57,15 +58,6 @@ inline TriangleMesh cube(const Eigen::Vector3f& offset = Eigen::Vector3f::Zero()
                             {2, 7, 6},
                             {3, 0, 4},
                             {3, 4, 7}});
-}
-
-/// Appends `part` to `mesh`, renumbering its vertices after the existing ones.
-inline void append(TriangleMesh& mesh, const TriangleMesh& part) {
-  const auto base = static_cast<TriangleMesh::Index>(mesh.positions.size());
-  mesh.positions.insert(mesh.positions.end(), part.positions.begin(), part.positions.end());
-  for (const TriangleMesh::Triangle& triangle : part.triangles) {
-    mesh.triangles.push_back({triangle[0] + base, triangle[1] + base, triangle[2] + base});
-  }
 }
 
 /// A closed torus (major radius 2, minor radius 0.5) sampled on a rings x segments grid, each grid
