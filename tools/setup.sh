@@ -22,8 +22,14 @@ packages=(g++ cmake ninja-build pkg-config
           libopenvdb-dev libboost-iostreams-dev libtbb-dev libeigen3-dev libblosc-dev zlib1g-dev
           libcli11-dev nlohmann-json3-dev libnanoflann-dev libsuitesparse-dev libopenblas0-serial
           libgtest-dev libbenchmark-dev libopenvdb-tools)
-# The tests also read our files with Debian's pyopenvdb, the client pipeline scripts use.
-[ "$mode" = test ] && packages+=(python3-openvdb)
+# The Python module (python/) is built for tests and builds: pybind11 against Debian's
+# /usr/bin/python3 with numpy, and Boost.Python to hand grids to and from pyopenvdb. The tests
+# run it with pytest and read our files with Debian's pyopenvdb, as client pipeline scripts do.
+python_packages=(python3-dev python3-numpy pybind11-dev libboost-python-dev)
+case "$mode" in
+  test) packages+=("${python_packages[@]}" python3-pytest python3-openvdb) ;;
+  build) packages+=("${python_packages[@]}") ;;
+esac
 # shellcheck disable=SC2206  # a list of package names
 packages+=(${EXTRA_PACKAGES:-})
 
@@ -49,7 +55,10 @@ fi
 
 echo "== configuring and building (Release) in $build_dir"
 # shellcheck disable=SC2086  # D2VDB_CMAKE_ARGS is a list of flags
-cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release ${D2VDB_CMAKE_ARGS:-} >/dev/null
+python_flag=()
+case "$mode" in test|build) python_flag=(-DD2VDB_BUILD_PYTHON=ON) ;; esac
+cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "${python_flag[@]}" \
+  ${D2VDB_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" -j "$jobs"
 
 d2vdb="$build_dir/tools/d2vdb"

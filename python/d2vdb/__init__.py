@@ -17,6 +17,7 @@ and ``progress=callable(stage, fraction)``, and stop on Ctrl-C.
 from ._d2vdb import (  # noqa: F401  (the public API)
     Curve,
     Field,
+    FitResult,
     InputError,
     LevelSet,
     Mesh,
@@ -26,12 +27,15 @@ from ._d2vdb import (  # noqa: F401  (the public API)
     Surface,
     SupportFunction,
     __version__,
+    fit_curve,
+    fit_surface,
     load,
 )
 
 __all__ = [
     "Curve",
     "Field",
+    "FitResult",
     "InputError",
     "LevelSet",
     "Mesh",
@@ -40,5 +44,7 @@ __all__ = [
     "RuntimeFailure",
     "Surface",
     "SupportFunction",
+    "fit_curve",
+    "fit_surface",
     "load",
 ]

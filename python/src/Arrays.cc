@@ -13,7 +13,7 @@ namespace {
 // The array as a C-contiguous array of T (numpy's cast; a copy only when it must convert).
 template <typename T>
 py::array_t<T, py::array::c_style | py::array::forcecast> asArray(const py::handle& object,
-                                                                 const std::string& what) {
+                                                                  const std::string& what) {
   try {
     return py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(object)
         .template cast<py::array_t<T, py::array::c_style | py::array::forcecast>>();
@@ -34,9 +34,9 @@ std::string shapeText(const py::array& array) {
 }
 
 template <typename Array>
-void requireRowsOfThree(const Array& array, const std::string& what) {
+void requireRowsOfThree(const Array& array, const std::string& what, const char* rows = "N") {
   if (array.ndim() != 2 || array.shape(1) != 3) {
-    throw InputError(what + " must have shape (N, 3); it has shape " + shapeText(array));
+    throw InputError(what + " must have shape (" + rows + ", 3); it has shape " + shapeText(array));
   }
 }
 
@@ -83,7 +83,7 @@ std::vector<TriangleMesh::Triangle> trianglesFromArray(const py::handle& object,
                      std::string(py::str(raw.dtype())));
   }
   const auto array = asArray<std::int64_t>(raw, what);
-  requireRowsOfThree(array, what);
+  requireRowsOfThree(array, what, "M");
   const auto rows = static_cast<std::size_t>(array.shape(0));
   const std::int64_t* values = array.data();
   std::vector<TriangleMesh::Triangle> triangles(rows);
@@ -114,7 +114,8 @@ Eigen::Vector3d vector3FromObject(const py::handle& value, const std::string& wh
 py::array_t<double> arrayOfPoints(const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> values(3 * points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int axis = 0; axis < 3; ++axis) values[3 * i + static_cast<std::size_t>(axis)] = points[i][axis];
+    for (int axis = 0; axis < 3; ++axis)
+      values[3 * i + static_cast<std::size_t>(axis)] = points[i][axis];
   }
   return arrayOwning(std::move(values), {static_cast<py::ssize_t>(points.size()), 3});
 }

@@ -40,16 +40,17 @@ Eigen::Vector3d vector3FromObject(const py::handle& value, const std::string& wh
 template <typename T>
 py::array_t<T> arrayOwning(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
   auto* owned = new std::vector<T>(std::move(values));
-  const py::capsule release(owned, [](void* pointer) { delete static_cast<std::vector<T>*>(pointer); });
+  const py::capsule release(owned,
+                            [](void* pointer) { delete static_cast<std::vector<T>*>(pointer); });
   return py::array_t<T>(shape, owned->data(), release);
 }
 
 /// A read-only (rows, 3) view of `rows` contiguous triples of T at `data`, kept alive by `owner`.
 template <typename T>
 py::array_t<T> readOnlyRows(const T* data, std::size_t rows, const py::handle& owner) {
-  py::array_t<T> view({static_cast<py::ssize_t>(rows), py::ssize_t{3}},
-                      {static_cast<py::ssize_t>(3 * sizeof(T)), static_cast<py::ssize_t>(sizeof(T))},
-                      data, owner);
+  py::array_t<T> view(
+      {static_cast<py::ssize_t>(rows), py::ssize_t{3}},
+      {static_cast<py::ssize_t>(3 * sizeof(T)), static_cast<py::ssize_t>(sizeof(T))}, data, owner);
   py::detail::array_proxy(view.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return view;
 }

@@ -3,6 +3,7 @@
 
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>  // in every file: type casters must agree across the module
+#include <pybind11/stl/filesystem.h>
 
 #include <openvdb/openvdb.h>
 
@@ -56,5 +57,7 @@ void bindLevelSet(py::module_& module);
 void bindField(py::module_& module);
 void bindSplines(py::module_& module);
 void bindLoad(py::module_& module);
+void bindFit(py::module_& module);
+void bindBenchmarkHooks(py::module_& module);
 
 }  // namespace d2vdb::python

@@ -53,8 +53,8 @@ LoadedInput targetInput(const py::handle& target) {
 }
 
 Field buildField(const py::object& target, double voxelSize, int resolution, double halfWidth,
-                 double padding, const std::optional<std::string>& smooth,
-                 std::uint64_t maxVoxels, int threads, const py::object& progress) {
+                 double padding, const std::optional<std::string>& smooth, std::uint64_t maxVoxels,
+                 int threads, const py::object& progress) {
   FieldBuildOptions options;
   options.voxelSize = voxelSize;
   options.resolution = resolution;
@@ -71,8 +71,9 @@ Field buildField(const py::object& target, double voxelSize, int resolution, dou
     }
   }
   if (py::isinstance<py::str>(target)) {
-    throw InputError("Field() takes a Mesh, LevelSet, PointSet, Curve or (N, 3) points; to "
-                     "build the field of a file, pass d2vdb.load(path)");
+    throw InputError(
+        "Field() takes a Mesh, LevelSet, PointSet, Curve or (N, 3) points; to "
+        "build the field of a file, pass d2vdb.load(path)");
   }
   // Converting the target needs the GIL; building it does not.
   openvdb::FloatGrid::Ptr levelSet;
@@ -93,8 +94,8 @@ Field buildField(const py::object& target, double voxelSize, int resolution, dou
       // As a level set .vdb is read for `d2vdb field`: the field of the grid, keeping its voxels.
       input.emplace();
       input->path = "python.vdb";
-      input->value = FieldInput{
-          ApproximantField::fromLevelSet(levelSet, withProgress.field, report), false};
+      input->value =
+          FieldInput{ApproximantField::fromLevelSet(levelSet, withProgress.field, report), false};
     }
     return buildApproximantField(std::move(*input), withProgress);
   });
@@ -199,8 +200,8 @@ py::tuple sdmForm(const Field& self, const py::handle& pointsArray, int threads)
   });
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (outside[i]) {
-      throw InputError("points[" + std::to_string(i) + "]: " +
-                       outsideDomainMessage(field.domain(), points[i]));
+      throw InputError("points[" + std::to_string(i) +
+                       "]: " + outsideDomainMessage(field.domain(), points[i]));
     }
   }
   return py::make_tuple(A, b, c);
@@ -240,8 +241,8 @@ void bindField(py::module_& module) {
            "domain.")
       .def(
           "save",
-          [](const Field& self, const std::filesystem::path& path, bool compression,
-             bool halfFloat, const std::string& source) {
+          [](const Field& self, const std::filesystem::path& path, bool compression, bool halfFloat,
+             const std::string& source) {
             const ApproximantField& field = fieldOf(self);
             VdbWriteOptions options;
             options.blosc = compression;
@@ -277,12 +278,15 @@ void bindField(py::module_& module) {
           },
           "The band's distance grid as a LevelSet (shared with the field: treat it as "
           "read-only).")
-      .def_property_readonly("voxel_size", [](const Field& self) { return fieldOf(self).voxelSize(); },
-                             "The band's voxel size, world units.")
-      .def_property_readonly("half_width", [](const Field& self) { return fieldOf(self).halfWidth(); },
-                             "The band's half-width, voxels.")
       .def_property_readonly(
-          "kind", [](const Field& self) { return std::string(targetKindName(fieldOf(self).kind())); },
+          "voxel_size", [](const Field& self) { return fieldOf(self).voxelSize(); },
+          "The band's voxel size, world units.")
+      .def_property_readonly(
+          "half_width", [](const Field& self) { return fieldOf(self).halfWidth(); },
+          "The band's half-width, voxels.")
+      .def_property_readonly(
+          "kind",
+          [](const Field& self) { return std::string(targetKindName(fieldOf(self).kind())); },
           "'surface', 'curve' or 'points'.")
       .def_property_readonly(
           "of", [](const Field& self) { return std::string(inputKindName(self.of)); },

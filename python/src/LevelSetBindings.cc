@@ -22,7 +22,8 @@ namespace d2vdb::python {
 
 namespace {
 
-constexpr const char* kThreadsDoc = "threads: TBB threads (0: all cores); results do not depend on it.";
+constexpr const char* kThreadsDoc =
+    "threads: TBB threads (0: all cores); results do not depend on it.";
 
 LevelSet levelSetFromMesh(const TriangleMesh& mesh, double voxelSize, int resolution,
                           double halfWidth, bool signedDistance, bool exactSigns,
@@ -146,8 +147,9 @@ void bindLevelSet(py::module_& module) {
           "box",
           [](const py::object& min, const py::object& max, double voxelSize, int resolution,
              double halfWidth, std::uint64_t maxVoxels, int threads) {
-            return levelSetOfShape(Box(vector3FromObject(min, "min"), vector3FromObject(max, "max")),
-                                   voxelSize, resolution, halfWidth, maxVoxels, threads);
+            return levelSetOfShape(
+                Box(vector3FromObject(min, "min"), vector3FromObject(max, "max")), voxelSize,
+                resolution, halfWidth, maxVoxels, threads);
           },
           py::arg("min"), py::arg("max"), py::kw_only(), py::arg("voxel_size") = 0.0,
           py::arg("resolution") = 100, py::arg("half_width") = 3.0,
@@ -155,8 +157,8 @@ void bindLevelSet(py::module_& module) {
           "The level set of the axis-aligned box [min, max] (as `d2vdb primitive box`).")
       .def_static(
           "torus",
-          [](const py::object& center, double major, double minor, double voxelSize,
-             int resolution, double halfWidth, std::uint64_t maxVoxels, int threads) {
+          [](const py::object& center, double major, double minor, double voxelSize, int resolution,
+             double halfWidth, std::uint64_t maxVoxels, int threads) {
             return levelSetOfShape(Torus(vector3FromObject(center, "center"), major, minor),
                                    voxelSize, resolution, halfWidth, maxVoxels, threads);
           },
@@ -236,9 +238,9 @@ void bindLevelSet(py::module_& module) {
           "Writes the grid to a .vdb file (Blosc-compressed unless compression=False; 16-bit "
           "floats with half_float=True), atomically: a failure leaves an existing file "
           "untouched.")
-      .def_property_readonly("voxel_size",
-                             [](const LevelSet& levelSet) { return gridOf(levelSet).voxelSize()[0]; },
-                             "Voxel edge length, world units.")
+      .def_property_readonly(
+          "voxel_size", [](const LevelSet& levelSet) { return gridOf(levelSet).voxelSize()[0]; },
+          "Voxel edge length, world units.")
       .def_property_readonly(
           "half_width",
           [](const LevelSet& levelSet) {
@@ -248,14 +250,16 @@ void bindLevelSet(py::module_& module) {
           },
           "Band half-width in voxels.")
       .def_property_readonly(
-          "active_voxel_count", [](const LevelSet& levelSet) { return gridOf(levelSet).activeVoxelCount(); })
+          "active_voxel_count",
+          [](const LevelSet& levelSet) { return gridOf(levelSet).activeVoxelCount(); })
       .def_property_readonly(
           "signed",
           [](const LevelSet& levelSet) {
             return gridOf(levelSet).getGridClass() == openvdb::GRID_LEVEL_SET;
           },
           "True for a signed level set (d < 0 inside), False for unsigned distance.")
-      .def_property_readonly("name", [](const LevelSet& levelSet) { return gridOf(levelSet).getName(); })
+      .def_property_readonly("name",
+                             [](const LevelSet& levelSet) { return gridOf(levelSet).getName(); })
       .def_property_readonly(
           "bounding_box",
           [](const LevelSet& levelSet) -> py::object {

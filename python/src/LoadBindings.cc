@@ -25,8 +25,8 @@ py::object wrap(LoadedInput&& input) {
     }
     case InputKind::Field: {
       Field field;
-      field.field = std::make_shared<const ApproximantField>(
-          std::move(input).take<FieldInput>().field);
+      field.field =
+          std::make_shared<const ApproximantField>(std::move(input).take<FieldInput>().field);
       field.of = InputKind::Field;
       return py::cast(std::move(field));
     }
@@ -61,15 +61,16 @@ void bindLoad(py::module_& module) {
         LoadOptions options;
         options.purpose = "d2vdb.load()";
         options.gridName = grid;
-        LoadedInput input = runLong<LoadedInput>(progress, threads, [&](const ProgressCallback& report) {
-          LoadOptions withProgress = options;
-          withProgress.progress = report;
-          return loadInput(path,
-                           {InputKind::Mesh, InputKind::PointSet, InputKind::Field,
-                            InputKind::LevelSet, InputKind::Curve, InputKind::Surface,
-                            InputKind::Polylines, InputKind::SupportFunction},
-                           withProgress);
-        });
+        LoadedInput input =
+            runLong<LoadedInput>(progress, threads, [&](const ProgressCallback& report) {
+              LoadOptions withProgress = options;
+              withProgress.progress = report;
+              return loadInput(path,
+                               {InputKind::Mesh, InputKind::PointSet, InputKind::Field,
+                                InputKind::LevelSet, InputKind::Curve, InputKind::Surface,
+                                InputKind::Polylines, InputKind::SupportFunction},
+                               withProgress);
+            });
         return wrap(std::move(input));
       },
       py::arg("path"), py::kw_only(), py::arg("grid") = "", py::arg("threads") = 0,

@@ -15,8 +15,8 @@ namespace d2vdb::python {
 namespace {
 
 void runInArena(int threads, const std::function<void()>& work) {
-  if (threads < 0) throw InputError("threads must be 0 (all cores) or positive; got " +
-                                    std::to_string(threads));
+  if (threads < 0)
+    throw InputError("threads must be 0 (all cores) or positive; got " + std::to_string(threads));
   if (threads == 0) {
     work();
     return;

@@ -14,8 +14,9 @@ namespace d2vdb::python {
 void requireExistingFile(const std::filesystem::path& path) {
   std::error_code error;
   if (std::filesystem::exists(path, error)) return;
-  const py::object notFound = py::module_::import("builtins").attr("FileNotFoundError")(
-      ENOENT, "No such file or directory", path.string());
+  const py::object notFound =
+      py::module_::import("builtins")
+          .attr("FileNotFoundError")(ENOENT, "No such file or directory", path.string());
   PyErr_SetObject(PyExc_FileNotFoundError, notFound.ptr());
   throw py::error_already_set();
 }
@@ -32,11 +33,15 @@ PYBIND11_MODULE(_d2vdb, module) {
       "arrays. World units throughout; signed distances are negative inside.";
   module.attr("__version__") = d2vdb::kVersion;
   // Engine failures: InputError (bad input, a ValueError) and RuntimeFailure (a RuntimeError).
-  py::register_exception<d2vdb::InputError>(module, "InputError", PyExc_ValueError);
-  py::register_exception<d2vdb::RuntimeFailure>(module, "RuntimeFailure", PyExc_RuntimeError);
+  py::register_exception<d2vdb::InputError>(module, "InputError", PyExc_ValueError)
+      .attr("__module__") = "d2vdb";
+  py::register_exception<d2vdb::RuntimeFailure>(module, "RuntimeFailure", PyExc_RuntimeError)
+      .attr("__module__") = "d2vdb";
   bindMesh(module);
   bindLevelSet(module);
   bindField(module);
   bindSplines(module);
   bindLoad(module);
+  bindFit(module);
+  bindBenchmarkHooks(module);
 }

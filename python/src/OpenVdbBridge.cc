@@ -18,8 +18,9 @@ void importPyopenvdb() {
   try {
     py::module_::import("pyopenvdb");
   } catch (const py::error_already_set& error) {
-    throw InputError(std::string("pyopenvdb could not be imported (Debian package python3-openvdb): ") +
-                     error.what());
+    throw InputError(
+        std::string("pyopenvdb could not be imported (Debian package python3-openvdb): ") +
+        error.what());
   }
 }
 

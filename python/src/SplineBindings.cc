@@ -50,7 +50,9 @@ BSplineCurve makeCurve(const py::handle& controlPoints, int degree, bool closed,
   std::vector<Eigen::Vector3d> points = pointsFromArray(controlPoints, "control_points");
   const int count = static_cast<int>(points.size());
   if (closed) {
-    if (!knots.is_none()) return BSplineCurve(KnotVector(degree, parametersFromArray(knots, "knots")), std::move(points), dimension, true);
+    if (!knots.is_none())
+      return BSplineCurve(KnotVector(degree, parametersFromArray(knots, "knots")),
+                          std::move(points), dimension, true);
     return BSplineCurve::closed(degree, std::move(points), dimension);
   }
   return BSplineCurve(knotsOrClamped(knots, degree, count, "knots"), std::move(points), dimension,
@@ -59,7 +61,8 @@ BSplineCurve makeCurve(const py::handle& controlPoints, int degree, bool closed,
 
 BSplineSurface makeSurface(const py::handle& controlPoints, int degreeU, int degreeV,
                            const py::object& knotsU, const py::object& knotsV) {
-  const auto grid = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(controlPoints);
+  const auto grid =
+      py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(controlPoints);
   if (!grid || grid.ndim() != 3 || grid.shape(2) != 3) {
     throw InputError("control_points must have shape (count_u, count_v, 3)");
   }
@@ -75,7 +78,9 @@ BSplineSurface makeSurface(const py::handle& controlPoints, int degreeU, int deg
 
 void bindSplines(py::module_& module) {
   py::class_<PointSet>(module, "PointSet", "Points in world units, in file order.")
-      .def(py::init([](const py::handle& points) { return PointSet{pointsFromArray(points, "points")}; }),
+      .def(py::init([](const py::handle& points) {
+             return PointSet{pointsFromArray(points, "points")};
+           }),
            py::arg("points"), "From an (N, 3) array of finite coordinates.")
       .def_property_readonly(
           "points", [](const PointSet& set) { return arrayOfPoints(set.points); },
@@ -100,12 +105,15 @@ void bindSplines(py::module_& module) {
       .def_property_readonly("degree", &BSplineCurve::degree)
       .def_property_readonly("closed", &BSplineCurve::isClosed)
       .def_property_readonly("dimension", &BSplineCurve::dimension)
-      .def_property_readonly("knots", [](const BSplineCurve& curve) { return knotArray(curve.knots()); })
-      .def_property_readonly("domain", [](const BSplineCurve& curve) {
-        return py::make_tuple(curve.domain().start, curve.domain().end);
-      })
+      .def_property_readonly("knots",
+                             [](const BSplineCurve& curve) { return knotArray(curve.knots()); })
+      .def_property_readonly("domain",
+                             [](const BSplineCurve& curve) {
+                               return py::make_tuple(curve.domain().start, curve.domain().end);
+                             })
       .def_property_readonly(
-          "control_points", [](const BSplineCurve& curve) { return arrayOfPoints(curve.controlPoints()); },
+          "control_points",
+          [](const BSplineCurve& curve) { return arrayOfPoints(curve.controlPoints()); },
           "(n, 3) float64 copy of the stored control points.")
       .def(
           "evaluate",
@@ -115,16 +123,17 @@ void bindSplines(py::module_& module) {
             for (std::size_t i = 0; i < t.size(); ++i) points[i] = curve.evaluate(t[i]);
             return arrayOfPoints(points);
           },
-          py::arg("t"), "C(t) at each parameter: (N, 3). Raises InputError outside an open curve's domain.")
+          py::arg("t"),
+          "C(t) at each parameter: (N, 3). Raises InputError outside an open curve's domain.")
       .def(
           "save",
           [](const BSplineCurve& curve, const std::filesystem::path& path) {
             writeCurveJson(path, curve);
           },
-          py::arg("path"), "Writes the curve's .json file (the format every command reads), atomically.");
+          py::arg("path"),
+          "Writes the curve's .json file (the format every command reads), atomically.");
 
-  py::class_<BSplineSurface>(module, "Surface",
-                             "A tensor-product B-spline surface (world units).")
+  py::class_<BSplineSurface>(module, "Surface", "A tensor-product B-spline surface (world units).")
       .def(py::init(&makeSurface), py::arg("control_points"), py::kw_only(),
            py::arg("degree_u") = 3, py::arg("degree_v") = 3, py::arg("knots_u") = py::none(),
            py::arg("knots_v") = py::none(),
@@ -134,8 +143,10 @@ void bindSplines(py::module_& module) {
       .def_property_readonly("degree_v", &BSplineSurface::degreeV)
       .def_property_readonly("closed_u", &BSplineSurface::isClosedU)
       .def_property_readonly("closed_v", &BSplineSurface::isClosedV)
-      .def_property_readonly("knots_u", [](const BSplineSurface& s) { return knotArray(s.knotsU()); })
-      .def_property_readonly("knots_v", [](const BSplineSurface& s) { return knotArray(s.knotsV()); })
+      .def_property_readonly("knots_u",
+                             [](const BSplineSurface& s) { return knotArray(s.knotsU()); })
+      .def_property_readonly("knots_v",
+                             [](const BSplineSurface& s) { return knotArray(s.knotsV()); })
       .def_property_readonly(
           "control_points",
           [](const BSplineSurface& surface) {

@@ -113,21 +113,8 @@ void checkControlPointCount(int controlPoints, const FitTarget& target) {
 BSplineCurve initialCurve(const FitCurveArguments& args, const FitTarget& target) {
   const std::string& init = args.init;
   if (init == "circle" || init == "ellipse" || init == "polyline") {
-    if (target.points.empty()) {
-      throw InputError("a " + std::string(inputKindName(target.kind)) +
-                       " target gives no points to place a generated initial "
-                       "curve around; pass --init curve.json");
-    }
-    if (init == "polyline") {
-      return fitPolylineLeastSquares(target.points, args.closed || target.closed, args.degree,
-                                     args.controlPoints, target.dimension);
-    }
-    Eigen::AlignedBox3d box;
-    for (const Eigen::Vector3d& p : target.points) box.extend(p);
-    const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
-    return initialCurveAround(
-        target.points, init == "circle" ? InitialShape::Circle : InitialShape::Ellipse, args.degree,
-        args.controlPoints, target.dimension, 1.2 + 2.0 * std::abs(args.offset) / extent);
+    return initialCurveForTarget(target, init, args.degree, args.controlPoints, args.closed,
+                                 args.offset);
   }
   LoadOptions load;
   load.purpose = "the initial curve (--init)";

@@ -55,31 +55,15 @@ BSplineSurface initialSurface(const FitSurfaceArguments& args, const FitTarget& 
     ruled = surface.degreeU() == 1;
     return surface;
   }
-  InitialSurfaceOptions placement;
-  SurfaceLayout& layout = placement.layout;
+  SurfaceLayout layout;
   layout.degreeU = args.ruled ? 1 : args.degree[0];
   layout.degreeV = args.degree[1];
   layout.countU = args.controlPoints[0];
   layout.countV = args.controlPoints[1];
   layout.closedU = args.closedU;
   layout.closedV = args.closedV;
-  if (args.init == "plane") {
-    placement.shape = InitialSurfaceShape::Plane;
-  } else if (args.init == "cylinder") {
-    placement.shape = InitialSurfaceShape::Cylinder;
-    // Around the axis: u by default, v for a ruled surface (its rulings run along u).
-    if (!layout.closedU && !layout.closedV) (args.ruled ? layout.closedV : layout.closedU) = true;
-  } else {
-    placement.shape = InitialSurfaceShape::Torus;
-    layout.closedU = layout.closedV = true;
-  }
-  if (args.offset != 0.0 && placement.shape != InitialSurfaceShape::Plane) {
-    Eigen::AlignedBox3d box;
-    for (const Eigen::Vector3d& p : target.points) box.extend(p);
-    placement.scale = 1.0 + 2.0 * std::abs(args.offset) / std::max(box.sizes().maxCoeff(), 1e-300);
-  }
   ruled = layout.degreeU == 1;
-  return initialSurfaceAround(target.points, placement);
+  return initialSurfaceForTarget(target, args.init, layout, args.offset);
 }
 
 /// Signed or unsigned distance from a point to the fitted target, for the mesh and the rulings:

@@ -8,7 +8,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -33,27 +36,49 @@ namespace {
 constexpr const char* kStage = "mesh to level set";
 
 // Forwards OpenVDB's percentage reports (made from the calling thread) to a ProgressCallback.
-// The parameterless checks that worker threads make are answered without locking.
+// OpenVDB reports percentages seldom (seconds apart on large meshes) but checks for interrupts
+// without one often, from worker threads: those checks repeat the last fraction once at least
+// kRepeatInterval has passed since the last report, so a callback that throws to stop the work
+// (a Python Ctrl-C) is heard promptly. Checks in between cost one atomic load and a clock read.
 class ProgressInterrupter final : public openvdb::util::NullInterrupter {
  public:
   /// OpenVDB's percentages become fractions 0..1 of the stage.
-  explicit ProgressInterrupter(const ProgressCallback& progress) : progress_(progress) {}
+  explicit ProgressInterrupter(const ProgressCallback& progress)
+      : progress_(progress), lastReport_(now()) {}
 
   bool wasInterrupted(int percent = -1) override {
-    if (percent < 0 || !progress_) return false;
+    if (!progress_) return false;
+    if (percent < 0) {
+      if (now() - lastReport_.load(std::memory_order_relaxed) < kRepeatInterval) return false;
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (now() - lastReport_.load(std::memory_order_relaxed) < kRepeatInterval) return false;
+      lastReport_.store(now(), std::memory_order_relaxed);
+      progress_(kStage, lastFraction_);
+      return false;
+    }
     const std::lock_guard<std::mutex> lock(mutex_);
     const double fraction = std::clamp(percent / 100.0, 0.0, 1.0);
     if (fraction > lastFraction_) {
       lastFraction_ = fraction;
+      lastReport_.store(now(), std::memory_order_relaxed);
       progress_(kStage, fraction);
     }
     return false;
   }
 
  private:
+  static constexpr std::int64_t kRepeatInterval = 100'000'000;  // nanoseconds
+
+  static std::int64_t now() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+
   const ProgressCallback& progress_;
   std::mutex mutex_;
   double lastFraction_ = 0.0;
+  std::atomic<std::int64_t> lastReport_;
 };
 
 std::string joinLines(const std::string& text) {

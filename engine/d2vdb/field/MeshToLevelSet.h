@@ -125,9 +125,10 @@ struct LevelSetResult {
 /// band from neighbouring voxels' closest triangles and the band is renormalised (the README
 /// gives the measured accuracy).
 /// Deterministic: the same input gives a bitwise-identical grid for any thread count.
-/// `progress` receives stage "mesh to level set" with fractions 0..1 (OpenVDB's conversion), then
-/// with exact signs stage "exact signs (closest feature)" or "exact signs (winding number)" with
-/// fractions 0..1, from the calling thread.
+/// `progress` receives stage "mesh to level set" with fractions 0..1 (OpenVDB's conversion, whose
+/// last fraction is repeated every 0.1 s between its seldom reports, possibly from a worker
+/// thread, never concurrently), then with exact signs stage "exact signs (closest feature)" or
+/// "exact signs (winding number)" with fractions 0..1, from the calling thread.
 /// Throws InputError for an empty mesh, out-of-range indices, non-finite coordinates, a bounding
 /// box of zero extent, a missing or non-positive voxel size/resolution, halfWidth < 1, an index
 /// range beyond +-2^30, or an estimated active voxel count above maxActiveVoxels (checked before

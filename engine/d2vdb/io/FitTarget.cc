@@ -12,6 +12,7 @@
 #include "d2vdb/field/ApproximantField.h"
 #include "d2vdb/field/CurveTarget.h"
 #include "d2vdb/field/SurfaceTarget.h"
+#include "d2vdb/fit/InitialCurve.h"
 #include "d2vdb/io/PolylineFile.h"
 
 namespace d2vdb {
@@ -76,19 +77,21 @@ void takeCurve(LoadedInput input, const std::filesystem::path& path, FitTarget& 
   loaded.target = std::move(curve);
 }
 
-void takeSurfaceField(ApproximantField field, const std::filesystem::path& path,
-                      FitTarget& loaded) {
-  if (field.statistics().kind != TargetKind::Surface) {
-    throw InputError("target file '" + path.string() +
-                     "' is not the field of a surface (a level set); fit-surface fits surfaces "
-                     "to level sets, B-spline surfaces and point clouds");
+// A field target, shared: a surface fit also needs points on its zero level set.
+void takeField(std::shared_ptr<const ApproximantField> field, const std::filesystem::path& path,
+               FitSpline spline, FitTarget& loaded) {
+  if (spline == FitSpline::Surface) {
+    if (field->statistics().kind != TargetKind::Surface) {
+      throw InputError("target file '" + path.string() +
+                       "' is not the field of a surface (a level set); fit-surface fits "
+                       "surfaces to level sets, B-spline surfaces and point clouds");
+    }
+    loaded.points = fieldSurfaceSamples(*field, kFieldSurfaceSamples);
+    if (loaded.points.empty()) {
+      throw InputError("target file '" + path.string() + "' has no voxels on its zero level set");
+    }
   }
-  auto target = std::make_unique<ApproximantField>(std::move(field));
-  loaded.points = fieldSurfaceSamples(*target, kFieldSurfaceSamples);
-  if (loaded.points.empty()) {
-    throw InputError("target file '" + path.string() + "' has no voxels on its zero level set");
-  }
-  loaded.target = std::move(target);
+  loaded.target = std::move(field);
 }
 
 void takeSurface(const BSplineSurface& surface, const std::filesystem::path& path,
@@ -135,8 +138,8 @@ void addOffset(double offset, FitSpline spline, FitTarget& loaded) {
 
 }  // namespace
 
-FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOptions& options) {
-  LoadedInput input = loadTargetFile(path, options);
+FitTarget fitTargetFromInput(LoadedInput input, const FitTargetOptions& options) {
+  const std::filesystem::path path = input.path;
   FitTarget loaded;
   loaded.kind = input.kind();
   switch (input.kind()) {
@@ -151,15 +154,10 @@ FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOption
                              ? 2
                              : 3;
       break;
-    case InputKind::Field: {
-      ApproximantField field = std::move(input).take<FieldInput>().field;
-      if (options.spline == FitSpline::Surface) {
-        takeSurfaceField(std::move(field), path, loaded);
-      } else {
-        loaded.target = std::make_unique<ApproximantField>(std::move(field));
-      }
+    case InputKind::Field:
+      takeField(std::make_shared<const ApproximantField>(std::move(input).take<FieldInput>().field),
+                path, options.spline, loaded);
       break;
-    }
     case InputKind::Surface:
       takeSurface(std::move(input).take<BSplineSurface>(), path, loaded);
       break;
@@ -170,6 +168,69 @@ FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOption
   }
   addOffset(options.offset, options.spline, loaded);
   return loaded;
+}
+
+FitTarget fitTargetFromField(std::shared_ptr<const ApproximantField> field,
+                             const std::filesystem::path& label, const FitTargetOptions& options) {
+  if (!field) throw InputError("no field to fit to");
+  FitTarget loaded;
+  loaded.kind = InputKind::Field;
+  takeField(std::move(field), label, options.spline, loaded);
+  addOffset(options.offset, options.spline, loaded);
+  return loaded;
+}
+
+BSplineCurve initialCurveForTarget(const FitTarget& target, const std::string& shape, int degree,
+                                   int controlPoints, bool closed, double offset) {
+  if (shape != "circle" && shape != "ellipse" && shape != "polyline") {
+    throw InputError("the initial curve shape must be circle, ellipse or polyline, not '" + shape +
+                     "'");
+  }
+  if (target.points.empty()) {
+    throw InputError("a " + std::string(inputKindName(target.kind)) +
+                     " target gives no points to place a generated initial curve around; pass "
+                     "an initial curve (.json)");
+  }
+  if (shape == "polyline") {
+    return fitPolylineLeastSquares(target.points, closed || target.closed, degree, controlPoints,
+                                   target.dimension);
+  }
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : target.points) box.extend(p);
+  const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
+  return initialCurveAround(
+      target.points, shape == "circle" ? InitialShape::Circle : InitialShape::Ellipse, degree,
+      controlPoints, target.dimension, 1.2 + 2.0 * std::abs(offset) / extent);
+}
+
+BSplineSurface initialSurfaceForTarget(const FitTarget& target, const std::string& shape,
+                                       SurfaceLayout layout, double offset) {
+  InitialSurfaceOptions placement;
+  if (shape == "plane") {
+    placement.shape = InitialSurfaceShape::Plane;
+  } else if (shape == "cylinder") {
+    placement.shape = InitialSurfaceShape::Cylinder;
+    // Around the axis: u by default, v for a ruled surface (its rulings run along u).
+    if (!layout.closedU && !layout.closedV)
+      (layout.degreeU == 1 ? layout.closedV : layout.closedU) = true;
+  } else if (shape == "torus") {
+    placement.shape = InitialSurfaceShape::Torus;
+    layout.closedU = layout.closedV = true;
+  } else {
+    throw InputError("the initial surface shape must be plane, cylinder or torus, not '" + shape +
+                     "'");
+  }
+  placement.layout = layout;
+  if (offset != 0.0 && placement.shape != InitialSurfaceShape::Plane) {
+    Eigen::AlignedBox3d box;
+    for (const Eigen::Vector3d& p : target.points) box.extend(p);
+    placement.scale = 1.0 + 2.0 * std::abs(offset) / std::max(box.sizes().maxCoeff(), 1e-300);
+  }
+  return initialSurfaceAround(target.points, placement);
+}
+
+FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOptions& options) {
+  return fitTargetFromInput(loadTargetFile(path, options), options);
 }
 
 }  // namespace d2vdb

@@ -12,8 +12,11 @@
 
 #include "d2vdb/core/Progress.h"
 #include "d2vdb/field/SquaredDistanceTarget.h"
+#include "d2vdb/fit/InitialSurface.h"
 #include "d2vdb/fit/OffsetTarget.h"
 #include "d2vdb/io/InputFile.h"
+#include "d2vdb/spline/BSplineCurve.h"
+#include "d2vdb/spline/BSplineSurface.h"
 
 namespace d2vdb {
 
@@ -38,7 +41,7 @@ struct FitTarget {
   InputKind kind = InputKind::PointSet;
   /// The squared-distance target (a CurveTarget, SurfaceTarget or ApproximantField); null for a
   /// point cloud, which the point-cloud fitters take as `points`.
-  std::unique_ptr<SquaredDistanceTarget> target;
+  std::shared_ptr<const SquaredDistanceTarget> target;
   /// The offset of `target` at FitTargetOptions::offset; null without an offset.
   std::unique_ptr<OffsetTarget> offset;
   /// A point cloud's points in file order, or points on the target: a curve or polyline sampled
@@ -74,5 +77,35 @@ struct FitTarget {
 /// (the target's points grown by |offset| leave it), the messages naming the option as the d2vdb
 /// command does; and as OffsetTarget does for an offset it refuses.
 FitTarget loadFitTarget(const std::filesystem::path& path, const FitTargetOptions& options = {});
+
+/// What loadFitTarget() makes of a file's content, for content already in memory: `input` as
+/// loadInput() returns it (input.path labels curve and surface targets and names the target in
+/// messages). Throws as loadFitTarget() does after reading.
+FitTarget fitTargetFromInput(LoadedInput input, const FitTargetOptions& options = {});
+
+/// The fit target of a field in memory, shared rather than copied (kind Field; `label` names it in
+/// messages); a surface fit samples its zero level set as loadFitTarget() does. Throws
+/// InputError for a null field and as loadFitTarget() does for a field target.
+FitTarget fitTargetFromField(std::shared_ptr<const ApproximantField> field,
+                             const std::filesystem::path& label,
+                             const FitTargetOptions& options = {});
+
+/// A generated initial curve for a fit to `target`, as `d2vdb fit-curve --init` places it:
+/// shape "polyline" is the least-squares fit of the target's points (closed when `closed` or the
+/// target is closed); "circle" and "ellipse" are placed around them (initialCurveAround(), scale
+/// 1.2, grown by 2 |offset| over the points' extent for an offset fit). Throws InputError for
+/// another shape, a target without points (a field: "pass an initial curve"), and as the
+/// placing functions do.
+BSplineCurve initialCurveForTarget(const FitTarget& target, const std::string& shape, int degree,
+                                   int controlPoints, bool closed, double offset);
+
+/// A generated initial surface for a fit to `target`, as `d2vdb fit-surface --init` places it:
+/// shape "plane", "cylinder" (closed around the axis: in u, or in v for a ruled surface, unless
+/// `layout` closes a direction) or "torus" (closed in u and v), placed around the target's points
+/// by initialSurfaceAround(), cylinders and tori grown by 2 |offset| over the points' extent for
+/// an offset fit. A ruled surface has layout.degreeU = 1. Throws InputError for another shape and
+/// as initialSurfaceAround() does.
+BSplineSurface initialSurfaceForTarget(const FitTarget& target, const std::string& shape,
+                                       SurfaceLayout layout, double offset);
 
 }  // namespace d2vdb
