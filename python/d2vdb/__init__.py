@@ -24,11 +24,13 @@ from ._d2vdb import (  # noqa: F401  (the public API)
     MeshReport,
     PointSet,
     RuntimeFailure,
+    SmoothSurface,
     Surface,
     SupportFunction,
     __version__,
     fit_curve,
     fit_surface,
+    hausdorff,
     load,
 )
 
@@ -42,9 +44,11 @@ __all__ = [
     "MeshReport",
     "PointSet",
     "RuntimeFailure",
+    "SmoothSurface",
     "Surface",
     "SupportFunction",
     "fit_curve",
     "fit_surface",
+    "hausdorff",
     "load",
 ]

@@ -58,6 +58,8 @@ void bindField(py::module_& module);
 void bindSplines(py::module_& module);
 void bindLoad(py::module_& module);
 void bindFit(py::module_& module);
+void bindMeasure(py::module_& module);
+void bindSmooth(py::module_& module);
 void bindBenchmarkHooks(py::module_& module);
 
 }  // namespace d2vdb::python

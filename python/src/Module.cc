@@ -43,5 +43,7 @@ PYBIND11_MODULE(_d2vdb, module) {
   bindSplines(module);
   bindLoad(module);
   bindFit(module);
+  bindMeasure(module);
+  bindSmooth(module);
   bindBenchmarkHooks(module);
 }
