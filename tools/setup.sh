@@ -4,6 +4,7 @@
 #   tools/setup.sh test   runs the whole test suite with ctest
 #   tools/setup.sh build  only installs and builds
 #   tools/setup.sh deps   only installs (EXTRA_PACKAGES: more Debian packages, e.g. clang)
+# demo builds only the d2vdb command; test and build build everything.
 # Both are idempotent: a second run installs nothing and rebuilds only what changed.
 # Environment: D2VDB_BUILD_DIR (default build), D2VDB_CMAKE_ARGS (extra configure flags),
 #              D2VDB_JOBS (parallel build jobs, default: number of cores).
@@ -59,7 +60,10 @@ python_flag=()
 case "$mode" in test|build) python_flag=(-DD2VDB_BUILD_PYTHON=ON) ;; esac
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "${python_flag[@]}" \
   ${D2VDB_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build_dir" -j "$jobs"
+# The main job needs only the d2vdb command: a newcomer does not wait for the test suite.
+targets=()
+[ "$mode" = demo ] && targets=(--target d2vdb)
+cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
 
 d2vdb="$build_dir/tools/d2vdb"
 case "$mode" in
