@@ -14,20 +14,6 @@ namespace d2vdb::python {
 
 namespace {
 
-const char* caseName(HausdorffCase pairCase) {
-  switch (pairCase) {
-    case HausdorffCase::EndPoints:
-      return "end points";
-    case HausdorffCase::EndPointAndInterior:
-      return "end point and interior";
-    case HausdorffCase::MutuallyOrthogonal:
-      return "mutually orthogonal";
-    case HausdorffCase::Bisector:
-      return "bisector";
-  }
-  return "unknown";
-}
-
 py::dict oneSidedDict(const OneSidedHausdorff& side) {
   py::dict result;
   result["distance"] = side.distance;
@@ -37,7 +23,7 @@ py::dict oneSidedDict(const OneSidedHausdorff& side) {
   result["to_parameter"] = side.toParameter;
   result["from_point"] = py::make_tuple(side.fromPoint.x(), side.fromPoint.y(), side.fromPoint.z());
   result["to_point"] = py::make_tuple(side.toPoint.x(), side.toPoint.y(), side.toPoint.z());
-  result["case"] = caseName(side.pairCase);
+  result["case"] = hausdorffCaseName(side.pairCase);
   result["converged"] = side.converged;
   result["warnings"] = side.warnings;
   return result;

@@ -25,20 +25,6 @@ struct HausdorffArguments {
 /// Significant digits of the text report.
 constexpr int kDistanceDigits = 15;
 
-const char* caseName(HausdorffCase pairCase) {
-  switch (pairCase) {
-    case HausdorffCase::EndPoints:
-      return "end points";
-    case HausdorffCase::EndPointAndInterior:
-      return "end point and interior point";
-    case HausdorffCase::MutuallyOrthogonal:
-      return "mutually orthogonal interior points";
-    case HausdorffCase::Bisector:
-      return "bisector (several nearest points)";
-  }
-  return "";
-}
-
 void declareHausdorff(CLI::App& command, HausdorffArguments& args) {
   command.add_option("a", args.a, "First curve (.json)")->required();
   command.add_option("b", args.b, "Second curve (.json)")->required();
@@ -79,7 +65,7 @@ nlohmann::json oneSidedJson(const OneSidedHausdorff& result, int fromDimension, 
           {"from_point", pointJson(result.fromPoint, fromDimension)},
           {"to_point", pointJson(result.toPoint, toDimension)},
           {"case", static_cast<int>(result.pairCase)},
-          {"case_name", caseName(result.pairCase)},
+          {"case_name", hausdorffCaseName(result.pairCase)},
           {"converged", result.converged},
           {"intervals", result.intervalsExamined},
           {"depth", result.deepestLevel}};
@@ -115,7 +101,7 @@ std::string oneSidedText(const std::string& name, const OneSidedHausdorff& resul
        << "    pair u = " << result.fromParameter << " "
        << formatPoint(result.fromPoint, kDistanceDigits) << ", v = " << result.toParameter << " "
        << formatPoint(result.toPoint, kDistanceDigits) << ", case "
-       << static_cast<int>(result.pairCase) << ": " << caseName(result.pairCase) << '\n';
+       << static_cast<int>(result.pairCase) << ": " << hausdorffCaseName(result.pairCase) << '\n';
   return text.str();
 }
 

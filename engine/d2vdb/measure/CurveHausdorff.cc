@@ -671,4 +671,18 @@ HausdorffDistance hausdorffDistance(const BSplineCurve& a, const BSplineCurve& b
   return result;
 }
 
+const char* hausdorffCaseName(HausdorffCase pairCase) {
+  switch (pairCase) {
+    case HausdorffCase::EndPoints:
+      return "end points";
+    case HausdorffCase::EndPointAndInterior:
+      return "end point and interior point";
+    case HausdorffCase::MutuallyOrthogonal:
+      return "mutually orthogonal interior points";
+    case HausdorffCase::Bisector:
+      return "bisector (several nearest points)";
+  }
+  return "";
+}
+
 }  // namespace d2vdb

@@ -36,6 +36,10 @@ enum class HausdorffCase {
                 ///< be end points of `to`)
 };
 
+/// The name of a case as reports give it: "end points", "end point and interior point",
+/// "mutually orthogonal interior points" or "bisector (several nearest points)".
+const char* hausdorffCaseName(HausdorffCase pairCase);
+
 /// The one-sided Hausdorff distance h(from -> to) = max_u min_v |from(u) - to(v)|.
 struct OneSidedHausdorff {
   /// min_v |from(u) - to(v)| at the reported u: an attained value, equal to lowerBound.
