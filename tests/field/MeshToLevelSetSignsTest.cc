@@ -194,6 +194,29 @@ TEST(MeshToLevelSetSigns, CavitiesOfSelfIntersectingMeshesStayOutside) {
   EXPECT_EQ(check.wrong, 0u);
 }
 
+TEST(MeshToLevelSetSigns, CavitiesLeftByFoldsAreFilled) {
+  // A ball with a fold inside it, as scans have where their surface turns inside out: a small
+  // sphere wound inward (W = 0 inside it) crossed by a small sphere wound outward (W = 1 in the
+  // overlap, 2 beyond). Every component is a closed 2-manifold, but the crescent cavity between
+  // them (W = 0, two voxels thick) is bounded by components that meet each other, so it is junk:
+  // it takes the side around it, and the level set has no surface inside the ball.
+  TriangleMesh mesh = test::makeIcosphere(Eigen::Vector3d(0.0, 0.0, 0.0), 1.0, 3);
+  test::append(mesh, test::makeIcosphere(Eigen::Vector3d(0.5, 0.0, 0.0), 0.1, 2), true);
+  test::append(mesh, test::makeIcosphere(Eigen::Vector3d(0.58, 0.0, 0.0), 0.1, 2));
+  LevelSetOptions options;
+  options.voxelSize = 0.04;
+  const LevelSetResult result = meshToLevelSet(mesh, options);
+  EXPECT_TRUE(result.signs.selfIntersecting);
+  EXPECT_GE(result.signs.pocketsFilled, 1u);
+  std::size_t outsideInBall = 0;
+  for (auto voxel = result.grid->cbeginValueOn(); voxel; ++voxel) {
+    const openvdb::Vec3d p = result.grid->indexToWorld(voxel.getCoord());
+    if (p.length() < 0.8 && *voxel > 0.0f) ++outsideInBall;
+  }
+  EXPECT_EQ(outsideInBall, 0u);
+  EXPECT_LT(result.grid->getConstAccessor().getValue(openvdb::Coord(11, 0, 0)), 0.0f);  // 0.44
+}
+
 /// A sphere of radius 1 as a raw scan comes: two holes (the triangles within 0.25 of two surface
 /// points removed), three junk flaps inside (the triangles within 0.3 of three other surface
 /// points, copied at radius `flapRadius`, left open) and a fin that crosses the surface (the

@@ -146,8 +146,12 @@ class ExactSigns {
     report_.reorientedTriangles = mesh_.reorientedTriangles;
     report_.watertight = mesh_.watertight;
     report_.holesClosed = mesh_.capLoops;
-    report_.selfIntersecting = detail::hasSelfIntersection(
+    // Every pair is tested (not just up to the first crossing): the pocket rule needs to know
+    // which triangles meet others.
+    intersecting_ = detail::selfIntersectingTriangles(
         mesh_.points, mesh_.triangles, mesh_.degenerate, closed_.hierarchy(), 1e-10 * largest);
+    report_.selfIntersecting =
+        std::find(intersecting_.begin(), intersecting_.end(), true) != intersecting_.end();
     report_.method =
         report_.selfIntersecting ? SignMethod::windingNumber : SignMethod::closestFeature;
     if (!report_.selfIntersecting) {
@@ -214,7 +218,8 @@ class ExactSigns {
       report.holeVoxels = holes.addedVoxels;
       report.windingNumberQueries += holes.windingNumberQueries;
     }
-    const detail::SignPocketReport pockets = detail::fillSignPockets(grid, closestTriangles, mesh_);
+    const detail::SignPocketReport pockets =
+        detail::fillSignPockets(grid, closestTriangles, mesh_, intersecting_);
     report.pocketsFilled = pockets.pockets;
     report.pocketVoxels = pockets.voxels;
   }
@@ -237,6 +242,7 @@ class ExactSigns {
   detail::WindingNumberField closed_;
   std::optional<detail::WindingNumberField> caps_;
   std::vector<detail::ComponentSides> sides_;
+  std::vector<bool> intersecting_;  ///< per triangle of mesh_: meets another one
   bool enclosedSurface_ = false;
   SignReport report_;
 };

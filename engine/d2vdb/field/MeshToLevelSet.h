@@ -112,9 +112,10 @@ struct LevelSetResult {
 ///   take their exact sides (detail::coverHoleCrossings()); `signs.holeVoxels` counts them.
 /// - Pockets: a region of one side enclosed by the other within the band (thinner than the band)
 ///   next to a part of the mesh that is not a closed 2-manifold (a flap, a sheet meeting the body
-///   at non-manifold edges, a hole) takes the side around it when it is outside (a cavity the
+///   at non-manifold edges, a hole) or that meets another part (a fold that turns a scan's
+///   surface inside out) takes the side around it when it is outside (a cavity the
 ///   winding number leaves beside junk inside a solid), or when it is inside and at most 8 voxels
-///   (a speck). Cavities bounded by closed 2-manifold shells stay
+///   (a speck). Cavities bounded by closed 2-manifold shells that touch nothing else stay
 ///   (detail::fillSignPockets()); `signs.pocketsFilled` and `signs.pocketVoxels` count them.
 ///
 /// Without exact signs, the sign does not depend on triangle orientation and holes a few voxels

@@ -22,6 +22,14 @@ bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
                          const std::vector<bool>& degenerate, const TriangleBvh& bvh,
                          double tolerance);
 
+/// Per triangle: whether it meets another triangle as hasSelfIntersection() decides (every pair
+/// tested, no early exit: about the cost of hasSelfIntersection() on a mesh without any). The
+/// answer does not depend on the thread count.
+std::vector<bool> selfIntersectingTriangles(const std::vector<Eigen::Vector3d>& points,
+                                            const std::vector<TriangleIndices>& triangles,
+                                            const std::vector<bool>& degenerate,
+                                            const TriangleBvh& bvh, double tolerance);
+
 /// The pairwise test used above, exposed for tests: triangles given by corner positions and
 /// indices (shared indices mean shared corners).
 bool trianglesIntersect(const std::vector<Eigen::Vector3d>& points, const TriangleIndices& first,

@@ -227,8 +227,13 @@ std::vector<bool> closedComponents(const InsideOutsideMesh& mesh) {
 }
 
 SignPocketReport fillSignPockets(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest,
-                                 const InsideOutsideMesh& mesh) {
-  const std::vector<bool> closed = closedComponents(mesh);
+                                 const InsideOutsideMesh& mesh,
+                                 const std::vector<bool>& intersecting) {
+  // A component that meets another one, or itself, bounds no cavity of its own.
+  std::vector<bool> closed = closedComponents(mesh);
+  for (std::size_t t = 0; t < intersecting.size() && t < mesh.component.size(); ++t) {
+    if (intersecting[t]) closed[mesh.component[t]] = false;
+  }
   if (std::all_of(closed.begin(), closed.end(), [](bool c) { return c; })) return {};
   PocketFinder finder(grid, closest, mesh, closed);
   return finder.run();
