@@ -12,6 +12,11 @@
 //
 // Keep the examples small: the whole run takes seconds in a Release build and runs under the
 // sanitizers too. Each command's time is printed.
+//
+// The examples of every sub-command's --help ("Example: d2vdb ..." and the "d2vdb ..." lines
+// below it) run the same way, all in one directory holding a copy of volumes/: an example may
+// use what another sub-command's example writes (the query examples read the field example's
+// output), so a failing one is run once more after all the others.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -21,6 +26,8 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -140,6 +147,73 @@ TEST_F(ReadmeExamplesTest, EveryCommandLineRunsAsWritten) {
   }
   std::cout << commands << " commands in " << sectionIndex << " sections, " << std::fixed
             << std::setprecision(1) << totalSeconds_ << " s\n";
+}
+
+// The sub-command names the top-level --help lists, in its order.
+std::vector<std::string> subcommandNames(const std::string& help) {
+  std::vector<std::string> names;
+  std::istringstream lines(help.substr(std::min(help.find("Subcommands:"), help.size())));
+  const std::regex name(R"(^  ([a-z0-9][a-z0-9-]*)  )");
+  std::string line;
+  std::smatch match;
+  while (std::getline(lines, line)) {
+    if (std::regex_search(line, match, name)) names.push_back(match[1]);
+  }
+  return names;
+}
+
+// The example lines of one sub-command's --help: the text after "Example: " and the lines that
+// continue it, each a command starting with "d2vdb ".
+std::vector<std::string> helpExamples(const std::string& help) {
+  std::vector<std::string> examples;
+  std::istringstream lines(help);
+  std::string line;
+  bool inExamples = false;
+  while (std::getline(lines, line)) {
+    const std::size_t example = line.find("Example: d2vdb ");
+    const std::size_t first = line.find_first_not_of(' ');
+    if (example != std::string::npos) {
+      examples.push_back(line.substr(example + 9));
+      inExamples = true;
+    } else if (inExamples && first != std::string::npos && line.compare(first, 6, "d2vdb ") == 0) {
+      examples.push_back(line.substr(first));
+    } else {
+      inExamples = false;
+    }
+  }
+  return examples;
+}
+
+TEST_F(ReadmeExamplesTest, EveryHelpExampleRuns) {
+  const fs::path directory = scratch_ / "help-examples";
+  fs::create_directories(directory);
+  fs::copy(fs::path(D2VDB_SOURCE_DIR) / "volumes", directory / "volumes",
+           fs::copy_options::recursive);
+  const auto helpOf = [&](const std::string& arguments) {
+    const CommandRun run = runInDirectory({0, "d2vdb " + arguments, 0}, directory, bin_);
+    EXPECT_EQ(run.exitCode, 0) << "d2vdb " << arguments << ": " << run.err;
+    return readWholeFile(directory.parent_path() / "help-examples.stdout");
+  };
+  const std::vector<std::string> names = subcommandNames(helpOf("--help"));
+  ASSERT_GE(names.size(), 15u);
+  std::vector<std::pair<std::string, std::string>> examples;  // sub-command, command line
+  for (const std::string& name : names) {
+    const std::vector<std::string> lines = helpExamples(helpOf(name + " --help"));
+    EXPECT_FALSE(lines.empty()) << "'d2vdb " << name << " --help' shows no example";
+    for (const std::string& line : lines) examples.emplace_back(name, line);
+  }
+  std::vector<std::pair<std::string, std::string>> failed;
+  for (const auto& [name, line] : examples) {
+    if (runInDirectory({0, line, 0}, directory, bin_).exitCode != 0)
+      failed.emplace_back(name, line);
+  }
+  for (const auto& [name, line] : failed) {
+    const CommandRun run = runInDirectory({0, line, 0}, directory, bin_);
+    EXPECT_EQ(run.exitCode, 0) << "the example of 'd2vdb " << name << " --help':\n  " << line
+                               << "\nexited with " << run.exitCode << "; stderr:\n"
+                               << run.err;
+  }
+  std::cout << examples.size() << " --help examples of " << names.size() << " sub-commands\n";
 }
 
 }  // namespace

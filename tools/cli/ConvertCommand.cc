@@ -80,8 +80,8 @@ void addConvertCommand(CommandRegistry& registry) {
        "Read a level set from a .vdb file (written by d2vdb or any other OpenVDB tool) and write "
        "it with d2vdb's conventions: grid name 'surface', class level set, d2vdb metadata, "
        "Blosc. A fog volume (densities) becomes the level set of its iso-surface at --iso.\n"
-       "Example: d2vdb convert houdini_export.vdb surface.vdb --grid surface\n"
-       "         d2vdb convert smoke.vdb smoke-surface.vdb --grid density --iso 0.5",
+       "Example: d2vdb convert volumes/bunny.vdb surface.vdb --grid surface\n"
+       "         d2vdb convert volumes/smoke.vdb smoke-surface.vdb --grid density --iso 0.5",
        "the level set is too large for this machine; convert a coarser one", declareConvert,
        runConvert, outputsOfConvert});
 }

@@ -146,7 +146,7 @@ void addFieldCommand(CommandRegistry& registry) {
        "sets (.vdb), point sets (.xyz, .ply without faces), B-spline curves and polylines\n"
        "(.json, slice --polylines output included).\n"
        "Example: d2vdb field volumes/torus.vdb torus-field.vdb\n"
-       "         d2vdb field helix.json helix-field.vdb --resolution 128 --half-width 4\n"
+       "         d2vdb field volumes/helix.json helix-field.vdb --resolution 128 --half-width 4\n"
        "         d2vdb field volumes/bunny.obj bunny-field.vdb --smooth",
        "use a coarser --voxel-size or --resolution, or a smaller --half-width", declareField,
        runField, outputsOfField});

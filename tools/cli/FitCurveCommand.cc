@@ -272,7 +272,8 @@ void addFitCurveCommand(CommandRegistry& registry) {
        ".xyz/.ply (SDM II: errors orthogonal to the active curve) or a distance field .vdb. "
        "Prints the iteration history (objective, RMS and max distance, step) and why it "
        "stopped.\n"
-       "Example: d2vdb fit-curve --target ellipse.json --init circle --method sdm --ctrl 12 "
+       "Example: d2vdb fit-curve --target volumes/ellipse.json --init circle --method sdm --ctrl "
+       "12 "
        "--out fitted.json --svg fit.svg --plot conv.svg --compare",
        "use fewer control points (--ctrl) or sensors (--sensors), or a smaller target",
        declareFitCurve, runFitCurve, outputsOfFitCurve});

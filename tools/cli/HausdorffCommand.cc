@@ -179,7 +179,7 @@ void addHausdorffCommand(CommandRegistry& registry) {
        "Reports both one-sided distances, the Hausdorff pairs (parameters and points), which of "
        "the four cases of Chen et al. (2010) each pair is, and the certified bracket [lower, "
        "upper].\n"
-       "Example: d2vdb hausdorff a.json b.json --svg pair.svg --json",
+       "Example: d2vdb hausdorff fitted.json volumes/helix.json --svg pair.svg --json",
        "compare curves with fewer control points, or raise --tolerance", declareHausdorff,
        runHausdorff, outputsOfHausdorff});
 }

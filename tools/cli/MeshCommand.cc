@@ -106,7 +106,7 @@ void addMeshCommand(CommandRegistry& registry) {
        "band.\n"
        "With --check the mesh is validated; the exit code is 3 if it is not closed, manifold and "
        "oriented.\n"
-       "Example: d2vdb mesh bunny.vdb bunny.obj --check",
+       "Example: d2vdb mesh volumes/bunny.vdb bunny.obj --check",
        "the level set is too large for this machine; mesh a coarser one", declareMesh, runMesh,
        outputsOfMesh});
 }

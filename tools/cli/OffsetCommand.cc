@@ -326,7 +326,8 @@ void addOffsetCommand(CommandRegistry& registry) {
        "each offset as a level set (--method levelset: the offset grid itself; support: the\n"
        "tessellation converted at --voxel-size or --resolution, so choose --subdivisions fine\n"
        "enough for that voxel size).\n"
-       "Example: d2vdb offset ellipsoid.obj out.obj --distance -0.3 --distance 0.25 --degree 24\n"
+       "Example: d2vdb offset volumes/ellipsoid.ply out.obj --distance -0.3 --distance 0.25 "
+       "--degree 8\n"
        "         d2vdb offset volumes/torus.vdb torus-out.obj --distance 0.1 --patches\n"
        "         d2vdb offset volumes/bunny.vdb bunny-out.obj --distance 0.01 --method levelset",
        "use a lower --degree or fewer --subdivisions; for --method levelset and .vdb outputs a "

@@ -93,7 +93,7 @@ void addProjectCommand(CommandRegistry& registry) {
        "distance, and every local minimum and maximum of the distance along the curve (interior "
        "solutions of (C(t) - p) . C'(t) = 0, corners at knots, the ends of open curves). Z "
        "defaults to 0 (the plane of 2D curves).\n"
-       "Example: d2vdb project curve.json 0 0 --json",
+       "Example: d2vdb project volumes/helix.json 0 0 0.5 --json",
        "the input is too large for this machine", declareProject, runProject});
 }
 

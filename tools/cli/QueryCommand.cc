@@ -219,7 +219,7 @@ void addQueryCommand(CommandRegistry& registry) {
        "outside the domain gets status outside_domain and no values (README: query results).\n"
        "Example: d2vdb query torus-field.vdb 1.4 0 0.1\n"
        "         d2vdb query torus-field.vdb -1.4 0 -0.1 --json --form all\n"
-       "         d2vdb query torus-field.vdb --points scan.xyz --out answers.csv",
+       "         d2vdb query torus-field.vdb --points volumes/scan.xyz --out answers.csv",
        "the input is too large for this machine", declareQuery, runQuery, outputsOfQuery});
 }
 

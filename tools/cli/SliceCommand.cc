@@ -124,7 +124,7 @@ void addSliceCommand(CommandRegistry& registry) {
        "Draw the iso-lines of a grid in a .vdb file on an axis-aligned plane as SVG (marching\n"
        "squares; closed lines for a closed level set, inside on the left). The SVG shows the two\n"
        "other axes in cyclic order (z: x right, y up). --polylines also writes the lines as JSON.\n"
-       "Example: d2vdb slice bunny.vdb bunny-z.svg --axis z --offset 0.1",
+       "Example: d2vdb slice volumes/bunny.vdb bunny-z.svg --axis z --offset 0.1",
        "the level set is too large for this machine; mesh a coarser one", declareSlice, runSlice,
        outputsOfSlice});
 }

@@ -143,7 +143,7 @@ void addSupportCommand(CommandRegistry& registry) {
        "set is split into connected regions of one curvature sign (convex, saddle, concave;\n"
        "a band along the parabolic curves is left out), each fitted over its own Gauss image\n"
        "and written to OUT's name with _p<k> before .json.\n"
-       "Example: d2vdb support ellipsoid.obj --degree 24 --out ellipsoid-sf.json\n"
+       "Example: d2vdb support volumes/ellipsoid.ply --degree 8 --out ellipsoid-sf.json\n"
        "         d2vdb support volumes/torus.vdb --patches --out torus-sf.json",
        "use a lower --degree, or an input with fewer samples (a coarser mesh or level set)",
        declareSupport, runSupport, outputsOfSupport});
