@@ -17,8 +17,10 @@ times, on the bundled volumes and on inputs it generates): they are first run on
 WORKDIR/base, so that the inputs and the outputs that later commands read exist, then mutated at
 random (seeded, so a run can be repeated):
 
-  * a numeric value becomes an extreme one (0, -1, 1e-300, 1e300, nan, inf, 2^31, ...), and a
-    list value (x,y,z) loses or gains a component or gets one extreme component;
+  * a numeric value becomes an extreme one (0, -1, 1e-300, 1e300, nan, inf, 2^31, ...), or is
+    scaled by a plausible factor (0.01 to 1000, integers kept integers) that the option parser
+    accepts, so that the run reaches the engine's budgets and checks; a list value (x,y,z) loses
+    or gains a component or gets one extreme component;
   * an option of the sub-command's --help is added with such a value, or with a file of another
     kind;
   * an argument is dropped or an option repeated;
@@ -117,6 +119,26 @@ def looks_like_output(argument, folder):
             not os.path.exists(os.path.join(folder, argument)))
 
 
+SCALE_FACTORS = (0.01, 0.1, 0.5, 2.0, 3.0, 10.0, 100.0, 1000.0)
+
+
+def scaled(value, rng):
+    """VALUE (a number or an x,y,z list) times a plausible factor: values the option parser
+    accepts, so that the run reaches the engine (its budgets and checks) instead of stopping at
+    the parser's range checks as most extreme values do. Integers stay integers."""
+    factor = rng.choice(SCALE_FACTORS)
+
+    def one(part):
+        if re.match(r"^-?\d+$", part):
+            return str(max(1, int(round(int(part) * factor))) if int(part) > 0 else int(part))
+        return "%.6g" % (float(part) * factor)
+
+    try:
+        return ",".join(one(part) for part in value.split(","))
+    except ValueError:
+        return value
+
+
 class Mutator:
     def __init__(self, rng, inputs, options_of):
         self.rng = rng
@@ -157,6 +179,8 @@ class Mutator:
                     else:
                         parts[rng.randrange(len(parts))] = rng.choice(EXTREME_NUMBERS[:14])
                     arguments[i] = ",".join(parts)
+                elif rng.random() < 0.5:
+                    arguments[i] = scaled(arguments[i], rng)
                 else:
                     arguments[i] = rng.choice(EXTREME_NUMBERS)
             elif kind < 0.65 and subcommand and self.options_of.get(subcommand):
