@@ -183,7 +183,8 @@ class Mutator:
                     arguments[i] = scaled(arguments[i], rng)
                 else:
                     arguments[i] = rng.choice(EXTREME_NUMBERS)
-            elif kind < 0.65 and subcommand and self.options_of.get(subcommand):
+            elif (kind < 0.65 and subcommand in arguments and  # an earlier drop can take it
+                  self.options_of.get(subcommand)):
                 option = rng.choice(self.options_of[subcommand])
                 position = rng.randrange(arguments.index(subcommand) + 1, len(arguments) + 1)
                 arguments[position:position] = [option, self.extreme_value()]

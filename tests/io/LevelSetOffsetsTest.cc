@@ -93,6 +93,16 @@ TEST_F(LevelSetOffsetsTest, BudgetBoundsTheGrownBandsVoxels) {
        std::to_string(between)});
 }
 
+TEST_F(LevelSetOffsetsTest, BudgetBoundsTheVoxelUpdatesOfLongMoves) {
+  const openvdb::FloatGrid::Ptr grid = sphereLevelSet();
+  // Within the voxel budget (2^40) but 2 |d| / voxel = 4,000 steps over the grown band: refused
+  // before anything moves, naming the method that offsets exactly at any distance.
+  expectInputError([&] { checkLevelSetOffsetBudget(*grid, {100.0}, 3.0, std::uint64_t{1} << 40); },
+                   {"offsetting by 100 at voxel size 0.05 moves the band in 4000 half-voxel steps",
+                    "use --method support"});
+  checkLevelSetOffsetBudget(*grid, {0.5, -0.5}, 3.0, std::uint64_t{1} << 40);
+}
+
 TEST_F(LevelSetOffsetsTest, OffsetsOfASphereAreTheOffsetSpheres) {
   const openvdb::FloatGrid::Ptr grid = sphereLevelSet();
   const openvdb::Index64 before = grid->activeVoxelCount();

@@ -3,6 +3,7 @@
 #include <openvdb/tools/LevelSetFilter.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "d2vdb/contour/IsoSurface.h"
@@ -59,6 +60,19 @@ void checkLevelSetOffsetBudget(const openvdb::FloatGrid& levelSet,
                        std::to_string(static_cast<long long>(estimate)) +
                        " active voxels, above --max-voxels " + std::to_string(maxActiveVoxels) +
                        "; use a larger --voxel-size");
+    }
+    const double steps = std::ceil(2.0 * std::abs(d) / voxel);
+    const double updates = steps * estimate;
+    if (updates > kMaxLevelSetOffsetUpdates) {
+      throw InputError(
+          "offsetting by " + formatNumber(d, 6) + " at voxel size " + formatNumber(voxel, 6) +
+          " moves the band in " + std::to_string(static_cast<long long>(steps)) +
+          " half-voxel steps over up to " + std::to_string(static_cast<long long>(estimate)) +
+          " voxels: about " + formatNumber(updates, 3) + " voxel updates, above the " +
+          formatNumber(kMaxLevelSetOffsetUpdates, 3) +
+          " (about a minute) the level-set method is allowed; use --method support "
+          "(exact offsets at any distance), a larger --voxel-size, or a smaller "
+          "distance");
     }
   }
 }

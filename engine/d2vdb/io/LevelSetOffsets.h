@@ -35,10 +35,18 @@ struct OffsetLevelSet {
 OffsetLevelSet loadOffsetLevelSet(const std::filesystem::path& path, const LevelSetOptions& options,
                                   const ProgressCallback& progress = {});
 
+/// The most voxel updates checkLevelSetOffsetBudget() lets one offset make: OpenVDB's
+/// LevelSetFilter::offset moves the band half a voxel per step and updates and renormalises every
+/// band voxel at each, about 12-15 million updates per second on two cores here (an ellipsoid
+/// offset by 2, 4 and 8 at voxel 0.083: 1.8, 6.6 and 31 s), so this is about a minute.
+inline constexpr double kMaxLevelSetOffsetUpdates = 1e9;
+
 /// Throws InputError when offsetting `levelSet` by one of `distances` could need more than
-/// `maxActiveVoxels` active voxels. The band keeps its width (`halfWidth` voxels on each side)
-/// while it moves, so an outward offset grows it with the surface: the estimate bounds the offset
-/// surface's area by that of the active voxels' bounding box grown by d on every side.
+/// `maxActiveVoxels` active voxels, or more than kMaxLevelSetOffsetUpdates voxel updates. The
+/// band keeps its width (`halfWidth` voxels on each side) while it moves, so an outward offset
+/// grows it with the surface: the estimate bounds the offset surface's area by that of the active
+/// voxels' bounding box grown by d on every side; the updates are that many voxels times the
+/// 2 |d| / voxel steps.
 void checkLevelSetOffsetBudget(const openvdb::FloatGrid& levelSet,
                                const std::vector<double>& distances, double halfWidth,
                                std::uint64_t maxActiveVoxels);
