@@ -49,6 +49,11 @@ struct SupportFunctionObject {
   SupportFunctionDocument document;
 };
 
+/// A Mesh, PointSet, Curve or Surface, or anything numpy reads as (N, 3) points, as loadInput()
+/// would return it from a file (`label` stands for the file's path in labels and messages).
+/// Throws InputError for points that are not (N, 3) and finite.
+LoadedInput inputOf(const py::handle& target, const std::filesystem::path& label);
+
 /// Raises FileNotFoundError (a Python exception) when `path` does not exist.
 void requireExistingFile(const std::filesystem::path& path);
 
@@ -56,6 +61,7 @@ void bindMesh(py::module_& module);
 void bindLevelSet(py::module_& module);
 void bindField(py::module_& module);
 void bindSplines(py::module_& module);
+void bindSupport(py::module_& module);
 void bindLoad(py::module_& module);
 void bindFit(py::module_& module);
 void bindMeasure(py::module_& module);

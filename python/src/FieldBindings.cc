@@ -34,24 +34,6 @@ const ApproximantField& fieldOf(const Field& field) {
   return *field.field;
 }
 
-// The target as loadInput() would return it (the path only labels curves and smooth surfaces).
-LoadedInput targetInput(const py::handle& target) {
-  LoadedInput input;
-  input.path = "python";
-  if (py::isinstance<TriangleMesh>(target)) {
-    input.value = MeshInput{target.cast<const TriangleMesh&>(), MeshFormat::Obj};
-  } else if (py::isinstance<PointSet>(target)) {
-    input.value = PointSetInput{target.cast<const PointSet&>().points};
-  } else if (py::isinstance<BSplineCurve>(target)) {
-    input.value = target.cast<const BSplineCurve&>();
-  } else if (py::isinstance<BSplineSurface>(target)) {
-    input.value = target.cast<const BSplineSurface&>();
-  } else {
-    input.value = PointSetInput{pointsFromArray(target, "target points")};
-  }
-  return input;
-}
-
 Field buildField(const py::object& target, double voxelSize, int resolution, double halfWidth,
                  double padding, const std::optional<std::string>& smooth, std::uint64_t maxVoxels,
                  int threads, const py::object& progress) {
@@ -85,7 +67,7 @@ Field buildField(const py::object& target, double voxelSize, int resolution, dou
       throw InputError("smooth= takes a Mesh; a level set has no smooth surface of its own");
     }
   } else {
-    input = targetInput(target);
+    input = inputOf(target, "python");
   }
   auto built = runLong<BuiltField>(progress, threads, [&](const ProgressCallback& report) {
     FieldBuildOptions withProgress = options;
@@ -107,6 +89,25 @@ Field buildField(const py::object& target, double voxelSize, int resolution, dou
   return field;
 }
 
+// onAnswer(i, answerAt(points[i])) for every point, without the GIL, in parallel over fixed blocks
+// of kQueryBlock points as answerAll() (io/FieldQuery.cc) runs them: each block keeps its
+// accessor's leaf cache warm over consecutive points, and each answer depends on its point only.
+template <typename OnAnswer>
+void answerEach(const ApproximantField& field, const std::vector<Eigen::Vector3d>& points,
+                int threads, const OnAnswer& onAnswer) {
+  runWithoutGil(threads, [&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, points.size(), kQueryBlock),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          ApproximantField::Accessor accessor(field);
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            onAnswer(i, answerAt(field, accessor, points[i]));
+          }
+        },
+        tbb::simple_partitioner());
+  });
+}
+
 py::dict query(const Field& self, const py::handle& pointsArray, int threads) {
   const ApproximantField& field = fieldOf(self);
   const std::vector<Eigen::Vector3d> points = pointsFromArray(pointsArray, "points");
@@ -126,31 +127,22 @@ py::dict query(const Field& self, const py::handle& pointsArray, int threads) {
   std::int32_t* levelOut = level.mutable_data();
   std::uint16_t* flagsOut = flags.mutable_data();
   std::uint8_t* statusOut = status.mutable_data();
-  runWithoutGil(threads, [&] {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, points.size(), kQueryBlock),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          ApproximantField::Accessor accessor(field);
-          constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const FieldAnswer answer = answerAt(field, accessor, points[i]);
-            const bool ok = answer.status == QueryStatus::Ok;
-            const Approximant& a = answer.approximant;
-            statusOut[i] = static_cast<std::uint8_t>(answer.status);
-            levelOut[i] = answer.level;
-            flagsOut[i] = ok ? a.flags : 0;
-            distanceOut[i] = ok ? a.distance : nan;
-            k1Out[i] = ok ? a.k1 : nan;
-            k2Out[i] = ok ? a.k2 : nan;
-            for (int axis = 0; axis < 3; ++axis) {
-              const std::size_t at = 3 * i + static_cast<std::size_t>(axis);
-              footpointOut[at] = ok ? a.footpoint[axis] : nan;
-              normalOut[at] = ok ? a.normal[axis] : nan;
-              e1Out[at] = ok ? a.tangent[axis] : nan;
-            }
-          }
-        },
-        tbb::simple_partitioner());
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  answerEach(field, points, threads, [&](std::size_t i, const FieldAnswer& answer) {
+    const bool ok = answer.status == QueryStatus::Ok;
+    const Approximant& a = answer.approximant;
+    statusOut[i] = static_cast<std::uint8_t>(answer.status);
+    levelOut[i] = answer.level;
+    flagsOut[i] = ok ? a.flags : 0;
+    distanceOut[i] = ok ? a.distance : nan;
+    k1Out[i] = ok ? a.k1 : nan;
+    k2Out[i] = ok ? a.k2 : nan;
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::size_t at = 3 * i + static_cast<std::size_t>(axis);
+      footpointOut[at] = ok ? a.footpoint[axis] : nan;
+      normalOut[at] = ok ? a.normal[axis] : nan;
+      e1Out[at] = ok ? a.tangent[axis] : nan;
+    }
   });
   py::dict result;
   result["distance"] = distance;
@@ -175,28 +167,19 @@ py::tuple sdmForm(const Field& self, const py::handle& pointsArray, int threads)
   double* bOut = b.mutable_data();
   double* cOut = c.mutable_data();
   std::vector<std::uint8_t> outside(points.size(), 0);
-  runWithoutGil(threads, [&] {
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, points.size(), kQueryBlock),
-        [&](const tbb::blocked_range<std::size_t>& range) {
-          ApproximantField::Accessor accessor(field);
-          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const FieldAnswer answer = answerAt(field, accessor, points[i]);
-            if (answer.status != QueryStatus::Ok) {
-              outside[i] = 1;
-              continue;
-            }
-            const QuadraticForm form = answer.approximant.form(ErrorTerm::SDM);
-            for (int row = 0; row < 3; ++row) {
-              for (int column = 0; column < 3; ++column) {
-                aOut[9 * i + static_cast<std::size_t>(3 * row + column)] = form.A(row, column);
-              }
-              bOut[3 * i + static_cast<std::size_t>(row)] = form.b[row];
-            }
-            cOut[i] = form.c;
-          }
-        },
-        tbb::simple_partitioner());
+  answerEach(field, points, threads, [&](std::size_t i, const FieldAnswer& answer) {
+    if (answer.status != QueryStatus::Ok) {
+      outside[i] = 1;
+      return;
+    }
+    const QuadraticForm form = answer.approximant.form(ErrorTerm::SDM);
+    for (int row = 0; row < 3; ++row) {
+      for (int column = 0; column < 3; ++column) {
+        aOut[9 * i + static_cast<std::size_t>(3 * row + column)] = form.A(row, column);
+      }
+      bOut[3 * i + static_cast<std::size_t>(row)] = form.b[row];
+    }
+    cOut[i] = form.c;
   });
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (outside[i]) {
@@ -208,6 +191,23 @@ py::tuple sdmForm(const Field& self, const py::handle& pointsArray, int threads)
 }
 
 }  // namespace
+
+LoadedInput inputOf(const py::handle& target, const std::filesystem::path& label) {
+  LoadedInput input;
+  input.path = label;
+  if (py::isinstance<TriangleMesh>(target)) {
+    input.value = MeshInput{target.cast<const TriangleMesh&>(), MeshFormat::Obj};
+  } else if (py::isinstance<PointSet>(target)) {
+    input.value = PointSetInput{target.cast<const PointSet&>().points};
+  } else if (py::isinstance<BSplineCurve>(target)) {
+    input.value = target.cast<const BSplineCurve&>();
+  } else if (py::isinstance<BSplineSurface>(target)) {
+    input.value = target.cast<const BSplineSurface&>();
+  } else {
+    input.value = PointSetInput{pointsFromArray(target, "target points")};
+  }
+  return input;
+}
 
 void bindField(py::module_& module) {
   py::class_<Field>(

@@ -123,19 +123,10 @@ FitTarget fitTargetOf(const py::handle& target, FitSpline spline, double offset)
   if (py::isinstance<Field>(target)) {
     return fitTargetFromField(target.cast<const Field&>().field, "the field", options);
   }
-  LoadedInput input;
-  input.path = "the target";
-  if (py::isinstance<PointSet>(target)) {
-    input.value = PointSetInput{target.cast<const PointSet&>().points};
-  } else if (py::isinstance<BSplineCurve>(target)) {
-    input.value = target.cast<const BSplineCurve&>();
-  } else if (py::isinstance<BSplineSurface>(target)) {
-    input.value = target.cast<const BSplineSurface&>();
-  } else if (py::isinstance<LevelSet>(target) || py::isinstance<TriangleMesh>(target)) {
+  if (py::isinstance<LevelSet>(target) || py::isinstance<TriangleMesh>(target)) {
     throw InputError("fit to d2vdb.Field(target): the fitters query a target's approximant field");
-  } else {
-    input.value = PointSetInput{pointsFromArray(target, "target points")};
   }
+  LoadedInput input = inputOf(target, "the target");
   return fitTargetFromInput(std::move(input), options);
 }
 

@@ -100,14 +100,9 @@ py::array_t<double> valuesAt(const LevelSet& levelSet, const py::handle& pointsA
   return arrayOwning(std::move(values), {static_cast<py::ssize_t>(points.size())});
 }
 
-}  // namespace
-
-void bindLevelSet(py::module_& module) {
-  py::class_<LevelSet>(
-      module, "LevelSet",
-      "A narrow-band distance grid (an OpenVDB FloatGrid): signed (class level set, d < 0 "
-      "inside) or unsigned, in world units, voxel (i, j, k) centred at (i, j, k) * voxel_size. "
-      "The grid is shared, never copied: to_openvdb() gives pyopenvdb the same grid.")
+/// The static constructors: from meshes, primitives and pyopenvdb grids.
+void addFactories(py::class_<LevelSet>& levelSet) {
+  levelSet
       .def_static(
           "from_mesh",
           [](const TriangleMesh& mesh, double voxelSize, int resolution, double halfWidth,
@@ -192,7 +187,12 @@ void bindLevelSet(py::module_& module) {
           },
           py::arg("grid"),
           "The level set of a pyopenvdb.FloatGrid, sharing the grid (no copy): changes made "
-          "through pyopenvdb are seen here.")
+          "through pyopenvdb are seen here.");
+}
+
+/// Meshing, sampling, writing and the hand-off to pyopenvdb.
+void addOperations(py::class_<LevelSet>& levelSet) {
+  levelSet
       .def(
           "to_openvdb", [](const LevelSet& levelSet) { return toPyopenvdb(levelSet.grid); },
           "The same grid as a pyopenvdb.FloatGrid (no copy, no file): both sides see each "
@@ -237,7 +237,12 @@ void bindLevelSet(py::module_& module) {
           py::arg("half_float") = false, py::arg("source") = "",
           "Writes the grid to a .vdb file (Blosc-compressed unless compression=False; 16-bit "
           "floats with half_float=True), atomically: a failure leaves an existing file "
-          "untouched.")
+          "untouched.");
+}
+
+/// Sizes, the grid's kind and name, and how from_mesh() made it.
+void addProperties(py::class_<LevelSet>& levelSet) {
+  levelSet
       .def_property_readonly(
           "voxel_size", [](const LevelSet& levelSet) { return gridOf(levelSet).voxelSize()[0]; },
           "Voxel edge length, world units.")
@@ -289,6 +294,19 @@ void bindLevelSet(py::module_& module) {
                std::to_string(levelSet.grid->activeVoxelCount()) + " active voxels, voxel size " +
                std::to_string(levelSet.grid->voxelSize()[0]) + ">";
       });
+}
+
+}  // namespace
+
+void bindLevelSet(py::module_& module) {
+  py::class_<LevelSet> levelSet(
+      module, "LevelSet",
+      "A narrow-band distance grid (an OpenVDB FloatGrid): signed (class level set, d < 0 "
+      "inside) or unsigned, in world units, voxel (i, j, k) centred at (i, j, k) * voxel_size. "
+      "The grid is shared, never copied: to_openvdb() gives pyopenvdb the same grid.");
+  addFactories(levelSet);
+  addOperations(levelSet);
+  addProperties(levelSet);
 }
 
 }  // namespace d2vdb::python

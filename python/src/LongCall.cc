@@ -60,9 +60,6 @@ void runLongCall(const py::object& progress, int threads,
   if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
     throw InputError("progress must be None or a callable(stage, fraction)");
   }
-  if (threads < 0) {
-    throw InputError("threads must be 0 (all cores) or positive; got " + std::to_string(threads));
-  }
   auto state = std::make_shared<CallState>();
   const ProgressCallback report = [state, &progress](std::string_view stage, double fraction) {
     if (state->stop.load()) throw CallStopped();

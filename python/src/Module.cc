@@ -41,6 +41,7 @@ PYBIND11_MODULE(_d2vdb, module) {
   bindLevelSet(module);
   bindField(module);
   bindSplines(module);
+  bindSupport(module);
   bindLoad(module);
   bindFit(module);
   bindMeasure(module);
