@@ -146,8 +146,7 @@ class ExactSigns {
     report_.reorientedTriangles = mesh_.reorientedTriangles;
     report_.watertight = mesh_.watertight;
     report_.holesClosed = mesh_.capLoops;
-    // Every pair is tested (not just up to the first crossing): the pocket rule needs to know
-    // which triangles meet others.
+    // The pocket rule needs to know which triangles meet others, not only whether some do.
     intersecting_ = detail::selfIntersectingTriangles(
         mesh_.points, mesh_.triangles, mesh_.degenerate, closed_.hierarchy(), 1e-10 * largest);
     report_.selfIntersecting =

@@ -184,8 +184,8 @@ bool trianglesIntersect(const std::vector<Eigen::Vector3d>& points, const Triang
 
 namespace {
 
-// Calls onPair(t, u) (triangle indices) for intersecting pairs, in parallel over the BVH's leaves;
-// stops when onPair returns true. Every intersecting pair is reported once unless stopped.
+// Calls onPair(t, u) (triangle indices) for every intersecting pair, once, in parallel over the
+// BVH's leaves.
 template <typename OnPair>
 void forEachIntersectingPair(const std::vector<Eigen::Vector3d>& points,
                              const std::vector<TriangleIndices>& triangles,
@@ -228,11 +228,9 @@ void forEachIntersectingPair(const std::vector<Eigen::Vector3d>& points,
   // Leaf against leaf: each leaf meets the leaves (its own included) whose boxes overlap its
   // own, taking each pair of leaves once (from the lower node index). A subtree's nodes occupy a
   // contiguous index range [index, end), so subtrees entirely below the leaf are skipped.
-  std::atomic<bool> stopped{false};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 16), [&](const auto& range) {
     std::array<std::uint32_t, 2> stack[128];
     for (std::size_t n = range.begin(); n != range.end(); ++n) {
-      if (stopped.load(std::memory_order_relaxed)) return;
       const std::uint32_t self = leaves[n];
       const TriangleBvh::Node& leaf = nodes[self];
       const Vector low = leaf.low - Vector::Constant(tolerance);
@@ -252,10 +250,7 @@ void forEachIntersectingPair(const std::vector<Eigen::Vector3d>& points,
         }
         for (std::uint32_t i = leaf.begin; i < leaf.end; ++i) {
           for (std::uint32_t j = index == self ? i + 1 : node.begin; j < node.end; ++j) {
-            if (pairIntersects(i, j) && onPair(order[i], order[j])) {
-              stopped.store(true, std::memory_order_relaxed);
-              return;
-            }
+            if (pairIntersects(i, j)) onPair(order[i], order[j]);
           }
         }
       }
@@ -264,19 +259,6 @@ void forEachIntersectingPair(const std::vector<Eigen::Vector3d>& points,
 }
 
 }  // namespace
-
-bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
-                         const std::vector<TriangleIndices>& triangles,
-                         const std::vector<bool>& degenerate, const TriangleBvh& bvh,
-                         double tolerance) {
-  std::atomic<bool> found{false};
-  forEachIntersectingPair(points, triangles, degenerate, bvh, tolerance,
-                          [&found](std::uint32_t, std::uint32_t) {
-                            found.store(true, std::memory_order_relaxed);
-                            return true;
-                          });
-  return found.load();
-}
 
 std::vector<bool> selfIntersectingTriangles(const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<TriangleIndices>& triangles,
@@ -287,7 +269,6 @@ std::vector<bool> selfIntersectingTriangles(const std::vector<Eigen::Vector3d>& 
                           [&marks](std::uint32_t t, std::uint32_t u) {
                             marks[t].store(true, std::memory_order_relaxed);
                             marks[u].store(true, std::memory_order_relaxed);
-                            return false;
                           });
   std::vector<bool> intersecting(triangles.size());
   for (std::size_t t = 0; t < triangles.size(); ++t) intersecting[t] = marks[t].load();

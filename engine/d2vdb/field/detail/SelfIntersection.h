@@ -1,4 +1,4 @@
-// Whether a triangle mesh intersects itself.
+// Which triangles of a mesh meet others (whether the mesh intersects itself).
 #pragma once
 
 #include <Eigen/Core>
@@ -9,22 +9,14 @@
 
 namespace d2vdb::detail {
 
-/// Whether two non-degenerate triangles meet anywhere but in the corners or the edge they share
-/// (by index): crossing or touching triangles, overlapping coplanar ones, an edge folded flat onto
-/// its neighbour, two triangles on the same three corners. Conservative: configurations closer
-/// than `tolerance` (absolute, in the points' units) to touching count as intersecting, so that
-/// rounding can only ever add an intersection, never hide one. Triangles marked `degenerate` are
-/// left out (they enclose nothing). Parallel (TBB) over the BVH's leaves, each tested against the
-/// leaves whose boxes overlap its own, then triangle boxes, then the pairwise test below; the
-/// answer does not depend on the thread count.
-bool hasSelfIntersection(const std::vector<Eigen::Vector3d>& points,
-                         const std::vector<TriangleIndices>& triangles,
-                         const std::vector<bool>& degenerate, const TriangleBvh& bvh,
-                         double tolerance);
-
-/// Per triangle: whether it meets another triangle as hasSelfIntersection() decides (every pair
-/// tested, no early exit: about the cost of hasSelfIntersection() on a mesh without any). The
-/// answer does not depend on the thread count.
+/// Per triangle: whether it meets another triangle anywhere but in the corners or the edge they
+/// share (by index): crossing or touching triangles, overlapping coplanar ones, an edge folded
+/// flat onto its neighbour, two triangles on the same three corners. Conservative:
+/// configurations closer than `tolerance` (absolute, in the points' units) to touching count as
+/// intersecting, so that rounding can only ever add an intersection, never hide one. Triangles
+/// marked `degenerate` are left out (they enclose nothing). Parallel (TBB) over the BVH's leaves,
+/// each tested against the leaves whose boxes overlap its own, then triangle boxes, then the
+/// pairwise test below; the answer does not depend on the thread count.
 std::vector<bool> selfIntersectingTriangles(const std::vector<Eigen::Vector3d>& points,
                                             const std::vector<TriangleIndices>& triangles,
                                             const std::vector<bool>& degenerate,
