@@ -1,5 +1,6 @@
 // End-to-end tests of 'd2vdb project' and 'd2vdb hausdorff': the worked examples of Chen et al.
-// (2010) through the command line, JSON keys, the SVG drawing, exit codes.
+// (2010) through the command line, JSON keys, the SVG drawing, exit codes; meshes, points and
+// level sets against each other with the heat map and histogram.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -142,6 +143,98 @@ TEST_F(HausdorffCliTest, BadInputsExitWithTwoAndUsageErrorsWithOne) {
                 .exitCode,
             2);
   EXPECT_FALSE(fs::exists(scratch_ / "never.svg"));
+}
+
+// Two boxes worked by hand: A = [0,1]^3, B = [0,2] x [0,1]^2: h(A -> B) = 1/2 (A's face x = 1 lies
+// inside B, its centre 1/2 from B's sides), h(B -> A) = 1 (B's face x = 2).
+std::string boxObj(double length) {
+  std::string obj;
+  for (int corner = 0; corner < 8; ++corner) {
+    obj += "v " + std::to_string(corner & 1 ? length : 0.0) + " " +
+           std::to_string(corner & 2 ? 1.0 : 0.0) + " " + std::to_string(corner & 4 ? 1.0 : 0.0) +
+           "\n";
+  }
+  obj +=
+      "f 1 3 2\nf 2 3 4\nf 5 6 7\nf 6 8 7\nf 1 2 5\nf 2 6 5\nf 3 7 4\nf 4 7 8\nf 1 5 3\n"
+      "f 3 5 7\nf 2 4 6\nf 4 8 6\n";
+  return obj;
+}
+
+TEST_F(HausdorffCliTest, MeshesByHandWithHeatmapAndHistogram) {
+  write("a.obj", boxObj(1.0));
+  write("b.obj", boxObj(2.0));
+  const CliResult result =
+      run("hausdorff " + path("a.obj") + " " + path("b.obj") + " --tolerance 1e-9 --heatmap " +
+          path("heat.ply") + " --histogram " + path("hist.svg") + " --json --quiet");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report.at("method"), "branch and bound");
+  EXPECT_LE(report.at("lower_bound").get<double>(), 1.0);
+  EXPECT_GE(report.at("upper_bound").get<double>(), 1.0);
+  EXPECT_LE(report.at("upper_bound").get<double>() - report.at("lower_bound").get<double>(), 1e-9);
+  EXPECT_EQ(report.at("larger_direction"), "b_to_a");
+  const nlohmann::json& forward = report.at("a_to_b");
+  EXPECT_LE(forward.at("lower_bound").get<double>(), 0.5);
+  EXPECT_GE(forward.at("upper_bound").get<double>(), 0.5);
+  EXPECT_NEAR(forward.at("from_point").at(0).get<double>(), 1.0, 1e-6);
+  for (const char* key : {"tolerance", "diagonal", "shape_a", "shape_b", "b_to_a", "seconds",
+                          "converged", "heatmap", "histogram"}) {
+    EXPECT_TRUE(report.contains(key)) << key;
+  }
+  for (const char* key : {"primitives_refined", "depth", "to_point", "distance"}) {
+    EXPECT_TRUE(forward.contains(key)) << key;
+  }
+  EXPECT_EQ(report.at("shape_a").at("kind"), "mesh");
+  const std::string ply = readWholeFile(scratch_ / "heat.ply");
+  EXPECT_NE(ply.find("property float distance"), std::string::npos);
+  EXPECT_NE(ply.find("property uchar red"), std::string::npos);
+  EXPECT_NE(ply.find("element vertex 8"), std::string::npos);
+  const std::string svg = readWholeFile(scratch_ / "hist.svg");
+  EXPECT_NE(svg.find("<rect"), std::string::npos);
+  EXPECT_NE(svg.find("vertices"), std::string::npos);
+}
+
+TEST_F(HausdorffCliTest, PointsAgainstALevelSetAndTextReport) {
+  // The bundled bunny against its level set's marching-cubes mesh: a text answer.
+  const std::string volumes = std::string(D2VDB_SOURCE_DIR) + "/volumes/";
+  write("points.xyz", "0 0 0\n");
+  const CliResult result = run("hausdorff " + volumes + "bunny.obj " + volumes + "bunny.vdb");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("Hausdorff distance H(A, B) in ["), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("marching-cubes mesh"), std::string::npos) << result.out;
+  write("a.obj", boxObj(1.0));
+  const CliResult inside =
+      run("hausdorff " + path("points.xyz") + " " + path("a.obj") + " --one-sided --json");
+  ASSERT_EQ(inside.exitCode, 0) << inside.err;
+  const nlohmann::json report = nlohmann::json::parse(inside.out);
+  EXPECT_EQ(report.at("lower_bound").get<double>(), 0.0);  // the origin is a box corner
+  EXPECT_LE(report.at("upper_bound").get<double>(), 1e-6 * std::sqrt(3.0));
+  EXPECT_FALSE(report.contains("b_to_a"));
+}
+
+TEST_F(HausdorffCliTest, ShapeMisuseExitsWithTwoAndWritesNothing) {
+  write("a.obj", boxObj(1.0));
+  write("empty.xyz", "");
+  EXPECT_EQ(run("hausdorff " + path("a.obj") + " " + path("empty.xyz")).exitCode, 2);
+  write("nan.xyz", "0 nan 0\n");
+  EXPECT_EQ(
+      run("hausdorff " + path("a.obj") + " " + path("nan.xyz") + " --heatmap " + path("never.ply"))
+          .exitCode,
+      2);
+  EXPECT_FALSE(fs::exists(scratch_ / "never.ply"));
+  EXPECT_EQ(
+      run("hausdorff " + path("a.obj") + " " + path("a.obj") + " --svg " + path("x.svg")).exitCode,
+      2);
+  EXPECT_EQ(
+      run("hausdorff " + path("a.json") + " " + path("b.json") + " --heatmap " + path("x.ply"))
+          .exitCode,
+      2);
+  EXPECT_EQ(run("hausdorff " + path("a.obj") + " " + path("a.obj") + " --tolerance 0").exitCode, 1);
+  EXPECT_EQ(run("hausdorff " + path("a.obj") + " " + path("a.obj") + " --heatmap " + path("x.obj"))
+                .exitCode,
+            2);  // the heat map is a PLY
+  EXPECT_FALSE(fs::exists(scratch_ / "x.ply"));
+  EXPECT_FALSE(fs::exists(scratch_ / "x.svg"));
 }
 
 }  // namespace

@@ -14,7 +14,8 @@
 namespace d2vdb {
 namespace {
 
-bool isBlank(char c) {
+// A blank that separates numbers within one line (the line breaks are gone already).
+bool isBlankWithinLine(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
@@ -75,10 +76,10 @@ std::vector<Eigen::Vector3d> parseXyz(std::string_view text, const std::string& 
     std::string_view tokens[3];
     int count = 0;
     while (count < 3) {
-      while (!line.empty() && isBlank(line.front())) line.remove_prefix(1);
+      while (!line.empty() && isBlankWithinLine(line.front())) line.remove_prefix(1);
       if (line.empty()) break;
       std::size_t stop = 0;
-      while (stop < line.size() && !isBlank(line[stop])) ++stop;
+      while (stop < line.size() && !isBlankWithinLine(line[stop])) ++stop;
       tokens[count++] = line.substr(0, stop);
       line.remove_prefix(stop);
     }
