@@ -237,4 +237,40 @@ TEST_F(HausdorffCliTest, ShapeMisuseExitsWithTwoAndWritesNothing) {
   EXPECT_FALSE(fs::exists(scratch_ / "x.svg"));
 }
 
+TEST_F(HausdorffCliTest, ASplineSurfaceAgainstAMeshBothWays) {
+  // The biquadratic bump z = 2 (2u(1-u)) (2v(1-v)) over the unit square against the square
+  // (two triangles): h(bump -> square) = 1/2 at the top. The other way the square's middle is
+  // farthest from the bump, which rises over it.
+  write("bump.json",
+        R"({"type": "bspline_surface", "version": 1, "degree_u": 2, "degree_v": 2,
+            "knots_u": [0, 0, 0, 1, 1, 1], "knots_v": [0, 0, 0, 1, 1, 1],
+            "control_points": [[[0, 0, 0], [0, 0.5, 0], [0, 1, 0]],
+                               [[0.5, 0, 0], [0.5, 0.5, 2], [0.5, 1, 0]],
+                               [[1, 0, 0], [1, 0.5, 0], [1, 1, 0]]]})");
+  write("square.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4\nf 1 4 3\n");
+  const CliResult oneSided =
+      run("hausdorff " + path("bump.json") + " " + path("square.obj") +
+          " --one-sided --tolerance 1e-9 --heatmap " + path("bump.ply") + " --json --quiet");
+  ASSERT_EQ(oneSided.exitCode, 0) << oneSided.err;
+  const nlohmann::json report = nlohmann::json::parse(oneSided.out);
+  EXPECT_LE(report.at("lower_bound").get<double>(), 0.5);
+  EXPECT_GE(report.at("upper_bound").get<double>(), 0.5);
+  EXPECT_LE(report.at("upper_bound").get<double>() - report.at("lower_bound").get<double>(), 1e-9);
+  EXPECT_EQ(report.at("shape_a").at("kind"), "surface");
+  EXPECT_EQ(report.at("shape_a").at("approximation_error").get<double>(), 0.0);  // exact nets
+  EXPECT_NE(readWholeFile(scratch_ / "bump.ply").find("element vertex 10201"), std::string::npos);
+
+  const CliResult both = run("hausdorff " + path("bump.json") + " " + path("square.obj") +
+                             " --tolerance 1e-3 --json --quiet");
+  ASSERT_EQ(both.exitCode, 0) << both.err;
+  const nlohmann::json twoSided = nlohmann::json::parse(both.out);
+  const nlohmann::json& back = twoSided.at("b_to_a");
+  EXPECT_LE(back.at("upper_bound").get<double>() - back.at("lower_bound").get<double>(), 1e-3);
+  EXPECT_NEAR(back.at("from_point").at(0).get<double>(), 0.5, 0.05);
+  EXPECT_NEAR(back.at("from_point").at(1).get<double>(), 0.5, 0.05);
+  EXPECT_GE(twoSided.at("upper_bound").get<double>(), 0.5);
+  EXPECT_LE(twoSided.at("lower_bound").get<double>(), 0.5);
+  EXPECT_GT(twoSided.at("shape_a").at("approximation_error").get<double>(), 0.0);
+}
+
 }  // namespace

@@ -204,7 +204,7 @@ TEST_F(OutputChecksCliTest, NamedInitialShapesAndMissingArgumentsAreExplained) {
   EXPECT_FALSE(fs::exists(file("o.json")));
   const CliResult hausdorff = run("hausdorff " + path("curve.json"));
   EXPECT_EQ(hausdorff.exitCode, 1);
-  EXPECT_NE(hausdorff.err.find("missing b: Second curve"), std::string::npos) << hausdorff.err;
+  EXPECT_NE(hausdorff.err.find("missing b: Shape B"), std::string::npos) << hausdorff.err;
 }
 
 TEST_F(OutputChecksCliTest, ValuesOpenVdbCannotRepresentAreRefusedUpFront) {

@@ -272,6 +272,53 @@ TEST(MeshHausdorff, ACurveAgainstASurfaceItLiesOn) {
   EXPECT_LE(back.upper - back.lower, 1e-8);
 }
 
+TEST(MeshHausdorff, BezierNetsAreMeasuredExactly) {
+  // The parabola y = 4 t (1 - t), x = 2 t (a quadratic Bézier curve) against the segment from
+  // (0, 0) to (2, 0): its apex (1, 1) is farthest, at distance 1.
+  HausdorffShape parabola;
+  parabola.nets.push_back({2, 0, {{0, 0, 0}, {1, 2, 0}, {2, 0, 0}}});
+  HausdorffShape segment;
+  segment.points = {{0, 0, 0}, {2, 0, 0}};
+  segment.triangles = {{0, 1, 1}};
+  const DirectedHausdorffBracket curve = directedHausdorff(parabola, segment, 1e-9);
+  EXPECT_LE(curve.lower, 1.0);
+  EXPECT_GE(curve.upper, 1.0);
+  EXPECT_LE(curve.upper - curve.lower, 1e-9);
+  EXPECT_NEAR(curve.witness.x(), 1.0, 1e-4);
+  EXPECT_TRUE(curve.converged);
+
+  // A biquadratic bump z = 2 (2s(1-s)) (2t(1-t)) over the unit square against the square: the
+  // top (1/2, 1/2, 1/2) is farthest, at distance 1/2.
+  BezierNet bump{2, 2, {}};
+  for (int a = 0; a <= 2; ++a) {
+    for (int b = 0; b <= 2; ++b)
+      bump.controls.emplace_back(0.5 * a, 0.5 * b, a == 1 && b == 1 ? 2.0 : 0.0);
+  }
+  HausdorffShape patch;
+  patch.nets.push_back(bump);
+  HausdorffShape square;
+  square.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  square.triangles = {{0, 1, 3}, {0, 3, 2}};
+  const DirectedHausdorffBracket surface = directedHausdorff(patch, square, 1e-9);
+  EXPECT_LE(surface.lower, 0.5);
+  EXPECT_GE(surface.upper, 0.5);
+  EXPECT_LE(surface.upper - surface.lower, 1e-9);
+  EXPECT_NEAR(surface.witness.z(), 0.5, 1e-6);
+
+  // The same bump from a B-spline: nets alone (maxError 0) need no tessellation.
+  Points grid;
+  for (const Eigen::Vector3d& point : bump.controls) grid.push_back(point);
+  const HausdorffShape spline =
+      hausdorffShapeOfSurface(BSplineSurface::clamped(2, 2, 3, 3, grid), 0.0);
+  EXPECT_TRUE(spline.triangles.empty());
+  ASSERT_EQ(spline.nets.size(), 1u);
+  const DirectedHausdorffBracket again = directedHausdorff(spline, square, 1e-9);
+  EXPECT_EQ(again.lower, surface.lower);
+  EXPECT_EQ(again.upper, surface.upper);
+  test::expectInputError([&] { directedHausdorff(square, spline, 1e-6); },
+                         {"without a tessellation"});
+}
+
 TEST(HausdorffShape, TheTessellationErrorBoundHolds) {
   // A curved bicubic patch: every dense sample of the exact surface lies within the certified
   // error of the triangles.

@@ -17,6 +17,7 @@
 #include "d2vdb/measure/MeshHausdorff.h"
 #include "d2vdb/mesh/DistanceColors.h"
 #include "d2vdb/mesh/MeshIO.h"
+#include "d2vdb/mesh/SurfaceTessellation.h"
 #include "d2vdb/plot/Histogram.h"
 #include "d2vdb/plot/SvgCanvas.h"
 #include "d2vdb/spline/CurvePolyline.h"
@@ -237,9 +238,10 @@ ShapePair shapesOf(const HausdorffArguments& args, const HausdorffInput& a,
   const bool relative = args.relative || args.tolerance <= 0.0;
   pair.tolerance = relative ? requested * (pair.diagonal > 0.0 ? pair.diagonal : 1.0) : requested;
   if (args.maxDepth > 40) throw InputError("--max-depth must be at most 40 for these shapes");
-  // Splines are tessellated to an eighth of the tolerance each: the bracket of the triangles then
-  // has half the tolerance left.
-  pair.a = hausdorffShapeOf(a, pair.tolerance / 8.0);
+  // A spline is measured from by its Bézier nets (exactly) and measured to by triangles within an
+  // eighth of the tolerance (the bracket then has at least half the tolerance left); one-sided,
+  // A is only measured from and needs no triangles.
+  pair.a = hausdorffShapeOf(a, args.oneSided ? 0.0 : pair.tolerance / 8.0);
   pair.b = hausdorffShapeOf(b, pair.tolerance / 8.0);
   return pair;
 }
@@ -276,12 +278,34 @@ std::string bracketText(const std::string& name, const DirectedHausdorffBracket&
   return text.str();
 }
 
-/// A's distances at its shape's points: the heat map's vertices and the histogram's values.
-void writeDistanceOutputs(const HausdorffArguments& args, const HausdorffShape& shape,
+TriangleMesh curveSamples(const BSplineCurve& curve) {
+  TriangleMesh samples;
+  for (const Eigen::Vector3d& point : curve.sample(1001))
+    samples.positions.push_back(point.cast<float>());
+  return samples;
+}
+
+std::vector<Eigen::Vector3d> positionsOf(const TriangleMesh& mesh) {
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(mesh.positions.size());
+  for (const Eigen::Vector3f& position : mesh.positions)
+    positions.push_back(position.cast<double>());
+  return positions;
+}
+
+/// A's distances to B at its points (a spline's at a display tessellation: 101 x 101 samples of a
+/// surface, 1001 of a curve): the heat map's vertices and the histogram's values.
+void writeDistanceOutputs(const HausdorffArguments& args, const HausdorffInput& input,
+                          const HausdorffShape& shape, const HausdorffShape& target,
                           const DirectedHausdorffBracket& aToB, const CommandContext& context) {
+  if (args.heatmap.empty() && args.histogram.empty()) return;
+  // A's own vertices, or for a spline a display tessellation of it.
+  const TriangleMesh mesh = input.surface ? tessellate(*input.surface, 101, 101)
+                            : input.curve ? curveSamples(*input.curve)
+                                          : meshOfShape(shape);
+  const std::vector<double> distances =
+      shape.nets.empty() ? aToB.pointDistances : pointDistancesTo(target, positionsOf(mesh));
   if (!args.heatmap.empty()) {
-    const TriangleMesh mesh = meshOfShape(shape);  // the shape's points, in order
-    const std::vector<double>& distances = aToB.pointDistances;
     const double largest = *std::max_element(distances.begin(), distances.end());
     VertexAttributes attributes;
     attributes.scalarName = "distance";
@@ -298,7 +322,7 @@ void writeDistanceOutputs(const HausdorffArguments& args, const HausdorffShape& 
     labels.xAxis = "distance (world units)";
     labels.yAxis = "vertices";
     labels.description = "d2vdb hausdorff " + args.a + " " + args.b;
-    histogramPlot(aToB.pointDistances, kHistogramBins, labels).write(args.histogram);
+    histogramPlot(distances, kHistogramBins, labels).write(args.histogram);
     printSummaryLineNow(context, "wrote " + args.histogram);
   }
 }
@@ -326,7 +350,7 @@ Report runShapeHausdorff(const HausdorffArguments& args, const HausdorffInput& i
     if (!bracket->warning.empty()) warnings.push_back(bracket->warning);
   }
   for (const std::string& message : warnings) warning(message);
-  writeDistanceOutputs(args, pair.a, result.aToB, context);
+  writeDistanceOutputs(args, inputA, pair.a, pair.b, result.aToB, context);
 
   nlohmann::json json = {
       {"a", args.a},

@@ -20,10 +20,9 @@ constexpr double kMaxTessellationPrimitives = 5e7;
 constexpr double kParameterSlack = 1e-12;
 
 void requireTolerance(double maxError, const char* what) {
-  if (!(maxError > 0.0) || !std::isfinite(maxError)) {
+  if (!(maxError >= 0.0) || !std::isfinite(maxError)) {
     throw InputError(std::string("the tessellation error of a ") + what +
-                     " must be a positive finite number of world units, not " +
-                     formatNumber(maxError));
+                     " must be a finite number of world units >= 0, not " + formatNumber(maxError));
   }
 }
 
@@ -162,6 +161,17 @@ HausdorffShape hausdorffShapeOfPoints(const std::vector<Eigen::Vector3d>& points
 HausdorffShape hausdorffShapeOfCurve(const BSplineCurve& curve, double maxError) {
   requireTolerance(maxError, "curve");
   const std::vector<BezierSegment> segments = curve.openRepresentation().toBezierSegments();
+  HausdorffShape shape;
+  for (const BezierSegment& segment : segments) {
+    BezierNet net;
+    net.degreeU = segment.curve.degree();
+    for (int k = 0; k <= net.degreeU; ++k) net.controls.push_back(segment.curve.controlPoint(k));
+    shape.nets.push_back(std::move(net));
+  }
+  if (maxError == 0.0) {
+    shape.description = "B-spline curve (Bézier segments)";
+    return shape;
+  }
   std::vector<int> steps;
   double total = 0.0, rounding = 0.0;
   for (const BezierSegment& segment : segments) {
@@ -176,7 +186,6 @@ HausdorffShape hausdorffShapeOfCurve(const BSplineCurve& curve, double maxError)
     steps.push_back(std::max(1, static_cast<int>(needed)));
     rounding = std::max(rounding, evaluationRounding(p, largestNorm(controls)));
   }
-  HausdorffShape shape;
   shape.approximationError = maxError + rounding;
   shape.description = describedTessellation("B-spline curve", shape.approximationError);
   for (std::size_t piece = 0; piece < segments.size(); ++piece) {
@@ -195,6 +204,14 @@ HausdorffShape hausdorffShapeOfCurve(const BSplineCurve& curve, double maxError)
 HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double maxError) {
   requireTolerance(maxError, "surface");
   const std::vector<BezierPatch> patches = toBezierPatches(surface);
+  HausdorffShape shape;
+  for (const BezierPatch& patch : patches) {
+    shape.nets.push_back({patch.degreeU, patch.degreeV, patch.controlPoints});
+  }
+  if (maxError == 0.0) {
+    shape.description = "B-spline surface (Bézier patches)";
+    return shape;
+  }
   std::vector<std::pair<int, int>> grids;
   double total = 0.0, rounding = 0.0;
   for (const BezierPatch& patch : patches) {
@@ -204,7 +221,6 @@ HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double max
     rounding = std::max(rounding, evaluationRounding(patch.degreeU + patch.degreeV,
                                                      largestNorm(patch.controlPoints)));
   }
-  HausdorffShape shape;
   double reached = 0.0;
   for (std::size_t piece = 0; piece < patches.size(); ++piece) {
     const auto [cellsU, cellsV] = grids[piece];

@@ -14,6 +14,16 @@
 
 namespace d2vdb {
 
+/// One polynomial piece of a spline as its Bézier control net: a curve segment (degreeV = 0,
+/// degreeU + 1 points) or a tensor-product patch ((degreeU + 1) (degreeV + 1) points, index
+/// a (degreeV + 1) + b). The piece lies in the convex hull of its net, and the net's corner points
+/// lie on it.
+struct BezierNet {
+  int degreeU = 1;
+  int degreeV = 0;
+  std::vector<Eigen::Vector3d> controls;
+};
+
 /// A compact set as a union of closed triangles over `points` (world units). A triangle may be
 /// degenerate: (a, b, b) is the segment ab and (a, a, a) the point a. `approximationError` bounds
 /// the Hausdorff distance between these triangles and the shape they were made from (0 when they
@@ -24,6 +34,10 @@ struct HausdorffShape {
   std::vector<TriangleIndices> triangles;
   double approximationError = 0.0;  ///< world units, >= 0
   std::string description;          ///< what the triangles are, for reports: "mesh", ...
+  /// A spline's Bézier pieces (empty for meshes and points): the exact shape, which the Hausdorff
+  /// refinement splits when the shape is the one measured from (the triangles, which may then be
+  /// absent, serve when it is measured to).
+  std::vector<BezierNet> nets;
 };
 
 /// The mesh's triangles (positions converted to double, exactly). InputError for a mesh without
@@ -38,7 +52,8 @@ HausdorffShape hausdorffShapeOfPoints(const std::vector<Eigen::Vector3d>& points
 /// with h^2 / 8 max_k |p (p - 1) (P_k+2 - 2 P_k+1 + P_k)| <= maxError (the error of linear
 /// interpolation, |f - I f| <= h^2 / 8 max |f''|, with the second derivative inside the convex
 /// hull of its own control points), plus the rounding of the evaluation. InputError for a
-/// non-positive or non-finite maxError, or one that would need more than 5e7 segments.
+/// non-finite or negative maxError, or one that would need more than 5e7 segments. `nets` holds
+/// the Bézier segments; maxError = 0 gives the nets alone (no segments).
 HausdorffShape hausdorffShapeOfCurve(const BSplineCurve& curve, double maxError);
 
 /// The surface as triangles, `maxError` (world units, > 0) from it: each Bézier patch of degrees
@@ -46,7 +61,8 @@ HausdorffShape hausdorffShapeOfCurve(const BSplineCurve& curve, double maxError)
 /// (hu^2 Muu + 2 hu hv Muv + hv^2 Mvv) / 2 <= maxError, where Muu, Muv, Mvv bound the second
 /// derivatives by their control points (p (p - 1) |second differences in u|, ...): Taylor's
 /// theorem at the point against each corner of its triangle, the gradient terms cancelling in the
-/// barycentric combination. InputError as hausdorffShapeOfCurve(), at 5e7 triangles.
+/// barycentric combination. InputError as hausdorffShapeOfCurve(), at 5e7 triangles; `nets` holds
+/// the Bézier patches, and maxError = 0 gives them alone.
 HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double maxError);
 
 /// The diagonal of the bounding box of both shapes' points (world units; 0 for two equal points).

@@ -78,14 +78,26 @@ struct CertifiedHausdorff {
 ///  - The shapes' approximationError (tessellated splines) widens each bracket by the sum of both
 ///    shapes' errors: H moves by at most that much between the shapes and their triangles.
 ///
+///  - A shape with Bézier nets (a spline) is measured from by its nets, exactly (see
+///    directedHausdorff()), and measured to by its triangles.
+///
 /// InputError for a shape without primitives, a non-finite coordinate, or an option out of range.
 /// A progress callback may throw to stop the computation.
 CertifiedHausdorff certifiedHausdorff(const HausdorffShape& a, const HausdorffShape& b,
                                       const CertifiedHausdorffOptions& options = {});
 
-/// One direction only: h(from -> to), with `tolerance` in world units (> 0).
+/// One direction only: h(from -> to), with `tolerance` in world units (> 0). `from` may be a
+/// spline given by its Bézier nets only (HausdorffShape::nets, no triangles): its pieces are then
+/// the nets' sub-patches, bounded by their control points (the convex hull property) and split
+/// by de Casteljau's algorithm, so the bracket is exact for the spline and needs no tessellation.
+/// `to` needs triangles.
 DirectedHausdorffBracket directedHausdorff(const HausdorffShape& from, const HausdorffShape& to,
                                            double tolerance,
                                            const CertifiedHausdorffOptions& options = {});
+
+/// Certified upper bounds of the distance from each point to the triangles of `to` (world units,
+/// in order; within rounding of the exact distance): a heat map's values. InputError as above.
+std::vector<double> pointDistancesTo(const HausdorffShape& to,
+                                     const std::vector<Eigen::Vector3d>& points);
 
 }  // namespace d2vdb
