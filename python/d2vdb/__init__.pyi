@@ -176,5 +176,10 @@ def fit_surface(target: Union[Field, Surface, PointSet, ArrayLike], initial: Uni
                 reparametrize: bool = ..., threads: int = ..., progress: Progress = ...,
                 **options: Any) -> FitResult: ...
 
+def certified_hausdorff(a: Union[Mesh, LevelSet, Curve, Surface, PointSet, ArrayLike],
+                        b: Union[Mesh, LevelSet, Curve, Surface, PointSet, ArrayLike], *,
+                        tolerance: float = ..., relative: bool = ..., one_sided: bool = ...,
+                        max_depth: int = ..., threads: int = ...,
+                        progress: Progress = ...) -> Dict[str, Any]: ...
 def hausdorff(a: Curve, b: Curve, *, tolerance: float = ..., max_depth: int = ..., one_sided: bool = ...,
               threads: int = ..., progress: Progress = ...) -> Dict[str, Any]: ...

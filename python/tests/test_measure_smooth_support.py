@@ -103,3 +103,28 @@ def test_support_function_of_a_sphere_and_its_exact_offsets():
     np.testing.assert_allclose(np.linalg.norm(offset.vertices - center, axis=1), 1.5, atol=1e-6)
     with pytest.raises(d2vdb.InputError, match="normals"):
         d2vdb.SupportFunction.fit(center + 2.0 * normals)
+
+
+def test_certified_hausdorff_of_meshes_brackets_a_translation_and_equals_the_command(tmp_path):
+    # The unit box and its copy moved by t outward at the corner (1, 1, 1): H = |t| exactly.
+    corners = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], float)
+    faces = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3),
+             (3, 6, 7), (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
+    shift = np.array([0.125, 0.25, 0.375])
+    box, moved = d2vdb.Mesh(corners, faces), d2vdb.Mesh(corners + shift, faces)
+    result = d2vdb.certified_hausdorff(box, moved, tolerance=1e-9)
+    assert result["lower_bound"] <= np.linalg.norm(shift) <= result["upper_bound"]
+    assert result["upper_bound"] - result["lower_bound"] <= 1e-9
+    assert result["a_to_b"]["point_distances"].shape == (8,)
+    # Points and one direction; the same numbers as the command.
+    far = d2vdb.certified_hausdorff([[0.5, 0.5, 3.0]], box, one_sided=True, tolerance=1e-9)
+    assert far["lower_bound"] == pytest.approx(2.0, abs=1e-9)
+    assert "b_to_a" not in far
+    box.save(tmp_path / "a.obj")
+    moved.save(tmp_path / "b.obj")
+    report = json.loads(run_cli("hausdorff", tmp_path / "a.obj", tmp_path / "b.obj",
+                                "--tolerance", "1e-9", "--json").stdout)
+    assert report["lower_bound"] == result["lower_bound"]
+    assert report["upper_bound"] == result["upper_bound"]
+    with pytest.raises(d2vdb.InputError):
+        d2vdb.certified_hausdorff(box, np.zeros((0, 3)))

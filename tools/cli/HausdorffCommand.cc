@@ -35,9 +35,8 @@ struct HausdorffArguments {
 
 /// Significant digits of the text report.
 constexpr int kDistanceDigits = 15;
-/// Defaults of --tolerance, relative to the pair's bounding-box diagonal.
+/// Default of --tolerance for two curves, relative to their size (other shapes: HausdorffRequest).
 constexpr double kDefaultCurveTolerance = 1e-10;
-constexpr double kDefaultShapeTolerance = 1e-6;
 /// Bins of the --histogram chart.
 constexpr int kHistogramBins = 40;
 
@@ -221,31 +220,6 @@ Report runCurveHausdorff(const HausdorffArguments& args, const BSplineCurve& a,
 
 // ---- Meshes, points, level sets and splines in any other pairing ----
 
-/// Both inputs, their triangles, and the absolute tolerance.
-struct ShapePair {
-  HausdorffShape a, b;
-  double tolerance = 0.0;
-  double diagonal = 0.0;
-};
-
-ShapePair shapesOf(const HausdorffArguments& args, const HausdorffInput& a,
-                   const HausdorffInput& b) {
-  Eigen::AlignedBox3d box = a.bounds;
-  box.extend(b.bounds);
-  ShapePair pair;
-  pair.diagonal = box.diagonal().norm();
-  const double requested = args.tolerance > 0.0 ? args.tolerance : kDefaultShapeTolerance;
-  const bool relative = args.relative || args.tolerance <= 0.0;
-  pair.tolerance = relative ? requested * (pair.diagonal > 0.0 ? pair.diagonal : 1.0) : requested;
-  if (args.maxDepth > 40) throw InputError("--max-depth must be at most 40 for these shapes");
-  // A spline is measured from by its Bézier nets (exactly) and measured to by triangles within an
-  // eighth of the tolerance (the bracket then has at least half the tolerance left); one-sided,
-  // A is only measured from and needs no triangles.
-  pair.a = hausdorffShapeOf(a, args.oneSided ? 0.0 : pair.tolerance / 8.0);
-  pair.b = hausdorffShapeOf(b, pair.tolerance / 8.0);
-  return pair;
-}
-
 nlohmann::json bracketJson(const DirectedHausdorffBracket& bracket) {
   nlohmann::json json = {{"distance", bracket.lower},
                          {"lower_bound", bracket.lower},
@@ -330,21 +304,15 @@ void writeDistanceOutputs(const HausdorffArguments& args, const HausdorffInput& 
 Report runShapeHausdorff(const HausdorffArguments& args, const HausdorffInput& inputA,
                          const HausdorffInput& inputB, const Stopwatch& clock,
                          const CommandContext& context) {
-  const ShapePair pair = shapesOf(args, inputA, inputB);
-  CertifiedHausdorffOptions options;
-  options.tolerance = pair.tolerance;
-  options.relative = false;
-  if (args.maxDepth > 0) options.maxDepth = args.maxDepth;
-  options.progress = context.progress();
-  CertifiedHausdorff result;
-  if (args.oneSided) {
-    result.aToB = directedHausdorff(pair.a, pair.b, pair.tolerance, options);
-    result.lower = result.aToB.lower;
-    result.upper = result.aToB.upper;
-    result.tolerance = pair.tolerance;
-  } else {
-    result = certifiedHausdorff(pair.a, pair.b, options);
-  }
+  HausdorffRequest request;
+  request.tolerance = args.tolerance;
+  request.relative = args.relative;
+  request.oneSided = args.oneSided;
+  if (args.maxDepth > 40) throw InputError("--max-depth must be at most 40 for these shapes");
+  request.maxDepth = args.maxDepth;
+  request.progress = context.progress();
+  const HausdorffComparison pair = compareHausdorff(inputA, inputB, request);
+  const CertifiedHausdorff& result = pair.result;
   std::vector<std::string> warnings;
   for (const DirectedHausdorffBracket* bracket : {&result.aToB, &result.bToA}) {
     if (!bracket->warning.empty()) warnings.push_back(bracket->warning);

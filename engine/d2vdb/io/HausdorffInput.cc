@@ -1,6 +1,8 @@
 #include "d2vdb/io/HausdorffInput.h"
 
 #include "d2vdb/contour/IsoSurface.h"
+
+#include <cmath>
 #include "d2vdb/core/Error.h"
 
 namespace d2vdb {
@@ -18,18 +20,6 @@ Eigen::AlignedBox3d boxOf(const TriangleMesh& mesh) {
   return box;
 }
 
-TriangleMesh meshOfLevelSet(const LevelSetInput& levelSet, const std::filesystem::path& path,
-                            const ProgressCallback& progress) {
-  IsoSurfaceOptions options;
-  options.computeNormals = false;
-  TriangleMesh mesh = extractIsoSurface(*levelSet.grid, options, progress);
-  if (mesh.triangles.empty()) {
-    throw InputError("the level set " + path.string() +
-                     " has no zero crossing: there is no surface to compare");
-  }
-  return mesh;
-}
-
 }  // namespace
 
 InputKinds hausdorffInputKinds() {
@@ -37,40 +27,114 @@ InputKinds hausdorffInputKinds() {
           InputKind::Surface};
 }
 
+HausdorffInput hausdorffInputOfMesh(TriangleMesh mesh) {
+  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles");
+  HausdorffInput input;
+  input.kind = InputKind::Mesh;
+  input.bounds = boxOf(mesh);
+  input.mesh = std::move(mesh);
+  return input;
+}
+
+HausdorffInput hausdorffInputOfPoints(std::vector<Eigen::Vector3d> points) {
+  if (points.empty()) throw InputError("the point set is empty");
+  HausdorffInput input;
+  input.kind = InputKind::PointSet;
+  input.bounds = boxOf(points);
+  input.points = std::move(points);
+  return input;
+}
+
+HausdorffInput hausdorffInputOfLevelSet(const openvdb::GridBase& grid,
+                                        const ProgressCallback& progress) {
+  IsoSurfaceOptions options;
+  options.computeNormals = false;
+  HausdorffInput input;
+  input.kind = InputKind::LevelSet;
+  input.mesh = extractIsoSurface(grid, options, progress);
+  if (input.mesh.triangles.empty()) {
+    throw InputError("the level set has no zero crossing: there is no surface to compare");
+  }
+  input.bounds = boxOf(input.mesh);
+  return input;
+}
+
+HausdorffInput hausdorffInputOfCurve(BSplineCurve curve) {
+  HausdorffInput input;
+  input.kind = InputKind::Curve;
+  input.bounds = boxOf(curve.controlPoints());
+  input.curve = std::move(curve);
+  return input;
+}
+
+HausdorffInput hausdorffInputOfSurface(BSplineSurface surface) {
+  HausdorffInput input;
+  input.kind = InputKind::Surface;
+  input.bounds = boxOf(surface.controlPoints());
+  input.surface = std::move(surface);
+  return input;
+}
+
 HausdorffInput loadHausdorffInput(const std::filesystem::path& path, const LoadOptions& options,
                                   const ProgressCallback& progress) {
   LoadedInput loaded = loadInput(path, hausdorffInputKinds(), options);
-  HausdorffInput input;
-  input.kind = loaded.kind();
-  switch (input.kind) {
-    case InputKind::Mesh:
-      input.mesh = std::move(loaded).take<MeshInput>().mesh;
-      if (input.mesh.triangles.empty()) {
-        throw InputError("the mesh " + path.string() + " has no triangles");
-      }
-      input.bounds = boxOf(input.mesh);
-      break;
-    case InputKind::PointSet:
-      input.points = std::move(loaded).take<PointSetInput>().points;
-      if (input.points.empty()) throw InputError("the point set " + path.string() + " is empty");
-      input.bounds = boxOf(input.points);
-      break;
-    case InputKind::LevelSet:
-      input.mesh = meshOfLevelSet(std::move(loaded).take<LevelSetInput>(), path, progress);
-      input.bounds = boxOf(input.mesh);
-      break;
-    case InputKind::Curve:
-      input.curve = std::move(loaded).take<BSplineCurve>();
-      input.bounds = boxOf(input.curve->controlPoints());
-      break;
-    case InputKind::Surface:
-      input.surface = std::move(loaded).take<BSplineSurface>();
-      input.bounds = boxOf(input.surface->controlPoints());
-      break;
-    default:
-      throw RuntimeFailure("loadHausdorffInput: unexpected input kind");
+  const std::string named = " (" + path.string() + ")";
+  try {
+    switch (loaded.kind()) {
+      case InputKind::Mesh:
+        return hausdorffInputOfMesh(std::move(loaded).take<MeshInput>().mesh);
+      case InputKind::PointSet:
+        return hausdorffInputOfPoints(std::move(loaded).take<PointSetInput>().points);
+      case InputKind::LevelSet:
+        return hausdorffInputOfLevelSet(*std::move(loaded).take<LevelSetInput>().grid, progress);
+      case InputKind::Curve:
+        return hausdorffInputOfCurve(std::move(loaded).take<BSplineCurve>());
+      case InputKind::Surface:
+        return hausdorffInputOfSurface(std::move(loaded).take<BSplineSurface>());
+      default:
+        throw RuntimeFailure("loadHausdorffInput: unexpected input kind");
+    }
+  } catch (const InputError& error) {
+    throw InputError(std::string(error.what()) + named);
   }
-  return input;
+}
+
+HausdorffComparison compareHausdorff(const HausdorffInput& a, const HausdorffInput& b,
+                                     const HausdorffRequest& request) {
+  if (request.tolerance < 0.0 || !std::isfinite(request.tolerance)) {
+    throw InputError("the Hausdorff tolerance must be a positive finite number");
+  }
+  if (request.maxDepth < 0 || request.maxDepth > 40) {
+    throw InputError("the Hausdorff subdivision depth must be 1..40 for these shapes");
+  }
+  Eigen::AlignedBox3d box = a.bounds;
+  box.extend(b.bounds);
+  HausdorffComparison comparison;
+  comparison.diagonal = box.diagonal().norm();
+  const bool relative = request.relative || request.tolerance == 0.0;
+  const double requested = request.tolerance > 0.0 ? request.tolerance : 1e-6;
+  comparison.tolerance =
+      relative ? requested * (comparison.diagonal > 0.0 ? comparison.diagonal : 1.0) : requested;
+  // A spline is measured from by its Bézier nets (exactly) and measured to by triangles within an
+  // eighth of the tolerance (the bracket then has at least half the tolerance left); one-sided,
+  // A is only measured from and needs no triangles.
+  comparison.a = hausdorffShapeOf(a, request.oneSided ? 0.0 : comparison.tolerance / 8.0);
+  comparison.b = hausdorffShapeOf(b, comparison.tolerance / 8.0);
+  CertifiedHausdorffOptions options;
+  options.tolerance = comparison.tolerance;
+  options.relative = false;
+  if (request.maxDepth > 0) options.maxDepth = request.maxDepth;
+  options.progress = request.progress;
+  CertifiedHausdorff& result = comparison.result;
+  if (request.oneSided) {
+    result.aToB = directedHausdorff(comparison.a, comparison.b, comparison.tolerance, options);
+    result.lower = result.aToB.lower;
+    result.upper = result.aToB.upper;
+    result.tolerance = comparison.tolerance;
+  } else {
+    result = certifiedHausdorff(comparison.a, comparison.b, options);
+  }
+  return comparison;
 }
 
 HausdorffShape hausdorffShapeOf(const HausdorffInput& input, double tessellationError) {
