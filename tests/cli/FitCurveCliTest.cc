@@ -86,6 +86,21 @@ TEST_F(FitCurveCliTest, FitsAnEllipsePolylineWithPicturesAndComparison) {
   EXPECT_NE(plot.find("pdm ("), std::string::npos);
 }
 
+TEST_F(FitCurveCliTest, CertifyBracketsTheLargestErrorToThePolyline) {
+  // The sampled largest distance is measured to the polyline as well, so it is a lower bound of
+  // h(fit -> polyline): the certified upper bound is at least it.
+  const CliResult result =
+      run("fit-curve --target " + path("ellipse.json") + " --init circle --ctrl 12 --out " +
+          path("fitted.json") + " --certify 1e-7 --json -q");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  const nlohmann::json& certified = report.at("certified");
+  EXPECT_GE(certified.at("upper_bound").get<double>(), report.at("max_distance").get<double>());
+  EXPECT_LE(certified.at("upper_bound").get<double>() - certified.at("lower_bound").get<double>(),
+            certified.at("tolerance").get<double>());
+  EXPECT_EQ(certified.at("target_as"), "polylines");
+}
+
 TEST_F(FitCurveCliTest, PrintsTheHistoryAndFitsAPointCloud) {
   const CliResult result = run("fit-curve --target " + path("ellipse.xyz") +
                                " --init ellipse --ctrl 10 --out " + path("cloud.json"));

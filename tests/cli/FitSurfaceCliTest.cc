@@ -123,3 +123,31 @@ TEST_F(FitSurfaceCliTest, BadInputExitsWithTwoAndWritesNothing) {
 }
 
 }  // namespace
+
+TEST_F(FitSurfaceCliTest, CertifyBracketsTheLargestErrorAboveTheSampledOne) {
+  // A bicubic sheet fitted to the hyperbolic paraboloid z = xy (an exact B-spline target): the
+  // sampled largest error is a lower bound of h(fit -> target), so the certified upper bound is
+  // at least it.
+  std::ofstream(scratch_ / "hp.json")
+      << R"({"type": "bspline_surface", "version": 1, "degree_u": 1, "degree_v": 1,
+            "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1],
+            "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]})";
+  const CliResult result =
+      run("fit-surface --target " + path("hp.json") + " --init plane --ctrl 4,4 --out " +
+          path("fit.json") + " --certify 1e-3 --json -q");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json report = nlohmann::json::parse(result.out);
+  const nlohmann::json& certified = report.at("certified");
+  EXPECT_GE(certified.at("upper_bound").get<double>(), report.at("max_distance").get<double>());
+  EXPECT_LE(certified.at("lower_bound").get<double>(), certified.at("upper_bound").get<double>());
+  EXPECT_LE(certified.at("upper_bound").get<double>() - certified.at("lower_bound").get<double>(),
+            certified.at("tolerance").get<double>());
+  EXPECT_TRUE(certified.at("converged").get<bool>());
+  // An offset fit is not compared, and says so before fitting.
+  const CliResult offset =
+      run("fit-surface --target " + path("hp.json") +
+          " --init plane --ctrl 4,4 --offset 0.1 --out " + path("never.json") + " --certify 1e-4");
+  EXPECT_EQ(offset.exitCode, 2);
+  EXPECT_NE(offset.err.find("--certify"), std::string::npos) << offset.err;
+  EXPECT_FALSE(std::filesystem::exists(scratch_ / "never.json"));
+}

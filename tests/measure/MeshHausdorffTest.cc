@@ -358,6 +358,37 @@ TEST(HausdorffShape, TheTessellationErrorBoundHolds) {
   EXPECT_LE(curveWorst, polyline.approximationError);
 }
 
+TEST(MeshHausdorff, LimitsStopWithAValidBracketAndAWarning) {
+  const HausdorffShape a = boxShape({0, 0, 0}, {1, 1, 1});
+  const HausdorffShape b = boxShape({0, 0, 0}, {2, 1, 1});
+  for (const bool byBytes : {false, true}) {
+    CertifiedHausdorffOptions options = absolute(1e-12);
+    if (byBytes) {
+      options.maxPieceBytes = 4000;
+    } else {
+      options.maxPieces = 8;
+    }
+    const DirectedHausdorffBracket bracket = directedHausdorff(a, b, 1e-12, options);
+    EXPECT_FALSE(bracket.converged);
+    EXPECT_NE(bracket.warning.find("limit of pieces"), std::string::npos) << bracket.warning;
+    EXPECT_LE(bracket.lower, 0.5);  // h(A -> B) = 1/2, worked by hand above
+    EXPECT_GE(bracket.upper, 0.5);
+  }
+  // A stretched sphere against a round one needs deep refinement near its tips.
+  const HausdorffShape round = sphereShape(1.0, 3);
+  HausdorffShape stretched = sphereShape(1.02, 2);
+  for (Eigen::Vector3d& point : stretched.points) point.x() *= 1.1;
+  const DirectedHausdorffBracket full = directedHausdorff(round, stretched, 1e-10);
+  ASSERT_TRUE(full.converged);
+  CertifiedHausdorffOptions shallow = absolute(1e-10);
+  shallow.maxDepth = 1;
+  const DirectedHausdorffBracket bracket = directedHausdorff(round, stretched, 1e-10, shallow);
+  EXPECT_FALSE(bracket.converged);
+  EXPECT_NE(bracket.warning.find("subdivision limit"), std::string::npos) << bracket.warning;
+  EXPECT_LE(bracket.lower, full.upper);
+  EXPECT_GE(bracket.upper, full.lower);
+}
+
 TEST(MeshHausdorff, BadInputIsRefusedByName) {
   const HausdorffShape box = boxShape({0, 0, 0}, {1, 1, 1});
   test::expectInputError([&] { certifiedHausdorff(HausdorffShape{}, box); }, {"no primitives"});

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "CertifiedFitError.h"
 #include "Command.h"
 #include "ConvergencePlot.h"
 #include "FitReports.h"
@@ -30,6 +31,7 @@ struct FitCurveArguments {
   int controlPoints = 12;
   bool closed = false;
   double offset = 0.0;
+  double certify = 0.0;  ///< --certify: relative bracket width, 0 for none
   int every = 1;
   bool compare = false;
   bool plainSdm = false;
@@ -48,6 +50,7 @@ void declareFitCurveOutputs(CLI::App& command, FitCurveArguments& args) {
   command.add_option("--plot", args.plot, "Plot the RMS distance per iteration (SVG, log scale)");
   command.add_flag("--compare", args.compare,
                    "Also run PDM and SDM from the same initial curve; report and plot them");
+  declareCertifyOption(command, args.certify);
 }
 
 void declareFitCurve(CLI::App& command, FitCurveArguments& args) {
@@ -222,6 +225,8 @@ Report runFitCurve(const FitCurveArguments& args, const CommandContext& context)
   load.purpose = "the target of 'd2vdb fit-curve'";
   load.progress = context.progress();
   const FitTarget target = loadFitTarget(args.target, load);
+  const std::optional<HausdorffInput> certifyAgainst =
+      certifyTarget(args.target, args.certify, args.offset, context);
   checkControlPointCount(args.controlPoints, target);
   const BSplineCurve initial = initialCurve(args, target);
   CurveFitOptions fit = args.fit;
@@ -252,8 +257,14 @@ Report runFitCurve(const FitCurveArguments& args, const CommandContext& context)
 
   std::string text = fitReportText(result, method);
   for (const auto& [other, otherResult] : extra) text += fitReportText(otherResult, other);
-  return fitAnswer(fitCurveJson(args, target, initial, method, result, extra), std::move(text),
-                   clock.seconds(), args.out, context);
+  nlohmann::json json = fitCurveJson(args, target, initial, method, result, extra);
+  if (certifyAgainst) {
+    std::string line;
+    json["certified"] = certifiedFitError(hausdorffInputOfCurve(result.curve), *certifyAgainst,
+                                          args.certify, context, line);
+    text += line;
+  }
+  return fitAnswer(std::move(json), std::move(text), clock.seconds(), args.out, context);
 }
 
 std::vector<OutputFile> outputsOfFitCurve(const FitCurveArguments& args) {

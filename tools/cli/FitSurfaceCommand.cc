@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "CertifiedFitError.h"
 #include "Command.h"
 #include "ConvergencePlot.h"
 #include "FitReports.h"
@@ -39,6 +40,7 @@ struct FitSurfaceArguments {
   std::vector<int> controlPoints{8, 8};
   bool closedU = false, closedV = false, ruled = false;
   double offset = 0.0;
+  double certify = 0.0;  ///< --certify: relative bracket width, 0 for none
   int meshSamples = 8;
   int rulingSamples = 4;
   bool plainSdm = false;
@@ -189,6 +191,7 @@ void declareFitSurfaceOutputs(CLI::App& command, FitSurfaceArguments& args) {
       ->capture_default_str()
       ->check(CLI::Range(0, 1000));
   command.add_option("--plot", args.plot, "Plot the RMS distance per iteration (SVG)");
+  declareCertifyOption(command, args.certify);
 }
 
 void declareFitSurface(CLI::App& command, FitSurfaceArguments& args) {
@@ -358,6 +361,8 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
   load.purpose = "the target of 'd2vdb fit-surface'";
   load.progress = context.progress();
   const FitTarget target = loadFitTarget(args.target, load);
+  const std::optional<HausdorffInput> certifyAgainst =
+      certifyTarget(args.target, args.certify, args.offset, context);
   bool ruled = false;
   const BSplineSurface initial = initialSurface(args, target, ruled);
   if (!args.rulings.empty() && !ruled) {
@@ -379,9 +384,15 @@ Report runFitSurface(const FitSurfaceArguments& args, const CommandContext& cont
                {"closed", {initial.isClosedU(), initial.isClosedV()}},
                {"ruled", ruled},
                {"output", args.out}});
+  std::string text = fitReportText(result, method);
+  if (certifyAgainst) {
+    std::string line;
+    json["certified"] = certifiedFitError(hausdorffInputOfSurface(result.surface), *certifyAgainst,
+                                          args.certify, context, line);
+    text += line;
+  }
   writeFitSurfaceOutputs(args, method, target, result, context.progress(), json);
-  return fitAnswer(std::move(json), fitReportText(result, method), clock.seconds(), args.out,
-                   context);
+  return fitAnswer(std::move(json), std::move(text), clock.seconds(), args.out, context);
 }
 
 std::vector<OutputFile> outputsOfFitSurface(const FitSurfaceArguments& args) {

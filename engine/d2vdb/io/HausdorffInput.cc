@@ -23,8 +23,8 @@ Eigen::AlignedBox3d boxOf(const TriangleMesh& mesh) {
 }  // namespace
 
 InputKinds hausdorffInputKinds() {
-  return {InputKind::Mesh, InputKind::PointSet, InputKind::LevelSet, InputKind::Curve,
-          InputKind::Surface};
+  return {InputKind::Mesh,  InputKind::PointSet, InputKind::LevelSet,
+          InputKind::Curve, InputKind::Surface,  InputKind::Polylines};
 }
 
 HausdorffInput hausdorffInputOfMesh(TriangleMesh mesh) {
@@ -67,6 +67,24 @@ HausdorffInput hausdorffInputOfCurve(BSplineCurve curve) {
   return input;
 }
 
+HausdorffInput hausdorffInputOfPolylines(const std::vector<Polyline>& polylines) {
+  HausdorffInput input;
+  input.kind = InputKind::Polylines;
+  for (const Polyline& polyline : polylines) {
+    const auto first = static_cast<TriangleMesh::Index>(input.points.size());
+    const auto count = static_cast<TriangleMesh::Index>(polyline.points.size());
+    input.points.insert(input.points.end(), polyline.points.begin(), polyline.points.end());
+    for (TriangleMesh::Index k = 0; k + 1 < count; ++k) {
+      input.segments.push_back({first + k, first + k + 1, first + k + 1});
+    }
+    if (polyline.closed && count > 2) input.segments.push_back({first + count - 1, first, first});
+    if (count == 1) input.segments.push_back({first, first, first});
+  }
+  if (input.segments.empty()) throw InputError("the polyline file holds no points");
+  input.bounds = boxOf(input.points);
+  return input;
+}
+
 HausdorffInput hausdorffInputOfSurface(BSplineSurface surface) {
   HausdorffInput input;
   input.kind = InputKind::Surface;
@@ -91,6 +109,8 @@ HausdorffInput loadHausdorffInput(const std::filesystem::path& path, const LoadO
         return hausdorffInputOfCurve(std::move(loaded).take<BSplineCurve>());
       case InputKind::Surface:
         return hausdorffInputOfSurface(std::move(loaded).take<BSplineSurface>());
+      case InputKind::Polylines:
+        return hausdorffInputOfPolylines(std::move(loaded).take<PolylinesInput>().polylines);
       default:
         throw RuntimeFailure("loadHausdorffInput: unexpected input kind");
     }
@@ -148,6 +168,13 @@ HausdorffShape hausdorffShapeOf(const HausdorffInput& input, double tessellation
     }
     case InputKind::PointSet:
       return hausdorffShapeOfPoints(input.points);
+    case InputKind::Polylines: {
+      HausdorffShape shape;
+      shape.points = input.points;
+      shape.triangles = input.segments;
+      shape.description = "polylines";
+      return shape;
+    }
     case InputKind::Curve:
       return hausdorffShapeOfCurve(*input.curve, tessellationError);
     case InputKind::Surface:

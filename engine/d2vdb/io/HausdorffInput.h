@@ -15,7 +15,7 @@
 
 namespace d2vdb {
 
-/// The kinds a Hausdorff comparison takes: mesh, point set, level set, curve, surface.
+/// The kinds a Hausdorff comparison takes: mesh, point set, level set, curve, surface, polylines.
 InputKinds hausdorffInputKinds();
 
 /// One side of a Hausdorff comparison as loaded.
@@ -24,7 +24,8 @@ struct HausdorffInput {
   /// Mesh: the file's mesh; LevelSet: the engine's marching-cubes mesh of its zero set at the
   /// grid's resolution (extractIsoSurface(), iso-value 0). Empty for the other kinds.
   TriangleMesh mesh;
-  std::vector<Eigen::Vector3d> points;    ///< PointSet: the points
+  std::vector<Eigen::Vector3d> points;    ///< PointSet: the points; Polylines: their vertices
+  std::vector<TriangleIndices> segments;  ///< Polylines: (a, b, b) per segment
   std::optional<BSplineCurve> curve;      ///< Curve
   std::optional<BSplineSurface> surface;  ///< Surface
   /// A box that contains the shape (control points for splines, which contain them): the
@@ -39,6 +40,7 @@ HausdorffInput hausdorffInputOfPoints(std::vector<Eigen::Vector3d> points);
 HausdorffInput hausdorffInputOfLevelSet(const openvdb::GridBase& grid,
                                         const ProgressCallback& progress = {});
 HausdorffInput hausdorffInputOfCurve(BSplineCurve curve);
+HausdorffInput hausdorffInputOfPolylines(const std::vector<Polyline>& polylines);
 HausdorffInput hausdorffInputOfSurface(BSplineSurface surface);
 
 /// Reads `path` as one of hausdorffInputKinds() (loadInput(), so errors are as there); a level set

@@ -150,8 +150,10 @@ class DirectedRefinement {
   }
 
   bool refinable(const Piece& piece, std::size_t childrenSoFar) const {
+    const std::size_t bytes = sizeof(Piece) + sizeof(Eigen::Vector3d) * piece.hullCount();
+    const std::size_t limit = std::min(options_.maxPieces, options_.maxPieceBytes / bytes);
     return piece.splittable() && piece.depth < options_.maxDepth &&
-           childrenSoFar + piece.childCount() <= options_.maxPieces;
+           childrenSoFar + piece.childCount() <= limit;
   }
 
   void markUnconverged(const Piece& piece) {
@@ -163,8 +165,10 @@ class DirectedRefinement {
       result_.warning = "a primitive reached the subdivision limit (" +
                         std::to_string(options_.maxDepth) + " halvings) before the tolerance";
     } else {
-      result_.warning = "the refinement reached its limit of " +
-                        std::to_string(options_.maxPieces) + " pieces before the tolerance";
+      result_.warning = "the refinement reached its limit of pieces (" +
+                        std::to_string(options_.maxPieces) + ", " +
+                        std::to_string(options_.maxPieceBytes >> 20) +
+                        " MiB) before the tolerance: the bracket reached is reported";
     }
   }
 

@@ -22,9 +22,11 @@ struct CertifiedHausdorffOptions {
   /// Bound on the halvings of one primitive's edges (each level splits a triangle into four, a
   /// segment into two). Must be 1..40.
   int maxDepth = 28;
-  /// Bound on the primitives alive in one refinement round (about 150 bytes each); beyond it the
-  /// bracket reached so far is returned with `converged` false.
+  /// Bounds on the pieces one refinement round makes: their number, and the bytes they take (a
+  /// piece of a triangle about 110 bytes, of a bicubic net about 450). Beyond either, the bracket
+  /// reached so far is returned with `converged` false and a warning.
   std::size_t maxPieces = 20000000;
+  std::size_t maxPieceBytes = std::size_t(2) << 30;
   /// Called with "h(A -> B)" / "h(B -> A)" and the fraction of the bracket's gap closed.
   ProgressCallback progress;
 };
