@@ -19,8 +19,9 @@ struct PointBound {
   Eigen::Vector3d closest = Eigen::Vector3d::Zero();       ///< attains `upper` up to rounding
 };
 
-/// Distances to the triangles of a shape (copied; a TriangleBvh is built over them). Queries are
-/// const, single-threaded each, and may run on any number of threads at once.
+/// Distances to the triangles of a shape, which must outlive this object (a TriangleBvh is built
+/// over them). Queries are const, single-threaded each, and may run on any number of threads at
+/// once.
 class TargetDistance {
  public:
   explicit TargetDistance(const HausdorffShape& to);
@@ -42,8 +43,8 @@ class TargetDistance {
   double triangleUpper(const Eigen::Vector3d* points, int count, const TriangleIndices& triangle,
                        double stop) const;
 
-  std::vector<Eigen::Vector3d> points_;
-  std::vector<TriangleIndices> triangles_;
+  const std::vector<Eigen::Vector3d>& points_;
+  const std::vector<TriangleIndices>& triangles_;
   TriangleBvh bvh_;
 };
 
