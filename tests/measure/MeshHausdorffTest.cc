@@ -331,7 +331,7 @@ TEST(HausdorffShape, TheTessellationErrorBoundHolds) {
   const BSplineSurface patch = BSplineSurface::clamped(3, 3, 5, 5, grid);
   const HausdorffShape shape = hausdorffShapeOfSurface(patch, 1e-3);
   EXPECT_LE(shape.approximationError, 1.001e-3);
-  const Points samples = patch.sample(23, 23);
+  const Points samples = patch.sample(17, 17);
   double worst = 0.0;
   for (const Eigen::Vector3d& sample : samples) {
     long double nearest = INFINITY;
@@ -347,7 +347,7 @@ TEST(HausdorffShape, TheTessellationErrorBoundHolds) {
       BSplineCurve::clamped(3, {{0, 0, 0}, {1, 2, 0}, {2, -1, 1}, {3, 0, 0}});
   const HausdorffShape polyline = hausdorffShapeOfCurve(curve, 1e-4);
   double curveWorst = 0.0;
-  for (const Eigen::Vector3d& sample : curve.sample(801)) {
+  for (const Eigen::Vector3d& sample : curve.sample(401)) {
     long double nearest = INFINITY;
     for (const TriangleIndices& t : polyline.triangles) {
       nearest = std::min(nearest, referenceDistance(sample, polyline.points[t[0]],

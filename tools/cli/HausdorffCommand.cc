@@ -10,6 +10,7 @@
 #include "Command.h"
 #include "JsonReports.h"
 #include "ReportText.h"
+#include "d2vdb/core/Error.h"
 #include "d2vdb/core/NumberFormat.h"
 #include "d2vdb/io/HausdorffInput.h"
 #include "d2vdb/io/InputFile.h"

@@ -223,7 +223,8 @@ HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double max
   }
   double reached = 0.0;
   for (std::size_t piece = 0; piece < patches.size(); ++piece) {
-    const auto [cellsU, cellsV] = grids[piece];
+    const int cellsU = grids[piece].first;
+    const int cellsV = grids[piece].second;
     reached = std::max(reached,
                        interpolationError(secondDerivativeBounds(patches[piece]), cellsU, cellsV));
     const auto first = static_cast<TriangleMesh::Index>(shape.points.size());
