@@ -390,6 +390,24 @@ TEST(MeshHausdorff, LimitsStopWithAValidBracketAndAWarning) {
   EXPECT_GE(bracket.upper, full.lower);
 }
 
+TEST(MeshHausdorff, LooseSecondDirectionKeepsTheTwoSidedBracket) {
+  // H(B, A) with B = [0,2] x [0,1]^2, A = [0,1]^3: h(B -> A) = 1 decides it; h(A -> B) = 1/2 need
+  // only be shown to be below 1.
+  const HausdorffShape a = boxShape({0, 0, 0}, {1, 1, 1});
+  const HausdorffShape b = boxShape({0, 0, 0}, {2, 1, 1});
+  CertifiedHausdorffOptions loose = absolute(1e-9);
+  loose.tightDirections = false;
+  const CertifiedHausdorff tight = certifiedHausdorff(b, a, absolute(1e-9));
+  const CertifiedHausdorff quick = certifiedHausdorff(b, a, loose);
+  EXPECT_LE(quick.lower, 1.0);
+  EXPECT_GE(quick.upper, 1.0);
+  EXPECT_LE(quick.upper - quick.lower, 1e-9);
+  EXPECT_LE(quick.bToA.lower, 0.5);  // still a bracket of h(A -> B), a wider one
+  EXPECT_GE(quick.bToA.upper, 0.5);
+  EXPECT_LE(quick.bToA.upper, 1.0 + 1e-9);
+  EXPECT_LT(quick.bToA.primitivesRefined, tight.bToA.primitivesRefined);
+}
+
 TEST(MeshHausdorff, BadInputIsRefusedByName) {
   const HausdorffShape box = boxShape({0, 0, 0}, {1, 1, 1});
   test::expectInputError([&] { certifiedHausdorff(HausdorffShape{}, box); }, {"no primitives"});

@@ -27,6 +27,11 @@ struct CertifiedHausdorffOptions {
   /// reached so far is returned with `converged` false and a warning.
   std::size_t maxPieces = 20000000;
   std::size_t maxPieceBytes = std::size_t(2) << 30;
+  /// certifiedHausdorff(): refine both directed brackets to the tolerance (true), or h(B -> A)
+  /// only as far as H needs it (false: its pieces settle within the tolerance of h(A -> B)'s
+  /// lower bound, so bToA's bracket may be wider than the tolerance while H's is not; about half
+  /// the work when h(A -> B) decides H).
+  bool tightDirections = true;
   /// Called with "h(A -> B)" / "h(B -> A)" and the fraction of the bracket's gap closed.
   ProgressCallback progress;
 };

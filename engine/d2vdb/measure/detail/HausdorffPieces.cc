@@ -99,24 +99,6 @@ Eigen::Vector3d NetPiece::corner(int k) const {
   return controls[a * (q + 1) + b];
 }
 
-Eigen::Vector3d NetPiece::centre() const {
-  const int p = degreeU, q = degreeV;
-  // de Casteljau at 1/2 along u for every column, then along v of the resulting row.
-  std::array<Eigen::Vector3d, 32> row;
-  std::array<Eigen::Vector3d, 32> work;
-  for (int b = 0; b <= q; ++b) {
-    for (int a = 0; a <= p; ++a) work[a] = controls[a * (q + 1) + b];
-    for (int level = p; level > 0; --level) {
-      for (int a = 0; a < level; ++a) work[a] = 0.5 * (work[a] + work[a + 1]);
-    }
-    row[b] = work[0];
-  }
-  for (int level = q; level > 0; --level) {
-    for (int b = 0; b < level; ++b) row[b] = 0.5 * (row[b] + row[b + 1]);
-  }
-  return row[0];
-}
-
 double NetPiece::lipschitzUpper() const {
   std::array<Eigen::Vector3d, 4> corners;
   for (int k = 0; k < cornerCount(); ++k) corners[k] = corner(k);

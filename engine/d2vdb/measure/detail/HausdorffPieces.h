@@ -33,8 +33,6 @@ struct TrianglePiece {
   /// corner, by convexity of the norm), rounded up: the 1-Lipschitz bound.
   double lipschitzUpper() const;
   bool splittable() const { return cornerCount > 1; }
-  /// A point of the piece near its middle: the centroid (within rounding).
-  Eigen::Vector3d centre() const { return (corners[0] + corners[1] + corners[2]) / 3.0; }
   int childCount() const { return cornerCount == 3 ? 4 : 2; }
   /// The share of its primitive the piece covers.
   double share() const { return std::ldexp(1.0, -(cornerCount == 3 ? 2 : 1) * depth); }
@@ -60,8 +58,6 @@ struct NetPiece {
   int hullCount() const { return static_cast<int>(controls.size()); }
   double lipschitzUpper() const;
   bool splittable() const { return true; }
-  /// The spline's point at the middle of the piece's parameters (de Casteljau at 1/2).
-  Eigen::Vector3d centre() const;
   int childCount() const { return degreeV == 0 ? 2 : 4; }
   double share() const { return std::ldexp(1.0, -(degreeV == 0 ? 1 : 2) * depth); }
   /// The corner points (cornerCount() of them) on the spline.
