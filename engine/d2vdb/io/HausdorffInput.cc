@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include "d2vdb/core/Error.h"
+#include "d2vdb/mesh/MeshMeasures.h"
 
 namespace d2vdb {
 namespace {
@@ -14,10 +15,10 @@ Eigen::AlignedBox3d boxOf(const std::vector<Eigen::Vector3d>& points) {
   return box;
 }
 
+// The box of the vertices the triangles use (mesh/MeshMeasures.h), as the shape is.
 Eigen::AlignedBox3d boxOf(const TriangleMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3f& point : mesh.positions) box.extend(point.cast<double>());
-  return box;
+  const BoundingBox box = boundingBox(mesh);
+  return Eigen::AlignedBox3d(box.min, box.max);
 }
 
 }  // namespace

@@ -212,21 +212,27 @@ HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double max
     shape.description = "B-spline surface (Bézier patches)";
     return shape;
   }
+  // Each patch's grid, the error it reaches and the count, all before anything is allocated.
   std::vector<std::pair<int, int>> grids;
-  double total = 0.0, rounding = 0.0;
+  double total = 0.0, rounding = 0.0, reached = 0.0;
   for (const BezierPatch& patch : patches) {
-    grids.push_back(patchGrid(secondDerivativeBounds(patch), maxError));
+    const SecondDerivativeBounds bounds = secondDerivativeBounds(patch);
+    grids.push_back(patchGrid(bounds, maxError));
+    reached =
+        std::max(reached, interpolationError(bounds, grids.back().first, grids.back().second));
     total += 2.0 * grids.back().first * grids.back().second;
     requireCount(total, "surface", maxError);
     rounding = std::max(rounding, evaluationRounding(patch.degreeU + patch.degreeV,
                                                      largestNorm(patch.controlPoints)));
   }
-  double reached = 0.0;
+  if (reached > maxError) {
+    throw InputError("a Bézier patch of the surface cannot be tessellated to within " +
+                     formatNumber(maxError) + " (65536 cells a side reach " +
+                     formatNumber(reached) + "): ask for a larger tolerance");
+  }
   for (std::size_t piece = 0; piece < patches.size(); ++piece) {
     const int cellsU = grids[piece].first;
     const int cellsV = grids[piece].second;
-    reached = std::max(reached,
-                       interpolationError(secondDerivativeBounds(patches[piece]), cellsU, cellsV));
     const auto first = static_cast<TriangleMesh::Index>(shape.points.size());
     for (int i = 0; i <= cellsU; ++i) {
       for (int j = 0; j <= cellsV; ++j) {
@@ -242,11 +248,6 @@ HausdorffShape hausdorffShapeOfSurface(const BSplineSurface& surface, double max
         shape.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
       }
     }
-  }
-  if (reached > maxError) {
-    throw InputError("a Bézier patch of the surface cannot be tessellated to within " +
-                     formatNumber(maxError) + " (65536 cells a side reach " +
-                     formatNumber(reached) + "): ask for a larger tolerance");
   }
   shape.approximationError = reached + rounding;
   shape.description = describedTessellation("B-spline surface", shape.approximationError);
